@@ -1,0 +1,21 @@
+"""fagorcnc: interpreter and motion kernel for Fagor CNC 8060/8065 part programs.
+
+Front end available now::
+
+    import fagorcnc
+    program = fagorcnc.parse("G1 X10 F100\nM30\n")
+    program.ok, program.diagnostics, program.blocks
+"""
+
+from .diagnostics import CODES, Diagnostic
+from .syntax import Program, iter_lines, parse_file, parse_text
+
+__version__ = "0.1.0"
+
+
+def parse(source: str, file: str = "<string>") -> Program:
+    """Parse program text (not a path) into a :class:`~fagorcnc.syntax.ast.Program`."""
+    return parse_text(source, file)
+
+
+__all__ = ["CODES", "Diagnostic", "Program", "iter_lines", "parse", "parse_file", "parse_text", "__version__"]

@@ -1,0 +1,100 @@
+"""Diagnostics: every problem fagorcnc reports, with a stable code.
+
+A diagnostic names the file, line and column (1-based), a stable code a CI
+user can filter on, a severity and a message written for a machinist.
+``str(diagnostic)`` gives ``file:line:col: CODE message``;
+:meth:`Diagnostic.render` adds the source line with a caret under the column.
+
+Codes are grouped by stage: ``SYN`` syntax of a block, ``STR`` program
+structure (headers, subroutines, labels, ``$`` nesting).  Later stages add
+their own prefixes.  A code, once published, keeps its meaning.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+#: Every code the front end emits, with a one-line description.
+CODES: dict[str, str] = {
+    "SYN001": "unexpected character",
+    "SYN002": "unexpected word or symbol",
+    "SYN003": "block ends too early",
+    "SYN004": "comment '(' not closed on its line",
+    "SYN005": "lower-case letter where the language needs a capital",
+    "SYN006": "expression with an operator must be in [ ] as an ISO word value",
+    "SYN007": "only one # sentence per block",
+    "SYN008": "only one $ instruction per block (except $IF ... $GOTO)",
+    "SYN009": "'/' or 'N..:' not at the start of the block",
+    "SYN010": "invalid label or name (1-14 letters and digits)",
+    "SYN011": "block number out of range 0..4294967295",
+    "SYN012": "unknown # sentence",
+    "SYN013": "unknown or missing keyword of a # sentence",
+    "SYN014": "# sentence must be alone in its block",
+    "SYN015": "function with the wrong number of arguments",
+    "SYN016": "bracket list used where a single value is expected",
+    "SYN017": "#COMMENT BEGIN without #COMMENT END",
+    "SYN018": "#COMMENT END without #COMMENT BEGIN",
+    "SYN019": "unknown function",
+    "SYN020": "text where a block was expected",
+    "STR001": "local subroutines defined but no program header %name",
+    "STR002": "local subroutine defined after the program body",
+    "STR003": "subroutine does not end with M17, M29 or #RET",
+    "STR004": "duplicate jump label or block number",
+    "STR005": "$ instruction without its opening instruction",
+    "STR006": "$ structure not closed",
+    "STR007": "$ instruction in the wrong place in its structure",
+    "STR008": "duplicate local subroutine name",
+    "STR009": "$BREAK or $CONTINUE outside a loop",
+    "STR010": "second program header",
+    "STR011": "bare program name taken as the program header",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    """One reported problem.
+
+    Attributes:
+        file: source file name as given by the caller (``"<string>"`` for text).
+        line: 1-based line number.
+        col: 1-based column number.
+        code: stable code, a key of :data:`CODES` (or of a later stage's table).
+        severity: ``"error"``, ``"warning"`` or ``"info"``.
+        message: explanation for a machinist.
+        source: the source line, for :meth:`render` (may be empty).
+    """
+
+    file: str
+    line: int
+    col: int
+    code: str
+    severity: str
+    message: str
+    source: str = ""
+
+    def __str__(self) -> str:
+        sev = "" if self.severity == "error" else f"{self.severity}: "
+        return f"{self.file}:{self.line}:{self.col}: {self.code} {sev}{self.message}"
+
+    def render(self) -> str:
+        """``file:line:col: CODE message`` followed by the source line and a caret."""
+        head = str(self)
+        if not self.source:
+            return head
+        src = self.source.rstrip("\r\n").expandtabs(1)
+        caret = " " * max(0, min(self.col - 1, len(src))) + "^"
+        return f"{head}\n    {src}\n    {caret}"
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity == "error"
+
+
+def error(file: str, line: int, col: int, code: str, message: str, source: str = "") -> Diagnostic:
+    """Shorthand for an error diagnostic."""
+    return Diagnostic(file, line, col, code, "error", message, source)
+
+
+def warning(file: str, line: int, col: int, code: str, message: str, source: str = "") -> Diagnostic:
+    """Shorthand for a warning diagnostic."""
+    return Diagnostic(file, line, col, code, "warning", message, source)

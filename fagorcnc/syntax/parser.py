@@ -1,0 +1,167 @@
+"""Line parser: one Fagor block (one line) -> AST node + diagnostics.
+
+The grammar ``fagor.lark`` is compiled once per process (LALR, contextual
+lexer, the AST built by :class:`~fagorcnc.syntax.builder.AstBuilder` during
+the reductions) and its analysis is cached on disk by Lark.
+
+Speed: most blocks of a CAM program are a plain run of literal words
+(``N1230 G1 X12.5 Y-3.25 F800``).  Such a line is a single ``WORDS`` token
+(after an optional ``N..:``) whose parse is known in advance, so
+:meth:`LineParser.parse` recognises it with the grammar's own terminal
+patterns and calls the same builder callbacks the LALR parser would — the
+result is identical (``tests/test_fast_path.py`` checks this against the full
+parser on random input).  Every other line goes through the LALR parser.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+from importlib import resources
+from pathlib import Path
+
+from lark import Lark
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+
+from ..diagnostics import Diagnostic, error
+from .ast import Block, ProgramHeader, SubroutineHeader
+from .builder import AstBuilder, split_words
+
+
+def grammar_path() -> Path:
+    """Location of ``fagor.lark``: packaged copy, else the repository's ``grammar/``."""
+    packaged = resources.files("fagorcnc") / "grammar" / "fagor.lark"
+    if packaged.is_file():
+        return Path(str(packaged))
+    return Path(__file__).resolve().parents[2] / "grammar" / "fagor.lark"
+
+
+@lru_cache(maxsize=1)
+def _compiled() -> tuple:
+    builder = AstBuilder()
+    text = grammar_path().read_text(encoding="utf-8")
+    try:
+        lark = Lark(text, parser="lalr", lexer="contextual", transformer=builder,
+                    cache=True, maybe_placeholders=False)
+    except OSError:  # read-only temp dir: compile without the cache
+        lark = Lark(text, parser="lalr", lexer="contextual", transformer=builder,
+                    maybe_placeholders=False)
+    return lark, builder
+
+
+# Tokens whose unexpected appearance has a specific explanation.
+_SENTENCE_TOKENS = {"SHARP_KW", "CALL_KW", "RPT_KW", "AXIS_CALL_KW"}
+_FLOW_TOKENS = {"IF", "ELSEIF", "ELSE", "ENDIF", "SWITCH", "CASE", "DEFAULT", "ENDSWITCH", "FOR",
+                "ENDFOR", "WHILE", "ENDWHILE", "DO", "ENDDO", "BREAK", "CONTINUE", "GOTO"}
+_OPERATOR_TOKENS = {"PLUS", "MINUS", "STAR", "MOD", "RELOP", "VBAR", "AMPERSAND",
+                    "CIRCUMFLEX", "__ANON_0", "__ANON_1", "MORETHAN", "LESSTHAN"}
+_TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "','", "EQUAL": "'='",
+                "COLON": "':'", "NUMBER": "a number", "NAME": "a keyword", "WORDS": "ISO words",
+                "ADDRESS": "an ISO address", "PARAM": "a parameter", "VARNAME": "a V. variable",
+                "STRING": "a \"string\"", "LABEL": "a [LABEL]", "BLOCKID": "a block number N..:"}
+
+
+class LineParser:
+    """Parses single lines; reusable, not thread-safe (one per thread/process)."""
+
+    def __init__(self) -> None:
+        self._lark, self._builder = _compiled()
+        words = self._lark.get_terminal("WORDS").pattern.to_regexp()
+        blockid = self._lark.get_terminal("BLOCKID").pattern.to_regexp()
+        # [N..:] WORDS [; comment] -- exactly the token sequence the LALR
+        # parser would see for the commonest CAM block.
+        self._fast = re.compile(rf"[ \t]*(?:({blockid})[ \t]*)?({words})?(?:;.*)?").fullmatch
+
+    def parse(self, text: str, line: int, file: str = "<string>") -> tuple:
+        """Parse one line.
+
+        Returns ``(node, diagnostics)``; ``node`` is a :class:`Block`,
+        :class:`ProgramHeader`, :class:`SubroutineHeader`, or ``None`` for an
+        empty line, a comment-only line or a line with a syntax error.
+        """
+        m = self._fast(text)
+        if m is not None:
+            bid, words = m.group(1), m.group(2)
+            if words is None and bid is None:
+                return None, ()
+            items = tuple(split_words(words, m.start(2) + 1)) if words else ()
+            number = None
+            if bid is not None:
+                number = int(bid[1:].rstrip(" \t:"))
+                if number > 4294967295:
+                    return self.parse_full(text, line, file)
+            return Block(line, text, False, number, None, items), ()
+        return self.parse_full(text, line, file)
+
+    def parse_full(self, text: str, line: int, file: str = "<string>") -> tuple:
+        """Parse one line with the LALR parser (no fast path)."""
+        stripped = text.strip()
+        if not stripped or stripped[0] == ";":
+            return None, ()
+        builder = self._builder
+        builder.problems = []
+        try:
+            result = self._lark.parse(text)
+        except UnexpectedInput as exc:
+            return None, (self._syntax_error(exc, text, line, file),)
+        except VisitError as exc:  # a builder bug must not escape as a traceback
+            return None, (error(file, line, 1, "SYN002", f"cannot read this block ({exc.orig_exc})", text),)
+        diags = tuple(error(file, line, col, code, msg, text) for col, code, msg in builder.problems)
+        kind = result[0]
+        if kind == "block":
+            _, skip, number, label, items = result
+            if not items and not skip and number is None and label is None:
+                return None, diags  # comment-only line
+            return Block(line, text, skip, number, label, items), diags
+        if kind == "program":
+            return ProgramHeader(result[1], line, text), diags
+        return SubroutineHeader(result[1], line, text), diags
+
+    # ------------------------------------------------------------------
+    def _syntax_error(self, exc: UnexpectedInput, text: str, line: int, file: str) -> Diagnostic:
+        col = getattr(exc, "column", None) or 1
+        if isinstance(exc, UnexpectedCharacters):
+            pos = exc.pos_in_stream
+            ch = text[pos] if 0 <= pos < len(text) else ""
+            col = pos + 1
+            if ch == "(":
+                return error(file, line, col, "SYN004",
+                             "comment '(' is not closed with ')' on this line", text)
+            if ch.islower():
+                return error(file, line, col, "SYN005",
+                             f"'{ch}': addresses and keywords are written in capitals", text)
+            if ch == "#":
+                return error(file, line, col, "SYN002",
+                             "'#' must be followed by a sentence name in capitals, e.g. #HSC", text)
+            return error(file, line, col, "SYN001", f"unexpected character {ch!r}", text)
+        if isinstance(exc, UnexpectedEOF):
+            return error(file, line, len(text.rstrip()) + 1, "SYN003",
+                         "the block ends before the instruction is complete", text)
+        assert isinstance(exc, UnexpectedToken)
+        tok = exc.token
+        ttype = tok.type
+        col = tok.column if isinstance(tok.column, int) else len(text.rstrip()) + 1
+        if ttype == "$END":
+            return error(file, line, len(text.rstrip()) + 1, "SYN003",
+                         "the block ends before the instruction is complete", text)
+        if ttype in _SENTENCE_TOKENS:
+            return error(file, line, col, "SYN007",
+                         f"{tok.value.split()[0]}: only one # sentence is allowed in a block", text)
+        if ttype in _FLOW_TOKENS:
+            return error(file, line, col, "SYN008",
+                         f"{tok.value}: a $ instruction must be alone in its block "
+                         "(only $IF ... $GOTO may share a line)", text)
+        if ttype == "BLOCKID":
+            return error(file, line, col, "SYN009",
+                         f"'{tok.value.strip()}' (jump target) must be at the start of the block", text)
+        if ttype == "SKIP":
+            return error(file, line, col, "SYN009",
+                         "'/' (block skip) must be the first character of the block; "
+                         "for a division write the value in brackets, e.g. X[P1/2]", text)
+        if ttype in _OPERATOR_TOKENS:
+            return error(file, line, col, "SYN006",
+                         f"unexpected '{tok.value}': an ISO word value with an operator must be "
+                         "written in brackets, e.g. X[P1*2]", text)
+        shown = _TOKEN_WORDS.get(ttype, repr(tok.value))
+        return error(file, line, col, "SYN002", f"unexpected {shown} '{tok.value}'"
+                     if shown[0] != "'" else f"unexpected {shown}", text)

@@ -1,0 +1,99 @@
+"""Reading a file: the line pre-pass, streaming, and whole-program parsing.
+
+:func:`iter_lines` streams ``(node, diagnostics)`` for every line of a source
+in constant memory (a generator over the lines).  It removes
+``#COMMENT BEGIN ... #COMMENT END`` ranges, whose content is free text
+(seed 002 L1786-L1804), and accepts the bare program-name first line that CAM
+posts emit (``FINISH01`` alone on line 1) as a program header.
+
+:func:`parse_text` and :func:`parse_file` build a whole :class:`Program`.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Iterable, Iterator, Union
+
+from ..diagnostics import Diagnostic, error
+from .ast import Program, ProgramHeader
+from .parser import LineParser
+from .structure import assemble
+
+_COMMENT_BEGIN = re.compile(r"[ \t]*#COMMENT[ \t]+BEGIN(?![A-Za-z0-9_])").match
+_COMMENT_END = re.compile(r"[ \t]*#COMMENT[ \t]+END(?![A-Za-z0-9_])").match
+_BARE_NAME = re.compile(r"[ \t]*([A-Za-z0-9]{1,14})[ \t]*").fullmatch
+
+_parser: Union[LineParser, None] = None
+
+
+def line_parser() -> LineParser:
+    """The process-wide :class:`LineParser` (the grammar is compiled once)."""
+    global _parser
+    if _parser is None:
+        _parser = LineParser()
+    return _parser
+
+
+def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
+    if isinstance(source, str):
+        return iter(source.splitlines())
+    return (s.rstrip("\r\n") for s in source)
+
+
+def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>") -> Iterator[tuple]:
+    """Parse a program line by line.
+
+    ``source`` is the program text or any iterable of lines (an open file
+    streams).  Yields ``(node, diagnostics)`` per line, where ``node`` is a
+    :class:`~fagorcnc.syntax.ast.Block`, a header, or ``None`` (empty,
+    comment or erroneous line) and ``diagnostics`` a tuple.
+    """
+    parse = line_parser().parse
+    comment_start = None  # (line, text) of an open #COMMENT BEGIN
+    first = True
+    for lineno, text in enumerate(_lines(source), 1):
+        if "#COMMENT" in text:
+            if comment_start is None and _COMMENT_BEGIN(text):
+                comment_start = (lineno, text)
+                continue
+            if _COMMENT_END(text):
+                if comment_start is None:
+                    yield None, (error(file, lineno, text.index("#") + 1, "SYN018",
+                                       "#COMMENT END without #COMMENT BEGIN", text),)
+                comment_start = None
+                continue
+        if comment_start is not None:
+            continue
+        node, diags = parse(text, lineno, file)
+        if first and (node is not None or diags):
+            first = False
+            if node is None and (m := _BARE_NAME(text)):
+                # CAM posts write the program name alone on the first line.
+                node = ProgramHeader(m.group(1), lineno, text)
+                diags = (Diagnostic(file, lineno, m.start(1) + 1, "STR011", "info",
+                                    f"first line '{m.group(1)}' taken as the program name", text),)
+        yield node, diags
+    if comment_start is not None:
+        line, text = comment_start
+        yield None, (error(file, line, text.index("#") + 1, "SYN017",
+                           "#COMMENT BEGIN is never closed by #COMMENT END", text),)
+
+
+def parse_text(text: str, file: str = "<string>") -> Program:
+    """Parse program text into a :class:`Program` (never raises on bad input)."""
+    return assemble(iter_lines(text, file), file)
+
+
+def read_source(path: Union[str, Path]) -> str:
+    """Read a program file: UTF-8, or Latin-1 for files written by older editors."""
+    data = Path(path).read_bytes()
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
+
+
+def parse_file(path: Union[str, Path]) -> Program:
+    """Parse a program file into a :class:`Program`."""
+    return parse_text(read_source(path), str(path))
