@@ -18,4 +18,4 @@ def parse(source: str, file: str = "<string>") -> Program:
     return parse_text(source, file)
 
 
-__all__ = ["CODES", "Diagnostic", "Program", "iter_lines", "parse", "parse_file", "parse_text", "__version__"]
+__all__ = ["CODES", "Diagnostic", "Program", "__version__", "iter_lines", "parse", "parse_file", "parse_text"]

@@ -33,7 +33,7 @@ class Param(NamedTuple):
     ``index`` is an ``int`` for ``P12`` and an expression for ``P[P1+2]``.
     """
 
-    index: Union[int, "Expr"]
+    index: Union[int, Expr]
     col: int
 
 
@@ -54,7 +54,7 @@ class Unary(NamedTuple):
     """``-x`` (``op`` is ``"-"``)."""
 
     op: str
-    operand: "Expr"
+    operand: Expr
     col: int
 
 
@@ -62,8 +62,8 @@ class Binary(NamedTuple):
     """``left op right``; ``op`` is one of ``| & ^ == != >= <= > < + - * / ** MOD``."""
 
     op: str
-    left: "Expr"
-    right: "Expr"
+    left: Expr
+    right: Expr
     col: int
 
 
@@ -111,7 +111,7 @@ class Setting(NamedTuple):
     """``NAME = expr``: ``TON=50``; with a numbered name ``X1=20`` -> name ``"X1"``."""
 
     name: str
-    value: "Expr"
+    value: Expr
     col: int
 
 

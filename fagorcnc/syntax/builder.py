@@ -53,15 +53,13 @@ def valid_name(name: str) -> bool:
     return _NAME14.fullmatch(name) is not None
 
 
-def split_words(text: str, col: int) -> list:
-    """Split a WORDS run starting at column ``col`` into :class:`Word` nodes."""
-    out = []
-    append = out.append
-    base = col
-    for m in _WORD.finditer(text):
-        letter, sign, number = m.groups()
-        append(Word(letter, -float(number) if sign == "-" else float(number), base + m.start()))
-    return out
+def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.finditer) -> list:
+    """Split a WORDS run starting at column ``col`` into :class:`Word` nodes.
+
+    Hot path (one call per CAM block): builds the tuples directly.
+    """
+    return [_new(Word, (m[1], -float(m[3]) if m[2] == "-" else float(m[3]), col + m.start(), None))
+            for m in _finditer(text)]
 
 
 def _neg(x):
@@ -286,7 +284,7 @@ class AstBuilder(Transformer):
 
     def f_for(self, c):
         self._plain_eq(c[2])
-        return self._flow(c, (c[1],) + tuple(c[3:]))
+        return self._flow(c, (c[1], *tuple(c[3:])))
 
     def f_goto(self, c):
         return self._flow(c, (c[1],))

@@ -158,7 +158,16 @@ class LineParser:
             return error(file, line, col, "SYN009",
                          "'/' (block skip) must be the first character of the block; "
                          "for a division write the value in brackets, e.g. X[P1/2]", text)
-        if ttype in _OPERATOR_TOKENS:
+        if ttype == "COLON" and re.search(r"N[ \t]*[0-9]+[ \t]*$", text[:col - 1]):
+            return error(file, line, text[:col - 1].rstrip().rindex("N") + 1, "SYN009",
+                         "'N..:' (jump target) must be at the start of the block", text)
+        first = tok.value[:1]
+        if ttype not in _TOKEN_WORDS and first.islower():
+            return error(file, line, col, "SYN005",
+                         f"'{first}': addresses and keywords are written in capitals", text)
+        if first == '"' and tok.value.count('"') == 1:
+            return error(file, line, col, "SYN021", 'text string "... is not closed with " on this line', text)
+        if ttype in _OPERATOR_TOKENS or (ttype not in _TOKEN_WORDS and first in "*/+-&|^<>=!"):
             return error(file, line, col, "SYN006",
                          f"unexpected '{tok.value}': an ISO word value with an operator must be "
                          "written in brackets, e.g. X[P1*2]", text)

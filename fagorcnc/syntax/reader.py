@@ -11,9 +11,11 @@ posts emit (``FINISH01`` alone on line 1) as a program header.
 
 from __future__ import annotations
 
+import gc
 import re
+from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import Iterable, Iterator, Union
+from typing import Union
 
 from ..diagnostics import Diagnostic, error
 from .ast import Program, ProgramHeader
@@ -82,7 +84,16 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>") -> Ite
 
 def parse_text(text: str, file: str = "<string>") -> Program:
     """Parse program text into a :class:`Program` (never raises on bad input)."""
-    return assemble(iter_lines(text, file), file)
+    # The AST is millions of small immutable tuples that can never form a
+    # reference cycle; the cyclic collector would rescan them over and over
+    # while they accumulate, so it is paused for the duration.
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        return assemble(iter_lines(text, file), file)
+    finally:
+        if enabled:
+            gc.enable()
 
 
 def read_source(path: Union[str, Path]) -> str:

@@ -15,10 +15,10 @@ Turns the stream of parsed lines of one file into a :class:`Program`
 
 from __future__ import annotations
 
-from typing import Iterable
+from collections.abc import Iterable
 
 from ..diagnostics import Diagnostic, error
-from .ast import Block, Flow, Program, ProgramHeader, Routine, Sentence, SubroutineHeader, Word
+from .ast import Block, Flow, Program, Routine, Sentence, SubroutineHeader, Word
 
 _LOOP_END = {"ENDFOR": "FOR", "ENDWHILE": "WHILE", "ENDDO": "DO", "ENDIF": "IF", "ENDSWITCH": "SWITCH"}
 _LOOPS = ("FOR", "WHILE", "DO")
@@ -36,7 +36,7 @@ def _ends_subroutine(block: Block) -> bool:
 
 
 class _Frame:
-    __slots__ = ("kind", "index", "last", "has_else", "case_open", "case_broken", "case_index")
+    __slots__ = ("case_broken", "case_index", "case_open", "has_else", "index", "kind", "last")
 
     def __init__(self, kind: str, index: int) -> None:
         self.kind = kind
@@ -79,9 +79,9 @@ class RoutineBuilder:
                 self._err(block, 1, "STR004", f"label [{block.label}] is already defined on line {first}")
             else:
                 self.labels[key] = index
-        for item in block.items:
-            if type(item) is Flow:
-                self._flow(block, index, item)
+        items = block.items
+        if items and type(items[-1]) is Flow:  # a $ instruction is the block's last item
+            self._flow(block, index, items[-1])
 
     # ------------------------------------------------------------------ $ nesting
     def _flow(self, block: Block, index: int, node: Flow) -> None:
@@ -134,7 +134,7 @@ class RoutineBuilder:
             self.structure[frame.last] = index
             self.structure[index] = frame.index
         elif kw in ("BREAK", "CONTINUE"):
-            kinds = _LOOPS + ("SWITCH",) if kw == "BREAK" else _LOOPS
+            kinds = (*_LOOPS, "SWITCH") if kw == "BREAK" else _LOOPS
             target = next((f for f in reversed(stack) if f.kind in kinds), None)
             if target is None:
                 where = "a loop or a $CASE" if kw == "BREAK" else "a loop"
