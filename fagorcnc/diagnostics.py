@@ -37,6 +37,7 @@ CODES: dict[str, str] = {
     "SYN019": "unknown function",
     "SYN020": "text where a block was expected",
     "SYN021": "text string not closed",
+    "SYN022": "unknown $ instruction",
     "STR001": "local subroutines defined but no program header %name",
     "STR002": "local subroutine defined after the program body",
     "STR003": "subroutine does not end with M17, M29 or #RET",
