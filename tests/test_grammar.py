@@ -11,7 +11,6 @@ from helpers import block, codes, error_codes, items, words
 
 from fagorcnc.syntax import parse_text
 from fagorcnc.syntax.ast import (
-    Assignment,
     Binary,
     Call,
     Definition,
@@ -269,12 +268,12 @@ def test_compound_assignments():
 
 def test_indirect_parameter_assignment_and_variables():
     # seed 002 L2115-L2126
-    a, b, c = items("P100 = P9 P101 = P[P7] P102 = P[P8 + SIN[P8*20]]")
+    _a, b, c = items("P100 = P9 P101 = P[P7] P102 = P[P8 + SIN[P8*20]]")
     assert b.value == Param(Param(7, 20), 18)
     assert c.value.index == Binary("+", Param(8, 33), Call("SIN", (Binary("*", Param(8, 42), Num(20.0, 45), 42),),
                                                              38), 33)
     assert items("P103 = V.G.TOOL")[0].value == Var("V.G.TOOL", (), 8)
-    fx, fy = items("V.G.FIXT[1].X=20 V.G.FIXT[1].Y=40")
+    fx, _fy = items("V.G.FIXT[1].X=20 V.G.FIXT[1].Y=40")
     assert fx.target == Var("V.G.FIXT[].X", (Num(1.0, 10),), 1)
     assert items("P[P2] = 5")[0].target == Param(Param(2, 3), 1)
 

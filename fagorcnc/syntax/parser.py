@@ -167,8 +167,8 @@ class LineParser:
                          f"'{first}': addresses and keywords are written in capitals", text)
         if first == "$" and ttype not in _FLOW_TOKENS and ttype != "HEXNUM":
             name = re.match(r"\$[A-Za-z0-9_]*", tok.value)[0]
-            return error(file, line, col, "SYN022", f"unknown $ instruction '{name}' (see the list in seed 002 ch. 21.2)",
-                         text)
+            return error(file, line, col, "SYN022",
+                         f"unknown $ instruction '{name}' (see the list in seed 002 ch. 21.2)", text)
         if first == '"' and tok.value.count('"') == 1:
             return error(file, line, col, "SYN021", 'text string "... is not closed with " on this line', text)
         if ttype in _OPERATOR_TOKENS or (ttype not in _TOKEN_WORDS and first in "*/+-&|^<>=!"):

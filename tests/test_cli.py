@@ -1,0 +1,62 @@
+"""The `fagorcnc parse` / `lint` command and the diagnostic format."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from fagorcnc.cli import main
+from fagorcnc.diagnostics import CODES, Diagnostic
+from fagorcnc.syntax import parse_text
+
+DEMO = Path(__file__).resolve().parents[1] / "programs" / "demo.nc"
+
+
+def test_diagnostic_format_file_line_col_code_and_caret():
+    (d,) = parse_text("G1 X10\nN20 XP1*2\n", "part.nc").diagnostics
+    assert str(d) == ("part.nc:2:8: SYN006 unexpected '*2': an ISO word value with an operator must be written "
+                      "in brackets, e.g. X[P1*2]")
+    assert d.render().splitlines()[1:] == ["    N20 XP1*2", "           ^"]
+
+
+def test_every_emitted_code_is_documented():
+    assert all(code[:3] in ("SYN", "STR") and len(code) == 6 for code in CODES)
+    d = Diagnostic("f", 1, 1, "SYN001", "warning", "m")
+    assert str(d) == "f:1:1: SYN001 warning: m"
+
+
+def test_parse_clean_file_exit_0(capsys):
+    assert main(["parse", str(DEMO)]) == 0
+    out = capsys.readouterr().out
+    assert "0 errors" in out and "%DEMO" in out
+
+
+def test_lint_reports_every_error_and_exits_1(tmp_path, capsys):
+    bad = tmp_path / "bad.nc"
+    bad.write_text("G1 X[1\nG1 X1\n#FOO ON\nM30\n")
+    assert main(["lint", "--brief", "-q", str(bad)]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out == [f"{bad}:1:7: SYN003 the block ends before the instruction is complete",
+                   f"{bad}:3:1: SYN012 unknown sentence #FOO"]
+
+
+def test_missing_file_is_a_usage_error(tmp_path, capsys):
+    assert main(["parse", str(tmp_path / "nope.nc")]) == 2
+    assert "cannot read" in capsys.readouterr().err
+
+
+def test_no_command_prints_help(capsys):
+    assert main([]) == 2
+
+
+def test_latin1_file_is_read(tmp_path):
+    f = tmp_path / "old.nc"
+    f.write_bytes("; usinage de la pièce\nG1 X1\n".encode("latin-1"))
+    assert main(["parse", "-q", str(f)]) == 0
+
+
+def test_console_script_runs_as_a_module():
+    r = subprocess.run([sys.executable, "-m", "fagorcnc.cli", "parse", "-q", str(DEMO)],
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 0 and r.stdout == "" and "Traceback" not in r.stderr
