@@ -87,6 +87,7 @@ class AstBuilder(Transformer):
 
     def _expr(self, value, col: int):
         if type(value) is ItemList:
+            col = value.col or max(col, 1)
             self._problem(col, "SYN016", "a bracket list [a, b] cannot stand where a single value is expected")
             return Num(0.0, col)
         return value
