@@ -62,6 +62,23 @@ def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.findite
             for m in _finditer(text)]
 
 
+def small_int(digits: str, limit: int = 4294967295) -> int | None:
+    """``int(digits)`` when it is at most ``limit``, else None (no huge-int work)."""
+    digits = digits.strip().lstrip("0") or "0"
+    if len(digits) > len(str(limit)):
+        return None
+    n = int(digits)
+    return n if n <= limit else None
+
+
+def _float(text: str) -> float:
+    """float() of a literal; an out-of-range literal becomes inf (reported later as a value error)."""
+    try:
+        return float(text)
+    except OverflowError:
+        return float("inf")
+
+
 def _neg(x):
     if type(x) is Num:
         return Num(-x.value, x.col)
@@ -107,11 +124,14 @@ class AstBuilder(Transformer):
                     skip = True
                 elif t == "BLOCKID":
                     digits = x.value[1:].rstrip(" \t:")
-                    number = int(digits)
-                    if number > 4294967295:
-                        self._problem(x.column, "SYN011", f"block number N{digits} is out of range 0..4294967295")
+                    number = small_int(digits)
+                    if number is None:
+                        self._problem(x.column, "SYN011",
+                                      f"block number N{digits[:12]}{'...' if len(digits) > 12 else ''} is out "
+                                      "of range 0..4294967295")
+                        number = 0
                 elif t == "BLOCKNUM":
-                    plain_number = Word("N", float(x.value[1:]), x.column)
+                    plain_number = Word("N", _float(x.value[1:]), x.column)
                 elif t == "LABEL":
                     label = x.value[1:-1].strip()
                     if not valid_name(label):
@@ -186,7 +206,10 @@ class AstBuilder(Transformer):
         tok, value = c
         head = tok.value.rstrip("= \t")
         letter = head[0]
-        number = int(head[1:].strip())
+        number = small_int(head[1:], 99999)
+        if number is None:
+            self._problem(tok.column, "SYN011", f"'{head[:12]}...' is not a valid name or G function number")
+            number = 0
         value = _literal(self._expr(value, tok.column))
         if letter == "G":  # G159=5, G263=30: function number and its value
             return Word("G", float(number), tok.column, value)
@@ -199,7 +222,7 @@ class AstBuilder(Transformer):
     def param_word(self, c):
         tok, op, value = c
         self._plain_eq(op)
-        return Word(tok.value, _literal(self._expr(value, tok.column)), tok.column)
+        return Word(f"P{self.param([tok]).index}", _literal(self._expr(value, tok.column)), tok.column)
 
     # ------------------------------------------------------------ sentences
     def call_sentence(self, c):
@@ -253,7 +276,11 @@ class AstBuilder(Transformer):
     def s_setting_n(self, c):
         name, number, op, value = c
         self._plain_eq(op)
-        return Setting(f"{name.value}{int(float(number.value))}", self._expr(value, name.column), name.column)
+        n = small_int(number.value.split(".")[0], 99999)
+        if n is None or "." in number.value:
+            self._problem(number.column, "SYN010", f"'{name.value}{number.value[:12]}' is not a valid name")
+            n = 0
+        return Setting(f"{name.value}{n}", self._expr(value, name.column), name.column)
 
     def s_direction(self, c):
         return Direction(c[0].value, c[1].value, c[0].column)
@@ -271,10 +298,10 @@ class AstBuilder(Transformer):
         return Flow(tok.type, args, tok.column)
 
     def f_if(self, c):
-        return self._flow(c, (c[1],))
+        return self._flow(c, (self._expr(c[1], c[0].column),))
 
     def f_if_goto(self, c):
-        return self._flow(c, (c[1], c[3]))
+        return self._flow(c, (self._expr(c[1], c[0].column), c[3]))
 
     f_elseif = f_while = f_enddo = f_switch = f_case = f_if
 
@@ -285,7 +312,7 @@ class AstBuilder(Transformer):
 
     def f_for(self, c):
         self._plain_eq(c[2])
-        return self._flow(c, (c[1], *tuple(c[3:])))
+        return self._flow(c, (c[1], *(self._expr(x, c[0].column) for x in c[3:])))
 
     def f_goto(self, c):
         return self._flow(c, (c[1],))
@@ -332,10 +359,12 @@ class AstBuilder(Transformer):
         return _neg(self._expr(c[0], 0))
 
     def number(self, c):
-        return Num(float(c[0].value), c[0].column)
+        return Num(_float(c[0].value), c[0].column)
 
     def hexnum(self, c):
-        return Num(float(int(c[0].value[1:], 16)), c[0].column)
+        digits = c[0].value[1:].lstrip("0") or "0"
+        value = float(int(digits, 16)) if len(digits) <= 200 else float("inf")
+        return Num(value, c[0].column)
 
     def true(self, c):
         return Num(1.0, c[0].column)
@@ -345,7 +374,11 @@ class AstBuilder(Transformer):
 
     def param(self, c):
         tok = c[0]
-        return Param(int(tok.value[1:]), tok.column)
+        n = small_int(tok.value[1:], 99999)
+        if n is None:
+            self._problem(tok.column, "SYN011", f"parameter {tok.value[:12]}... does not exist (P0..P19999)")
+            n = 99999
+        return Param(n, tok.column)
 
     def param_indexed(self, c):
         tok, index = c

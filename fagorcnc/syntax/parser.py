@@ -70,7 +70,9 @@ class LineParser:
         blockid = self._lark.get_terminal("BLOCKID").pattern.to_regexp()
         # [N..:] WORDS [; comment] -- exactly the token sequence the LALR
         # parser would see for the commonest CAM block.
-        self._fast = re.compile(rf"[ \t]*(?:({blockid})[ \t]*)?({words})?(?:;.*)?").fullmatch
+        # "L 100" / "N10 L 100" are global calls (GLOBAL_CALL outranks WORDS there).
+        self._fast = re.compile(
+            rf"[ \t]*(?:({blockid})[ \t]*)?(?!(?:N[0-9]+[ \t]*)?L[ \t])({words})?(?:;.*)?").fullmatch
 
     def parse(self, text: str, line: int, file: str = "<string>") -> tuple:
         """Parse one line.
@@ -87,9 +89,10 @@ class LineParser:
             items = tuple(split_words(words, m.start(2) + 1)) if words else ()
             number = None
             if bid is not None:
-                number = int(bid[1:].rstrip(" \t:"))
-                if number > 4294967295:
+                digits = bid[1:].rstrip(" \t:").lstrip("0") or "0"
+                if len(digits) > 10 or int(digits) > 4294967295:
                     return self.parse_full(text, line, file)
+                number = int(digits)
             return Block(line, text, False, number, None, items), ()
         return self.parse_full(text, line, file)
 

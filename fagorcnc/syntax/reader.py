@@ -39,7 +39,16 @@ def line_parser() -> LineParser:
 
 def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
     if isinstance(source, str):
-        return iter(source.splitlines())
+        # Only line ends separate blocks: str.splitlines() would also split on
+        # \x85, \x0c, \u2028..., which can stand inside comments.
+        # CR LF and a lone CR end a line too (universal newlines, like open()).
+        if "\r" in source:
+            source = source.replace("\r\n", "\n").replace("\r", "\n")
+        if source.endswith("\n"):
+            source = source[:-1]
+        elif not source:
+            return iter(())
+        return iter(source.split("\n"))
     return (s.rstrip("\r\n") for s in source)
 
 
