@@ -8,6 +8,8 @@ Front end available now::
 """
 
 from .diagnostics import CODES, Diagnostic
+from .machine import Machine, load_machine
+from .simulate import Result, Run, interpret, simulate
 from .syntax import Program, iter_lines, parse_file, parse_text
 
 __version__ = "0.1.0"
@@ -18,4 +20,8 @@ def parse(source: str, file: str = "<string>") -> Program:
     return parse_text(source, file)
 
 
-__all__ = ["CODES", "Diagnostic", "Program", "__version__", "iter_lines", "parse", "parse_file", "parse_text"]
+__all__ = [
+    "CODES", "Diagnostic", "Machine", "Program", "Result", "Run", "__version__", "interpret", "iter_lines",
+    "load_machine", "parse",
+    "parse_file", "parse_text", "simulate",
+]

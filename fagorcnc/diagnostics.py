@@ -6,8 +6,9 @@ user can filter on, a severity and a message written for a machinist.
 :meth:`Diagnostic.render` adds the source line with a caret under the column.
 
 Codes are grouped by stage: ``SYN`` syntax of a block, ``STR`` program
-structure (headers, subroutines, labels, ``$`` nesting).  Later stages add
-their own prefixes.  A code, once published, keeps its meaning.
+structure (headers, subroutines, labels, ``$`` nesting), ``INT`` the
+interpreter, ``CFG`` the machine configuration.  Later stages add their own
+prefixes.  A code, once published, keeps its meaning.
 """
 
 from __future__ import annotations
@@ -49,6 +50,76 @@ CODES: dict[str, str] = {
     "STR009": "$BREAK or $CONTINUE outside a loop",
     "STR010": "second program header",
     "STR011": "bare program name taken as the program header",
+    # interpreter
+    "INT010": "unknown G function",
+    "INT011": "G function not supported by fagorcnc yet",
+    "INT012": "incompatible G functions in one block",
+    "INT013": "origin change while #MCS ON is active",
+    "INT014": "G157 value other than 0 or 1",
+    "INT015": "G159 without a valid entry number",
+    "INT016": "G174 with other than one axis",
+    "INT017": "dwell without a valid time",
+    "INT018": "G30 with only one of I, J",
+    "INT019": "negative polar radius",
+    "INT020": "unknown spindle",
+    "INT021": "more than 7 M or H functions in one block",
+    "INT022": "generic axis ?n that designates no axis",
+    "INT023": "axis or letter written twice in one block",
+    "INT024": "axis that does not exist on this machine",
+    "INT025": "word not meaningful in this block",
+    "INT026": "unidirectional rotary axis moved the wrong way",
+    "INT027": "negative spindle speed",
+    "INT028": "NR in a block without motion",
+    "INT029": "invalid feed",
+    "INT030": "numeric overflow",
+    "INT031": "bitwise operator on a value that is not 0..4294967295",
+    "INT032": "function argument out of its domain",
+    "INT033": "division by zero",
+    "INT034": "not a number",
+    "INT035": "parameter index not an integer",
+    "INT036": "value must be a whole number",
+    "INT037": "value out of range",
+    "INT040": "parameter read before it has a value",
+    "INT041": "parameter outside the configured ranges",
+    "INT042": "too many local parameter levels",
+    "INT043": "user variable read before it has a value",
+    "INT044": "unknown variable",
+    "INT045": "table entry or fixture number out of range",
+    "INT046": "axis of a variable does not exist",
+    "INT047": "channel of a variable does not exist",
+    "INT048": "write to a read-only variable",
+    "INT049": "#DELETE of something that is not a user variable",
+    "INT050": "tool not in the tool table",
+    "INT051": "tool offset D not defined for the tool",
+    "INT060": "G01/G02/G03 without a feed",
+    "INT061": "arc without centre or radius",
+    "INT062": "arc start and end radius differ",
+    "INT063": "motion not allowed in #MCS",
+    "INT064": "arc radius impossible for the end point",
+    "INT070": "#ERROR in the program",
+    "INT071": "malformed # sentence",
+    "INT072": "$FOR step 0",
+    "INT073": "jump target not found",
+    "INT074": "jump into a $ structure",
+    "INT075": "invalid #RPT range",
+    "INT076": "#WARNING in the program",
+    "INT077": "#MSG in the program",
+    "INT078": "# sentence not computed by fagorcnc yet",
+    "INT079": "# sentence without effect offline",
+    "INT080": "runaway program: block limit reached",
+    "INT081": "runaway loop: iteration limit reached",
+    "INT090": "local subroutine calls one defined after it",
+    "INT091": "local subroutine not defined",
+    "INT092": "global subroutine file has errors",
+    "INT093": "global subroutine not found",
+    "INT094": "invalid subroutine argument",
+    "INT095": "subroutine nesting too deep",
+    "INT096": "OEM G function without a subroutine",
+    "INT097": "end of subroutine outside a subroutine",
+    "INT098": "program ends without M02 or M30",
+    "INT099": "global subroutine without M17/M29/#RET",
+    "INT100": "position beyond a software limit",
+    "CFG001": "invalid machine configuration",
 }
 
 

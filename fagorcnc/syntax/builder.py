@@ -202,6 +202,10 @@ class AstBuilder(Transformer):
         tok, value = c
         return Word(tok.value, _literal(self._expr(value, tok.column)), tok.column)
 
+    def bare_word(self, c):
+        tok = c[0]
+        return Word(tok.value, None, tok.column)
+
     def word_eq(self, c):
         tok, value = c
         head = tok.value.rstrip("= \t")

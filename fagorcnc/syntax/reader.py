@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Union
 
 from ..diagnostics import Diagnostic, error
-from .ast import Program, ProgramHeader
+from .ast import Block, Program, ProgramHeader
 from .parser import LineParser
 from .structure import assemble
 
@@ -79,7 +79,8 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>") -> Ite
         node, diags = parse(text, lineno, file)
         if first and (node is not None or diags):
             first = False
-            if node is None and (m := _BARE_NAME(text)):
+            bare = node is None or (type(node) is Block and any(getattr(i, "value", 0) is None for i in node.items))
+            if bare and (m := _BARE_NAME(text)):
                 # CAM posts write the program name alone on the first line.
                 node = ProgramHeader(m.group(1), lineno, text)
                 diags = (Diagnostic(file, lineno, m.start(1) + 1, "STR011", "info",

@@ -36,11 +36,14 @@ def _ends_subroutine(block: Block) -> bool:
 
 
 class _Frame:
-    __slots__ = ("case_broken", "case_index", "case_open", "has_else", "index", "kind", "last")
+    __slots__ = ("block", "case_broken", "case_index", "case_line", "case_open", "has_else", "index", "kind",
+                 "last")
 
-    def __init__(self, kind: str, index: int) -> None:
+    def __init__(self, kind: str, index: int, block: Block) -> None:
         self.kind = kind
         self.index = index      # block index of the opening instruction
+        self.block = block      # the opening block (for messages)
+        self.case_line = 0
         self.last = index       # latest instruction of the structure (for chaining)
         self.has_else = False
         self.case_open = False  # inside a $CASE section
@@ -59,23 +62,24 @@ class RoutineBuilder:
         self.structure: dict = {}
         self.stack: list = []
         self.diagnostics: list = []
+        self.offset = 0  # index of blocks[0] (a streamed routine drops blocks it no longer needs)
 
     def _err(self, block: Block, col: int, code: str, message: str) -> None:
         self.diagnostics.append(error(self.file, block.line, col, code, message, block.text))
 
     def add(self, block: Block) -> None:
-        index = len(self.blocks)
+        index = self.offset + len(self.blocks)
         self.blocks.append(block)
         if block.number is not None:
             if block.number in self.numbers:
-                first = self.blocks[self.numbers[block.number]].line
+                first = self._line(self.numbers[block.number])
                 self._err(block, 1, "STR004", f"jump target N{block.number}: is already defined on line {first}")
             else:
                 self.numbers[block.number] = index
         if block.label is not None:
             key = block.label.upper()
             if key in self.labels:
-                first = self.blocks[self.labels[key]].line
+                first = self._line(self.labels[key])
                 self._err(block, 1, "STR004", f"label [{block.label}] is already defined on line {first}")
             else:
                 self.labels[key] = index
@@ -83,13 +87,17 @@ class RoutineBuilder:
         if items and type(items[-1]) is Flow:  # a $ instruction is the block's last item
             self._flow(block, index, items[-1])
 
+    def _line(self, index: int) -> int:
+        i = index - self.offset
+        return self.blocks[i].line if 0 <= i < len(self.blocks) else 0
+
     # ------------------------------------------------------------------ $ nesting
     def _flow(self, block: Block, index: int, node: Flow) -> None:
         kw = node.keyword
         stack = self.stack
         if kw == "IF":
             if len(node.args) == 1:  # block form; "$IF c $GOTO" has no $ENDIF (L17122)
-                stack.append(_Frame("IF", index))
+                stack.append(_Frame("IF", index, block))
         elif kw in ("ELSEIF", "ELSE"):
             top = stack[-1] if stack else None
             if top is None or top.kind != "IF":
@@ -102,7 +110,7 @@ class RoutineBuilder:
             self.structure[top.last] = index
             top.last = index
         elif kw == "SWITCH":
-            stack.append(_Frame("SWITCH", index))
+            stack.append(_Frame("SWITCH", index, block))
         elif kw in ("CASE", "DEFAULT"):
             top = stack[-1] if stack else None
             if top is None or top.kind != "SWITCH":
@@ -115,10 +123,11 @@ class RoutineBuilder:
                 top.has_else = True
             else:
                 top.case_open, top.case_broken, top.case_index = True, False, index
+                top.case_line = block.line
             self.structure[top.last] = index
             top.last = index
         elif kw in _LOOPS:
-            stack.append(_Frame(kw, index))
+            stack.append(_Frame(kw, index, block))
         elif kw in _LOOP_END:
             opener = _LOOP_END[kw]
             depth = next((i for i in range(len(stack) - 1, -1, -1) if stack[i].kind == opener), None)
@@ -147,12 +156,12 @@ class RoutineBuilder:
     def _close_case(self, frame: _Frame, block: Block, col: int) -> None:
         # seed 002 L17225-L17228: each $CASE ends with $BREAK
         if frame.case_open and not frame.case_broken:
-            case_line = self.blocks[frame.case_index].line
+            case_line = frame.case_line
             self._err(block, col, "STR007", f"the $CASE on line {case_line} must end with $BREAK")
         frame.case_open = False
 
     def _unclosed(self, frame: _Frame, why: str) -> None:
-        block = self.blocks[frame.index]
+        block = frame.block
         closer = {"IF": "ENDIF", "SWITCH": "ENDSWITCH", "FOR": "ENDFOR", "WHILE": "ENDWHILE", "DO": "ENDDO"}
         col = next((i.col for i in block.items if type(i) is Flow), 1)
         self._err(block, col, "STR006", f"${frame.kind} {why} (missing ${closer[frame.kind]})")

@@ -1,0 +1,587 @@
+"""The block executor: runs a parsed program and yields motion records.
+
+:class:`Interpreter` walks the routines of a :class:`~fagorcnc.syntax.ast.Program`
+with a call stack; ``$`` instructions jump along the links the parser recorded
+in :attr:`Routine.structure`.  ISO blocks go to
+:class:`~fagorcnc.interp.iso.IsoExecutor`.  Every error becomes a diagnostic
+on its block and stops the run (nothing is sent to a machine after an error).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..diagnostics import Diagnostic
+from ..machine import Machine
+from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
+from ..syntax.reader import parse_file
+from .expressions import Evaluator, InterpError
+from .iso import IsoExecutor
+from .parameters import Parameters
+from .records import Dwell, Source
+from .source import RoutineSource, StreamSource
+from .state import ChannelState
+from .variables import Variables
+
+
+class _Stop(Exception):  # noqa: N818 - control flow, not an error
+    """End of the run (M02/M30, #ERROR, end of the main program)."""
+
+
+@dataclass
+class Frame:
+    """One level of the call stack."""
+
+    source: RoutineSource | StreamSource
+    program: Program          # file the routine belongs to (for LL lookups)
+    pc: int = 0
+    opened_level: bool = False
+    loops: dict = field(default_factory=dict)   # opener index -> loop state
+    modal: bool = False       # running the modal subroutine (#MCALL)
+    repeat: list | None = None  # #RPT: [start, end, remaining, return pc]
+
+
+@dataclass
+class ModalCall:
+    target: str
+    args: dict
+    frame_program: Program
+
+
+class Interpreter:
+    """Runs one program; iterate :meth:`run` for the records."""
+
+    def __init__(self, program: Program, machine: Machine, *, block_skip: bool = False,
+                 search_paths: list[Path] | None = None, stream: StreamSource | None = None) -> None:
+        self.program = program
+        self.stream = stream
+        self.machine = machine
+        self.state = ChannelState(machine)
+        self.state.block_skip = block_skip
+        self.params = Parameters(machine)
+        self.variables = Variables(self.state)
+        self.evaluator = Evaluator(self.params, self.variables)
+        self.iso = IsoExecutor(self)
+        self.diagnostics: list[Diagnostic] = []
+        self.frames: list[Frame] = []
+        self.modal_call: ModalCall | None = None
+        self.mcs_block = False
+        self.ended: str | None = None
+        base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
+        self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
+        self.program_dir = base
+        self._files: dict[Path, Program] = {}
+
+    # ------------------------------------------------------------------ run
+    def run(self) -> Iterator:
+        """Yield the motion records of the program, in execution order."""
+        if not self.program.ok:
+            return  # a program with syntax errors is not executed
+        main = self.stream if self.stream is not None else RoutineSource(self.program.main)
+        self.frames.append(Frame(main, self.program))
+        try:
+            yield from self._loop(0)
+        except InterpError as exc:
+            self._error(exc)
+        except _Stop:
+            pass
+
+    def _loop(self, depth: int) -> Iterator:
+        """Execute blocks until the call stack is back to ``depth`` frames."""
+        limit = self.machine.limits.max_blocks
+        frames = self.frames
+        state = self.state
+        stream = self.stream
+        while len(frames) > depth:
+            frame = frames[-1]
+            if frame.repeat is not None and frame.pc > frame.repeat[1]:
+                self._repeat_next(frame)
+                continue
+            block = frame.source.get(frame.pc)
+            if frame.source is stream:
+                if any(d.is_error for d in stream.diagnostics):
+                    raise _Stop  # a syntax error ahead: nothing more is executed
+                if frame.pc & 1023 == 0:
+                    keep = [*frame.loops, frame.repeat[0]] if frame.repeat else list(frame.loops)
+                    stream.release(frame.pc, min(keep) if keep else None)
+            if block is None:
+                self._end_of_routine(frame)
+                continue
+            frame.pc += 1
+            state.executed_blocks += 1
+            if state.executed_blocks > limit:
+                self._current_block = block
+                raise InterpError("INT080", f"more than {limit} blocks executed: runaway program stopped "
+                                  "(limits.max_blocks)", 1)
+            if block.skip and state.block_skip:
+                continue
+            yield from self._block(block)
+
+    # ------------------------------------------------------------------ helpers
+    def _src(self, block: Block) -> Source:
+        return Source(self.frames[-1].program.file, block.line, block.text)
+
+    def _error(self, exc: InterpError, block: Block | None = None) -> None:
+        block = block or self._current_block
+        file = self.frames[-1].program.file if self.frames else self.program.file
+        line, text = (block.line, block.text) if block is not None else (1, "")
+        self.diagnostics.append(Diagnostic(file, line, exc.col, exc.code, "error", exc.message, text))
+
+    def message(self, code: str, severity: str, message: str, col: int = 1) -> None:
+        block = self._current_block
+        file = self.frames[-1].program.file if self.frames else self.program.file
+        self.diagnostics.append(Diagnostic(file, block.line if block else 1, col, code, severity, message,
+                                           block.text if block else ""))
+
+    _current_block: Block | None = None
+
+    # ------------------------------------------------------------------ blocks
+    def _block(self, block: Block):
+        self._current_block = block
+        self.state.line = block.line
+        items = block.items
+        if not items:
+            return
+        src = self._src(block)
+        last = items[-1]
+        t = type(last)
+        if t is Flow:
+            self._flow(last, block)
+            return
+        if t is Assignment:
+            for a in items:
+                if type(a) is Assignment:
+                    self._assign(a)
+            return
+        words = [i for i in items if type(i) is Word]
+        mcs_move = t is Sentence and last.keyword == "MCS" and not _is_on_off(last)
+        if mcs_move:
+            words += self._mcs_words(last)
+        self.mcs_block = mcs_move
+        try:
+            if words:
+                bw = self.iso.classify(words)
+                yield from self.iso.execute(bw, src)
+                if bw.call is not None:
+                    self._oem_call(bw.call, src)
+            if t is Sentence and not mcs_move:
+                yield from self._sentence(last, src)
+            elif t is SubroutineCall:
+                self._call(last)
+            elif t is Repeat:
+                self._repeat(last)
+        finally:
+            self.mcs_block = False
+
+    def _mcs_words(self, node: Sentence) -> list:
+        out = []
+        for item in node.args:
+            kind = type(item).__name__
+            if kind == "Keyed" or kind == "Setting":
+                out.append(Word(item.name, item.value, item.col))
+            else:
+                raise InterpError("INT071", "#MCS takes axis words: #MCS X.. Y.. or #MCS ON/OFF", node.col)
+        return out
+
+    def _assign(self, a: Assignment) -> None:
+        ev = self.evaluator
+        value = ev.value(a.value)
+        target = a.target
+        if a.op != "=":
+            current = ev.value(target)
+            value = {"+=": current + value, "-=": current - value, "*=": current * value,
+                     "/=": None}[a.op] if a.op != "/=" else self._divide(current, value, a.col)
+        if type(target) is Param:
+            self.params.set(ev.index(target), value, target.col)
+        else:
+            self.variables.set(target.name, tuple(ev.value(i) for i in target.index), value, target.col)
+
+    @staticmethod
+    def _divide(a: float, b: float, col: int) -> float:
+        if b == 0:
+            raise InterpError("INT033", "division by zero", col)
+        return a / b
+
+    # ------------------------------------------------------------------ flow control
+    def _flow(self, node: Flow, block: Block) -> None:
+        frame = self.frames[-1]
+        source = frame.source
+        here = frame.pc - 1
+        links = _Links(source)
+        kw = node.keyword
+        ev = self.evaluator
+
+        def kw_at(i: int) -> str:
+            return source.get(i).items[-1].keyword
+
+        if kw == "IF":
+            cond = ev.value(node.args[0]) != 0
+            if len(node.args) == 2:
+                if cond:
+                    self._goto(node.args[1], frame)
+                return
+            if cond:
+                return
+            i = links[here]
+            while True:
+                k = kw_at(i)
+                if k == "ELSEIF":
+                    if ev.value(source.get(i).items[-1].args[0]) != 0:
+                        frame.pc = i + 1
+                        return
+                    i = links[i]
+                elif k == "ELSE":
+                    frame.pc = i + 1
+                    return
+                else:  # ENDIF
+                    frame.pc = i + 1
+                    return
+        if kw in ("ELSEIF", "ELSE", "CASE", "DEFAULT"):
+            # reached after a branch ran: skip to the end of the structure
+            i = links[here]
+            while kw_at(i) not in ("ENDIF", "ENDSWITCH"):
+                i = links[i]
+            frame.pc = i + 1
+            return
+        if kw in ("ENDIF", "ENDSWITCH"):
+            return
+        if kw == "SWITCH":
+            value = ev.value(node.args[0])
+            i = links[here]
+            while True:
+                k = kw_at(i)
+                if k == "CASE" and ev.value(source.get(i).items[-1].args[0]) == value:
+                    frame.pc = i + 1
+                    return
+                if k == "DEFAULT" or k == "ENDSWITCH":
+                    frame.pc = i + 1
+                    return
+                i = links[i]
+        if kw == "FOR":
+            target, start, end, step = node.args
+            s = ev.value(step)
+            if s == 0:
+                raise InterpError("INT072", "$FOR step must not be 0", node.col)
+            e = ev.value(end)
+            v = ev.value(start)
+            self._set_target(target, v)
+            frame.loops[here] = [e, s, 0]
+            if (s > 0 and v > e) or (s < 0 and v < e):
+                frame.loops.pop(here, None)
+                frame.pc = links[here] + 1
+            return
+        if kw == "ENDFOR":
+            opener = links[here]
+            state = frame.loops.get(opener)
+            if state is None:  # entered by a jump: nothing to repeat
+                return
+            e, s, _ = state
+            target = source.get(opener).items[-1].args[0]
+            v = ev.value(target) + s
+            self._set_target(target, v)
+            if (s > 0 and v <= e) or (s < 0 and v >= e):
+                self._count(state, source.get(opener))
+                frame.pc = opener + 1
+            else:
+                frame.loops.pop(opener, None)
+            return
+        if kw == "WHILE":
+            if ev.value(node.args[0]) == 0:
+                frame.loops.pop(here, None)
+                frame.pc = links[here] + 1
+            else:
+                self._count(frame.loops.setdefault(here, [0, 0, 0]), block)
+            return
+        if kw == "ENDWHILE":
+            frame.pc = links[here]
+            return
+        if kw == "DO":
+            self._count(frame.loops.setdefault(here, [0, 0, 0]), block)
+            return
+        if kw == "ENDDO":
+            opener = links[here]
+            if ev.value(node.args[0]) != 0:
+                frame.pc = opener
+            else:
+                frame.loops.pop(opener, None)
+            return
+        if kw in ("BREAK", "CONTINUE"):
+            opener = links[here]
+            okw = kw_at(opener)
+            if okw == "SWITCH":
+                i = links[opener]
+                while kw_at(i) != "ENDSWITCH":
+                    i = links[i]
+                frame.pc = i + 1
+                return
+            closer = links[opener]
+            if kw == "BREAK":
+                frame.loops.pop(opener, None)
+                frame.pc = closer + 1
+            elif okw == "WHILE":
+                frame.pc = opener
+            else:  # FOR: next value at $ENDFOR; DO: test at $ENDDO
+                frame.pc = closer
+            return
+        if kw == "GOTO":
+            self._goto(node.args[0], frame)
+            return
+
+    def _count(self, state: list, block: Block) -> None:
+        state[2] += 1
+        limit = self.machine.limits.max_loop_iterations
+        if state[2] > limit:
+            self._current_block = block
+            raise InterpError("INT081", f"loop repeated more than {limit} times: runaway loop stopped "
+                              "(limits.max_loop_iterations)", 1)
+
+    def _set_target(self, target, value: float) -> None:
+        if type(target) is Param:
+            self.params.set(self.evaluator.index(target), value, target.col)
+        else:
+            self.variables.set(target.name, tuple(self.evaluator.value(i) for i in target.index), value,
+                               target.col)
+
+    def _find_label(self, source, number, label, col: int) -> int:
+        if label is not None:
+            index = source.find_label(label)
+            shown = f"[{label}]"
+        else:
+            n = self.evaluator.integer(number, "N", col)
+            index = source.find_number(n)
+            shown = f"N{n}:"
+        if index is None:
+            raise InterpError("INT073", f"jump target {shown} not found in this program or subroutine "
+                              "(a target block number needs ':')", col)
+        return index
+
+    def _goto(self, goto, frame: Frame) -> None:
+        target = self._find_label(frame.source, goto.number, goto.label, goto.col)
+        source = frame.pc - 1
+        # seed 002 L17072: no jump into the body of another instruction
+        for opener, closer in frame.source.spans():
+            inside_target = opener < target <= closer
+            inside_source = opener < source <= closer
+            if inside_target and not inside_source:
+                raise InterpError("INT074", "$GOTO may not jump into a $IF/$FOR/$WHILE/$DO/$SWITCH body", goto.col)
+            if inside_source and not inside_target:
+                frame.loops.pop(opener, None)   # leaving the structure unwinds it
+        frame.pc = target
+
+    # ------------------------------------------------------------------ #RPT
+    def _repeat(self, node: Repeat) -> None:
+        frame = self.frames[-1]
+        start = self._find_label(frame.source, node.start.number, node.start.label, node.start.col)
+        end = self._find_label(frame.source, node.end.number, node.end.label, node.end.col)
+        count = 1 if node.count is None else self.evaluator.integer(node.count, "#RPT count ", node.col, 0, 1e9)
+        if end < start:
+            raise InterpError("INT075", "#RPT: the end block comes before the start block", node.col)
+        if frame.repeat is not None:
+            raise InterpError("INT075", "#RPT inside a repeated range is not supported", node.col)
+        if count:
+            frame.repeat = [start, end, count, frame.pc]
+            frame.pc = start
+
+    def _repeat_next(self, frame: Frame) -> bool:
+        start, _end, remaining, back = frame.repeat
+        remaining -= 1
+        if remaining > 0:
+            frame.repeat[2] = remaining
+            frame.pc = start
+        else:
+            frame.repeat = None
+            frame.pc = back
+        return True
+
+    # ------------------------------------------------------------------ subroutines
+    def _lookup(self, target: str, kind: str, col: int) -> tuple[Routine, Program, bool]:
+        """(routine, program, is_global) for a call (seed 002 L10322-L10333, L10435)."""
+        program = self.frames[-1].program
+        has_path = any(c in target for c in "/\\:")
+        if kind in ("LL", "CALL", "PCALL", "MCALL") and not has_path:
+            key = target.upper()
+            routine = program.subroutines.get(key)
+            if routine is None and key.endswith((".NC", ".FST")):
+                routine = program.subroutines.get(key.rsplit(".", 1)[0])
+            if routine is not None:
+                caller = self.frames[-1].source
+                if caller.kind == "local":
+                    order = list(program.subroutines)
+                    if order.index(routine.name.upper()) >= order.index(caller.name.upper()):
+                        raise InterpError("INT090", f"local subroutine {caller.name} may only call subroutines "
+                                          f"defined before it; {routine.name} is not (L10203)", col)
+                return routine, program, False
+            if kind == "LL":
+                raise InterpError("INT091", f"local subroutine {target} is not defined in this file", col)
+        path = self._find_file(target, col)
+        if path not in self._files:
+            self._files[path] = parse_file(path)
+            sub = self._files[path]
+            for d in sub.diagnostics:
+                self.diagnostics.append(d)
+            if not sub.ok:
+                raise InterpError("INT092", f"subroutine file {path.name} has errors", col)
+        sub = self._files[path]
+        return sub.main, sub, True
+
+    def _find_file(self, target: str, col: int) -> Path:
+        name = target.replace("\\", "/")
+        candidates: list[Path] = []
+        roots = list(self.search_paths)
+        if self.program_dir is not None:
+            roots.append(self.program_dir)
+        if "/" in name or ":" in name:
+            candidates.append(Path(name.split(":", 1)[-1] if ":" in name and len(name.split(":")[0]) == 1 else name))
+        else:
+            if self.state.path:
+                candidates.append(Path(self.state.path.replace("\\", "/")) / name)
+            candidates += [r / name for r in roots]
+        for c in candidates:
+            try:
+                resolved = c.resolve()
+            except OSError:
+                continue
+            if resolved.is_file() and any(_within(resolved, r) for r in roots):
+                return resolved
+        where = ", ".join(str(r) for r in roots) or "no directory configured (machine subroutine_paths)"
+        raise InterpError("INT093", f"global subroutine {target} not found in {where}", col)
+
+    def _call(self, node: SubroutineCall) -> None:
+        kind = node.kind
+        if self.modal_call is not None and not self.frames[-1].modal:
+            self.modal_call = None  # another call cancels the modal subroutine (L10554-L10570)
+        args = self._arguments(node.args)
+        if kind == "MCALL":
+            self.modal_call = ModalCall(node.target, args, self.frames[-1].program)
+        self._enter(node.target, kind, args, node.col, modal=kind == "MCALL")
+
+    def _arguments(self, words) -> dict[int, float]:
+        """#PCALL/#MCALL/G180 arguments: A..Z = P0..P25 or Pn=value (seed 002 L10487-L10495)."""
+        out: dict[int, float] = {}
+        for w in words:
+            addr = w.address
+            if addr[0] == "P" and addr[1:].isdigit():
+                n = int(addr[1:])
+            elif len(addr) == 1 and addr.isalpha():
+                n = ord(addr) - ord("A")
+            else:
+                raise InterpError("INT094", f"'{addr}' cannot initialise a local parameter", w.col)
+            lo, hi = self.machine.local_params
+            if not lo <= n <= hi:
+                raise InterpError("INT094", f"{addr} initialises P{n}, outside the local parameters "
+                                  f"P{lo}..P{hi}", w.col)
+            out[n] = self.evaluator.value(w.value)
+        return out
+
+    def _enter(self, target: str, kind: str, args: dict, col: int, modal: bool = False) -> None:
+        if len(self.frames) > self.machine.limits.max_call_depth:
+            raise InterpError("INT095", f"more than {self.machine.limits.max_call_depth} nested subroutine calls "
+                              "(L10207)", col)
+        routine, program, _ = self._lookup(target, kind, col)
+        opened = kind in ("CALL", "PCALL", "MCALL", "OEM")   # L10503: these open a parameter level
+        if opened:
+            self.params.push(args, col)
+        self.frames.append(Frame(RoutineSource(routine), program, opened_level=opened, modal=modal))
+
+    def _oem_call(self, call: tuple, src: Source) -> None:
+        n, modal, col, words = call
+        name = self.machine.oem_subroutines.get(n) if n < 500 else f"G{n}"
+        if name is None:
+            raise InterpError("INT096", f"G{n}: no OEM subroutine is configured for it", col)
+        args = self._arguments(words)
+        if modal:
+            self.modal_call = ModalCall(name, args, self.frames[-1].program)
+        self._enter(name, "OEM", args, col, modal=modal)
+
+    def return_from_subroutine(self, col: int = 1) -> None:
+        if len(self.frames) == 1:
+            raise InterpError("INT097", "M17/M29/#RET outside a subroutine", col)
+        frame = self.frames.pop()
+        if frame.opened_level:
+            self.params.pop()
+
+    def _end_of_routine(self, frame: Frame) -> None:
+        if len(self.frames) == 1:
+            self.message("INT098", "warning", "the program ends without M02 or M30 (seed 002 L860)")
+            self.frames.pop()
+            raise _Stop
+        if frame.source.kind == "program":  # a global subroutine file without M17/#RET
+            raise InterpError("INT099", f"subroutine {frame.program.file} ends without M17, M29 or #RET", 1)
+        self.return_from_subroutine()
+
+    def after_motion(self, src: Source):
+        """Run the modal subroutine after a motion block (#MCALL, seed 002 L10518-L10606).
+
+        It runs to completion before the block goes on (and before the next NR
+        repetition); moves inside the modal subroutine do not trigger it again.
+        """
+        mc = self.modal_call
+        if mc is None or any(f.modal for f in self.frames):
+            return
+        depth = len(self.frames)
+        block = self._current_block
+        self._enter(mc.target, "MCALL", mc.args, 1, modal=True)
+        yield from self._loop(depth)
+        self._current_block = block
+
+    def plane_changed(self) -> None:
+        self.modal_call = None  # a plane change cancels #MCALL (L10554)
+
+    def end_program(self, m: int, src: Source) -> None:
+        self.state.reset(f"M{m}")
+        self.modal_call = None
+        self.ended = f"M{m:02d}"
+        raise _Stop
+
+    def check_limits(self, position: dict[str, float], col: int, start: dict[str, float] | None = None) -> None:
+        """Soft limits and G198/G199 on every programmed end point (seed 002 L9201-L9240).
+
+        An axis already outside its limits may only move back toward them.
+        """
+        st = self.state
+        for a, v in position.items():
+            lo, hi = st.lower_limits[a], st.upper_limits[a]
+            if lo - 1e-9 <= v <= hi + 1e-9:
+                continue
+            if start is not None:
+                s = start[a]
+                if (v < lo and s < lo and v >= s - 1e-9) or (v > hi and s > hi and v <= s + 1e-9):
+                    continue  # moving back toward the limits (L9226-L9228)
+            bound = "lower" if v < lo else "upper"
+            raise InterpError("INT100", f"axis {a} to {v:.4f} (machine) is beyond its {bound} limit "
+                              f"{lo if v < lo else hi:g}", col)
+
+    # ------------------------------------------------------------------ # sentences
+    def _sentence(self, node: Sentence, src: Source):
+        from .sentences import execute_sentence
+
+        yield from execute_sentence(self, node, src)
+
+
+def _is_on_off(node: Sentence) -> bool:
+    return bool(node.args) and type(node.args[0]).__name__ == "Name" and node.args[0].name in ("ON", "OFF")
+
+
+class _Links:
+    """``links[i]``: the structure link of block ``i`` (reads ahead on a stream)."""
+
+    __slots__ = ("source",)
+
+    def __init__(self, source) -> None:
+        self.source = source
+
+    def __getitem__(self, i: int) -> int:
+        return self.source.link(i)
+
+
+def _within(path: Path, root: Path) -> bool:
+    try:
+        path.relative_to(root)
+        return True
+    except ValueError:
+        return False
+
+
+__all__ = ["Dwell", "Interpreter"]

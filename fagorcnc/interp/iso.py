@@ -1,0 +1,547 @@
+"""Execution of ISO blocks: G functions, axis words, F S T D M H, motion.
+
+Order inside a block (spec 02 §8.10, seed 002 L1021 and the chapters cited):
+
+1. values of all words are evaluated; G functions are checked against the
+   G table (unknown / unsupported / two of one modal group are errors);
+2. modal functions of the block take effect (units, G90/G91, plane, feed
+   type ...), so the block's own coordinates use them;
+3. origins: G53, then G157, then G54-G59/G159, G92, G158 (L3854, L3535);
+4. F, S, T, D; H and M functions that run before the motion;
+5. the motion (G00/G01/G02/G03, polar R/Q), repeated NR times; G04 dwell;
+6. M functions that run after the motion (M00, M01), then end of program
+   or subroutine (M02/M30, M17/M29).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..syntax.ast import Word
+from .expressions import InterpError
+from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
+from .records import Arc, Aux, Dwell, Line, Source
+from .state import ChannelState
+
+INCH = 25.4
+_AXIS_LETTERS = frozenset("XYZUVWABC")
+#: M functions run after the motion by default (spec 02 §19: M00/M01 "after").
+_M_AFTER = frozenset({0, 1, 2, 30, 17, 29})
+#: letters that are parameters of G functions, not axes (chapters 8-12)
+_PARAM_LETTERS = frozenset("IJKRQEL")
+
+
+@dataclass
+class BlockWords:
+    """The evaluated words of one ISO block, sorted by role."""
+
+    g: list = field(default_factory=list)            # (number, col, eq)
+    axes: dict = field(default_factory=dict)         # axis name -> (value, col)
+    params: dict = field(default_factory=dict)       # I J K R Q ... -> (value, col)
+    feed: tuple | None = None
+    speeds: dict = field(default_factory=dict)       # spindle -> (value, col)
+    tool: tuple | None = None
+    offset: tuple | None = None
+    m: list = field(default_factory=list)            # (number, col)
+    h: list = field(default_factory=list)
+    nr: tuple | None = None
+    call: tuple | None = None                        # (G number, modal, col, argument words)
+
+
+class IsoExecutor:
+    """Interprets ISO words against a :class:`ChannelState`, yielding records."""
+
+    def __init__(self, interp) -> None:
+        self.interp = interp
+        self.state: ChannelState = interp.state
+        self.machine = interp.machine
+        self.ev = interp.evaluator
+
+    # ------------------------------------------------------------ words
+    def classify(self, words: list[Word]) -> BlockWords:
+        ev, st = self.ev, self.state
+        bw = BlockWords()
+        axes = st.axes
+        g157 = any(w.address == "G" and w.value == 157.0 for w in words)
+        for i, w in enumerate(words):
+            addr, col = w.address, w.col
+            if w.value is None:
+                if not (g157 and (addr in st.machine.axes or addr[0] == "?")):
+                    raise InterpError("INT025", f"'{addr}' needs a value", col)
+                w = w._replace(value=1.0)  # G157 X: exclude X (L3851-L3852)
+            if addr == "G" or addr == "MG":
+                n = ev.integer(w.value, addr, col, 0, 9999)
+                if (180 <= n <= 189 or 380 <= n <= 399 or 500 <= n <= 599) or addr == "MG":
+                    bw.call = (n, addr == "MG", col, tuple(words[i + 1:]))
+                    return bw  # every word after the call is an argument (L10712-L10719)
+                eq = ev.value(w.eq) if w.eq is not None else None
+                bw.g.append((n, col, eq))
+            elif addr == "N":
+                ev.integer(w.value, "N", col)
+            elif addr == "F":
+                bw.feed = (ev.value(w.value), col)
+            elif addr == "S" or (addr[0] == "S" and addr[1:].isdigit()):
+                spindle = addr if addr in st.speeds else None
+                if spindle is None:
+                    if addr != "S" or not st.speeds:
+                        raise InterpError("INT020", f"spindle {addr} does not exist on this machine", col)
+                    spindle = next(iter(st.speeds))
+                bw.speeds[spindle] = (ev.value(w.value), col)
+            elif addr == "T":
+                bw.tool = (ev.integer(w.value, "T", col, 0, 4294967294, floor=True), col)
+            elif addr == "D":
+                bw.offset = (ev.integer(w.value, "D", col), col)
+            elif addr == "M":
+                if len(bw.m) == 7:  # spec 02 §19: up to 7 M per block
+                    raise InterpError("INT021", "more than 7 M functions in one block", col)
+                bw.m.append((ev.integer(w.value, "M", col, 0, 65535, floor=True), col))
+            elif addr == "H":
+                if len(bw.h) == 7:
+                    raise InterpError("INT021", "more than 7 H functions in one block", col)
+                bw.h.append((ev.integer(w.value, "H", col, 0, 65535, floor=True), col))
+            elif addr == "NR":
+                bw.nr = (ev.integer(w.value, "NR", col), col)
+            elif addr[0] == "?":
+                k = int(addr[1:])
+                if not 1 <= k <= len(axes):  # seed 002 L1211: ?n on a hole or beyond the channel
+                    raise InterpError("INT022", f"generic axis {addr} does not designate an axis", col)
+                self._axis_word(bw, axes[k - 1], ev.value(w.value), col)
+            elif addr in st.machine.axes:
+                self._axis_word(bw, addr, ev.value(w.value), col)
+            elif addr in _PARAM_LETTERS or (len(addr) == 1 and addr not in _AXIS_LETTERS):
+                if addr in bw.params:
+                    raise InterpError("INT023", f"{addr} is written twice in the block", col)
+                bw.params[addr] = (ev.value(w.value), col)
+            elif addr[0] in _AXIS_LETTERS:
+                raise InterpError("INT024", f"axis {addr} does not exist on this machine", col)
+            else:
+                raise InterpError("INT025", f"'{addr}' is not meaningful here", col)
+        return bw
+
+    @staticmethod
+    def _axis_word(bw: BlockWords, axis: str, value: float, col: int) -> None:
+        if axis in bw.axes:
+            raise InterpError("INT023", f"axis {axis} is written twice in the block", col)
+        bw.axes[axis] = (value, col)
+
+    def check_g(self, bw: BlockWords) -> None:
+        seen: dict[str, int] = {}
+        for n, col, _eq in bw.g:
+            g = G_FUNCTIONS.get(n)
+            if g is None:
+                raise InterpError("INT010", f"G{n} is not a G function of the 8060/8065", col)
+            if g.support == "no":
+                raise InterpError("INT011", f"G{n} ({g.meaning}) is not supported by fagorcnc yet", col)
+            if g.group in EXCLUSIVE_GROUPS:
+                if g.group in seen and seen[g.group] != n:
+                    raise InterpError("INT012", f"G{seen[g.group]} and G{n} are incompatible in one block", col)
+                seen[g.group] = n
+
+    # ------------------------------------------------------------ units
+    def length(self, value: float, axis: str | None = None, diameter_ok: bool = True) -> float:
+        """A programmed length in mm (G70 inch, G151 diameter axes)."""
+        st = self.state
+        if axis is not None and st.machine.axes[axis].rotary:
+            return value
+        if st.modes["units"] == 70:
+            value *= INCH
+        if diameter_ok and axis is not None and st.modes["diameter"] == 151 and st.machine.axes[axis].diameter:
+            value /= 2.0
+        return value
+
+    def target(self, bw: BlockWords, current_part: dict[str, float]) -> dict[str, float]:
+        """Part coordinates of the programmed end point (cartesian words)."""
+        st = self.state
+        incremental = st.modes["distance"] == 91
+        out = dict(current_part)
+        for axis, (v, col) in bw.axes.items():
+            ax = st.machine.axes[axis]
+            if ax.rotary and ax.rotary_mode != "linearlike":
+                out[axis] = self._rotary(ax, current_part[axis], v, incremental, col)
+            elif incremental:
+                out[axis] = current_part[axis] + self.length(v, axis)
+            else:
+                out[axis] = self.length(v, axis)
+        return out
+
+    @staticmethod
+    def _rotary(ax, cur: float, v: float, incremental: bool, col: int) -> float:
+        """Rotary axis end position (spec 02 §3, seed 002 L2505-L2585); unrolled position."""
+        m = ax.module
+        if incremental:
+            if ax.rotary_mode == "unidirectional" and v * ax.direction < 0:
+                raise InterpError("INT026", f"{ax.name} only turns in one direction", col)
+            return cur + v
+        here = cur % m
+        target = abs(v) % m
+        if ax.rotary_mode == "normal":
+            direction = 1 if math.copysign(1.0, v) > 0 else -1
+        elif ax.rotary_mode == "unidirectional":
+            direction = ax.direction
+        else:  # positioning: shortest way, tie -> positive
+            d = (target - here) % m
+            return cur + (d if d <= m / 2 else d - m)
+        d = (target - here) % m if direction > 0 else -((here - target) % m)
+        return cur + d
+
+    # ------------------------------------------------------------ execution
+    def execute(self, bw: BlockWords, src: Source):
+        """Interpret the classified words; yields records in execution order."""
+        st, interp = self.state, self.interp
+        self.check_g(bw)
+        gs = {n: (col, eq) for n, col, eq in bw.g}
+        # 2. modal functions take effect for this block
+        previous_plane = st.modes["plane"]
+        block_modes = {}
+        for n, (_col, _eq) in gs.items():
+            g = G_FUNCTIONS[n]
+            if g.group is not None and g.group != "origin":
+                st.modes[g.group] = n
+            elif g.reset == "block" and g.support == "recorded":
+                block_modes[f"G{n}"] = True
+        if 130 in gs or 131 in gs or 132 in gs or 133 in gs or 134 in gs or 135 in gs:
+            self._percentages(gs, bw)
+        st.block_modes = block_modes
+        if st.modes["plane"] != previous_plane:
+            st.polar_origin = (0.0, 0.0)  # plane change -> polar origin at work zero (L2682)
+            interp.plane_changed()
+        # 3. origins
+        self._origins(gs, bw)
+        consumed = self._axis_functions(gs, bw)
+        # 4. technology
+        if bw.feed is not None:
+            self._feed(*bw.feed)
+        for spindle, (v, col) in bw.speeds.items():
+            if v < 0:
+                raise InterpError("INT027", f"spindle speed {v:g} is negative", col)
+            st.speeds[spindle] = v
+            yield self.aux("S", v, "before", src, spindle)
+        if bw.tool is not None:
+            yield from self._tool(bw, src)
+        if bw.offset is not None and not any(m == 6 for m, _ in bw.m):
+            self._offset(*bw.offset)
+            yield self.aux("D", float(st.offset), "before", src)
+        for h, _col in bw.h:
+            yield self.aux("H", float(h), "before", src)
+        after = []
+        for m, col in bw.m:
+            if m in _M_AFTER:
+                after.append((m, col))
+                continue
+            yield from self._m_before(m, col, bw, src)
+        # 5. motion
+        moved = False
+        if 4 in gs:
+            yield self._dwell(gs[4][0], bw, src)
+            consumed = True
+        if 30 in gs:
+            self._polar_preset(gs[30][0], bw)
+            consumed = True
+        if not consumed:
+            repeats = 1
+            if bw.nr is not None:
+                repeats = bw.nr[0]
+                if not (bw.axes or "R" in bw.params or "Q" in bw.params):
+                    raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
+            for _ in range(max(repeats, 1)):
+                rec = self._motion(gs, bw, src)
+                if rec is not None:
+                    moved = True
+                    yield rec
+                    if bw.nr is None or bw.nr[0] != 0:
+                        yield from interp.after_motion(src)
+        elif bw.nr is not None:
+            raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
+        # 6. after the motion
+        for m, col in after:
+            yield from self._m_after(m, col, src)
+        return moved
+
+    # ------------------------------------------------------------ origins and axis functions
+    def _origins(self, gs: dict, bw: BlockWords) -> None:
+        st = self.state
+        if st.mcs_on and any(n in gs for n in (92, 54, 55, 56, 57, 58, 59, 159, 158, 30)):
+            raise InterpError("INT013", "origins cannot be changed while #MCS ON is active (L3225)", 1)
+        if 53 in gs:
+            st.cancel_origin()
+        if 157 in gs:  # applied before the offset it qualifies, whatever the order (L3854)
+            for axis, (v, col) in list(bw.axes.items()):
+                if v not in (0.0, 1.0):
+                    raise InterpError("INT014", f"G157 {axis}{v:g}: write 1 to exclude or 0 to include", col)
+                if v == 1.0:
+                    st.excluded.add(axis)
+                else:
+                    st.excluded.discard(axis)
+        for n in range(54, 60):
+            if n in gs:
+                st.select_origin(n - 53, f"G{n}")
+        if 159 in gs:
+            col, eq = gs[159]
+            if eq is None or eq != int(eq) or not 1 <= eq <= 99:
+                raise InterpError("INT015", "G159 needs an entry number 1..99: G159=n", col)
+            st.select_origin(int(eq), f"G159={int(eq)}")
+
+    def _axis_functions(self, gs: dict, bw: BlockWords) -> bool:
+        """G92, G158, G157, G174, G198, G199: their axis words are not a motion."""
+        st = self.state
+        if 157 in gs:
+            return True
+        if 92 in gs:
+            st.preset({a: self.length(v, a) for a, (v, _c) in bw.axes.items()})
+            return True
+        if 158 in gs:
+            if not bw.axes:
+                for a in st.axes:
+                    st.inc_offset[a] = 0.0
+            for a, (v, _c) in bw.axes.items():
+                st.inc_offset[a] = self.length(v, a)   # replaces, not cumulative (L3761)
+            return True
+        if 174 in gs:
+            if len(bw.axes) != 1:
+                raise InterpError("INT016", "G174 sets one axis at a time (L3285)", gs[174][0])
+            ((a, (v, col)),) = bw.axes.items()
+            value = v * INCH if self.machine.default("INCHES") and not self.machine.axes[a].rotary else v
+            self.interp.check_limits({a: value}, col)   # L3303-L3305: must be inside the limits
+            st.machine_pos = {**st.machine_pos, a: value}   # records keep their own positions
+            return True
+        if 198 in gs or 199 in gs:
+            self._soft_limits(gs, bw)
+            return True
+        return False
+
+    def _soft_limits(self, gs: dict, bw: BlockWords) -> None:
+        """G198/G199 (seed 002 L9201-L9240): machine coordinates, G91 relative to the active
+        limit, always radii; both limits 0 cancel the axis' limits (machine ones too)."""
+        st = self.state
+        incremental = st.modes["distance"] == 91
+        for n, store in ((198, st.lower_limits), (199, st.upper_limits)):
+            if n not in gs:
+                continue
+            for a, (v, _c) in bw.axes.items():
+                value = self.length(v, a, diameter_ok=False)
+                store[a] = store[a] + value if incremental and math.isfinite(store[a]) else value
+        for a in bw.axes:
+            if st.lower_limits[a] == 0.0 and st.upper_limits[a] == 0.0:
+                st.lower_limits[a], st.upper_limits[a] = -math.inf, math.inf
+
+    def _percentages(self, gs: dict, bw: BlockWords) -> None:
+        planner = self.state.planner
+        for n in (130, 132, 134, 135):
+            if n in gs:
+                planner[f"G{n}"] = {a: v for a, (v, _c) in bw.axes.items()}
+                bw.axes.clear()
+        for n in (131, 133):
+            if n in gs:
+                planner[f"G{n}"] = gs[n][1]
+
+    # ------------------------------------------------------------ F S T D M
+    def _feed(self, value: float, col: int) -> None:
+        st = self.state
+        if value < 0 or (value == 0 and st.modes["feed"] == 93):
+            raise InterpError("INT029", f"feed F{value:g} must be positive", col)
+        st.feed_programmed = value
+        if st.modes["feed"] == 93:
+            st.feed = value
+        else:
+            st.feed = value * INCH if st.modes["units"] == 70 else value
+
+    def _tool(self, bw: BlockWords, src: Source):
+        st = self.state
+        t, col = bw.tool
+        if t != 0 and t not in self.machine.tools:
+            raise InterpError("INT050", f"tool T{t} is not in the tool table", col)
+        st.next_tool = t
+        yield self.aux("T", float(t), "before", src)
+
+    def _offset(self, d: int, col: int) -> None:
+        st = self.state
+        if d != 0 and st.tool != 0 and self.machine.tool_offset(st.tool, d) is None:
+            raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", col)
+        st.offset = d
+
+    def _m_before(self, m: int, col: int, bw: BlockWords, src: Source):
+        st = self.state
+        if m in (3, 4, 5):
+            for s in st.spindle_state:
+                st.spindle_state[s] = m
+                break
+        yield self.aux("M", float(m), "before", src)
+        if m == 6:  # tool change: the preselected tool goes to the spindle (L4700-L4708)
+            st.tool = st.next_tool
+            d = bw.offset[0] if bw.offset is not None else (1 if st.tool else 0)   # D1 assumed (L4942)
+            self._offset(d, bw.offset[1] if bw.offset else col)
+            yield self.aux("D", float(st.offset), "before", src)
+
+    def _m_after(self, m: int, col: int, src: Source):
+        yield self.aux("M", float(m), "after", src)
+        if m in (2, 30):
+            self.interp.end_program(m, src)
+        elif m in (17, 29):
+            self.interp.return_from_subroutine(col)
+
+    def aux(self, function: str, value: float, timing: str, src: Source, spindle: str | None = None) -> Aux:
+        return Aux("aux", function, value, timing, dict(self.state.machine_pos), src, spindle)
+
+    # ------------------------------------------------------------ dwell, polar origin
+    def _dwell(self, col: int, bw: BlockWords, src: Source) -> Dwell:
+        # seed 002 L9174-L9190: G04 K<seconds> (or G04 <value>, G04 K[expr])
+        if "K" in bw.params:
+            t = bw.params.pop("K")[0]
+        else:
+            raise InterpError("INT017", "G04 needs the time: G04 K<seconds>", col)
+        if t < 0:
+            raise InterpError("INT017", f"dwell time {t:g} is negative", col)
+        return Dwell("dwell", t, dict(self.state.machine_pos), src)
+
+    def _polar_preset(self, col: int, bw: BlockWords) -> None:
+        """G30 [I J]: polar origin (seed 002 L3945-L3967)."""
+        st = self.state
+        a, o, _ = st.plane_axes()
+        has_i, has_j = "I" in bw.params, "J" in bw.params
+        if has_i != has_j:
+            raise InterpError("INT018", "G30 needs both I and J, or neither (L3960)", col)
+        if has_i:
+            st.polar_origin = (self.length(bw.params["I"][0], a), self.length(bw.params["J"][0], o))
+        else:
+            part = st.part_pos()
+            st.polar_origin = (part[a], part[o])
+
+    # ------------------------------------------------------------ motion
+    def _motion(self, gs: dict, bw: BlockWords, src: Source):
+        st = self.state
+        mode = st.modes["motion"]
+        if not bw.axes and not ({"R", "Q"} & bw.params.keys()) and mode not in (2, 3):
+            return None
+        if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
+            return None
+        if st.mcs_on or self.interp.mcs_block:
+            return self._mcs_move(bw, src)
+        cur_part = st.part_pos()
+        start = dict(st.machine_pos)
+        if mode in (2, 3):
+            return self._arc(mode, gs, bw, src, cur_part, start)
+        end_part = self.target(bw, cur_part)
+        if "R" in bw.params or "Q" in bw.params:
+            self._polar(bw, cur_part, end_part)
+        end = st.to_machine(end_part)
+        self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
+        st.machine_pos = dict(end)
+        if mode == 0:
+            return Line("rapid", start, end, end_part, None, "G94", src)
+        feed = self._active_feed(src)
+        return Line("linear", start, end, end_part, feed, f"G{st.modes['feed']}", src)
+
+    def _active_feed(self, src: Source) -> float:
+        st = self.state
+        if st.feed is None or (st.feed == 0 and st.modes["feed"] != 93):
+            if self.machine.default("DEFAULTFEED") and self.machine.max_feed > 0:
+                return self.machine.max_feed
+            raise InterpError("INT060", "no feed programmed for this G01/G02/G03 move (F)", 1)
+        feed = st.feed
+        if st.modes["feed"] == 94 and self.machine.max_feed > 0:
+            feed = min(feed, self.machine.max_feed)  # MAXFEED clamps silently (L4072)
+        return feed
+
+    def _polar(self, bw: BlockWords, cur_part: dict, end_part: dict) -> None:
+        """R/Q polar end point in the plane (spec 02 §6.3, seed 002 L2639-L2672)."""
+        st = self.state
+        a, o, _ = st.plane_axes()
+        pa, po = st.polar_origin
+        dx, dy = cur_part[a] - pa, cur_part[o] - po
+        r_cur = math.hypot(dx, dy)
+        q_cur = math.degrees(math.atan2(dy, dx)) if r_cur > 1e-12 else st.last_polar_angle
+        r_prog = self.length(bw.params["R"][0]) if "R" in bw.params else None
+        q_prog = bw.params["Q"][0] if "Q" in bw.params else None
+        if q_prog is not None and abs(q_prog) > 360:
+            q_prog = math.fmod(q_prog, 360.0)  # Q420 == Q60, sign kept (L2670)
+        if st.modes["distance"] == 91:
+            r = r_cur + (r_prog or 0.0)
+            q = q_cur + (q_prog or 0.0)
+        else:
+            r = r_prog if r_prog is not None else r_cur
+            q = q_prog if q_prog is not None else q_cur
+        if r < 0:
+            col = bw.params["R"][1] if "R" in bw.params else 1
+            raise InterpError("INT019", f"polar radius {r:g} is negative", col)
+        st.last_polar_angle = q
+        end_part[a] = pa + r * math.cos(math.radians(q))
+        end_part[o] = po + r * math.sin(math.radians(q))
+
+    def _arc(self, mode: int, gs: dict, bw: BlockWords, src: Source, cur_part: dict, start: dict) -> Arc:
+        """G02/G03: centre by I J K (relative, or absolute with G06/G261), radius R, or polar Q."""
+        st = self.state
+        a, o, n = st.plane_axes()
+        end_part = self.target(bw, cur_part)
+        # centre words of the plane: G17 I J, G18 K I, G19 J K (seed 002 ch. 8.3)
+        ci, cj = {17: ("I", "J"), 18: ("K", "I"), 19: ("J", "K")}[st.modes["plane"]]
+        absolute = 6 in gs or st.modes["arc_centre"] == 261
+        col = bw.axes[next(iter(bw.axes))][1] if bw.axes else 1
+        if ci in bw.params or cj in bw.params:
+            di = self.length(bw.params[ci][0]) if ci in bw.params else 0.0
+            dj = self.length(bw.params[cj][0]) if cj in bw.params else 0.0
+            center = (di, dj) if absolute else (cur_part[a] + di, cur_part[o] + dj)
+        elif "Q" in bw.params:
+            # polar arc around the polar origin (seed 002 L3969-L3994)
+            center = st.polar_origin
+            self._polar(bw, cur_part, end_part)
+        elif "R" in bw.params:
+            r = self.length(bw.params["R"][0])
+            center = _centre_from_radius((cur_part[a], cur_part[o]), (end_part[a], end_part[o]), r,
+                                         mode == 2, bw.params["R"][1])
+        else:
+            raise InterpError("INT061", "G02/G03 needs the centre (I J K) or the radius (R)", col)
+        r0 = math.hypot(cur_part[a] - center[0], cur_part[o] - center[1])
+        r1 = math.hypot(end_part[a] - center[0], end_part[o] - center[1])
+        tol = max(self.machine.cirinerr, r0 * self.machine.cirinfact / 100.0)
+        if abs(r0 - r1) > tol:  # seed 002 L6976 (CIRINERR, CIRINFACT)
+            raise InterpError("INT062", f"arc start radius {r0:.4f} and end radius {r1:.4f} differ by more "
+                              f"than {tol:.4f} mm", col)
+        end = st.to_machine(end_part)
+        self.interp.check_limits(end, col, start)
+        st.machine_pos = dict(end)
+        center_part = {a: center[0], o: center[1]}
+        center_m = {a: center[0] + st.chain(a), o: center[1] + st.chain(o)}
+        feed = self._active_feed(src)
+        return Arc("arc", start, end, end_part, center_m, center_part, "cw" if mode == 2 else "ccw",
+                   (a, o, n), (r0 + r1) / 2.0, 0, feed, f"G{st.modes['feed']}", src)
+
+    def _mcs_move(self, bw: BlockWords, src: Source) -> Line:
+        """#MCS move: machine coordinates, INCHES units, no offsets (seed 002 L3196-L3271)."""
+        st = self.state
+        if "R" in bw.params or "Q" in bw.params:
+            raise InterpError("INT063", "polar coordinates are not allowed in #MCS moves", 1)
+        start = dict(st.machine_pos)
+        end = dict(start)
+        inch = self.machine.default("INCHES")
+        for axis, (v, _c) in bw.axes.items():
+            v = v * INCH if inch and not self.machine.axes[axis].rotary else v
+            end[axis] = start[axis] + v if st.modes["distance"] == 91 else v
+        self.interp.check_limits(end, 1, start)
+        st.machine_pos = dict(end)
+        mode = st.modes["motion"]
+        end_part = st.to_part(end)
+        if mode == 0:
+            return Line("rapid", start, end, end_part, None, "G94", src)
+        if mode != 1:
+            raise InterpError("INT063", "#MCS moves are G00 or G01", 1)
+        return Line("linear", start, end, end_part, self._active_feed(src), f"G{st.modes['feed']}", src)
+
+
+def _centre_from_radius(p0, p1, r, clockwise: bool, col: int):
+    """Arc centre from the radius; R < 0 selects the arc over 180 degrees (seed 002 L6418)."""
+    dx, dy = p1[0] - p0[0], p1[1] - p0[1]
+    chord = math.hypot(dx, dy)
+    if chord < 1e-12:
+        raise InterpError("INT064", "an arc programmed by its radius cannot be a full circle", col)
+    half = chord / 2.0
+    if abs(r) < half - 1e-9:
+        raise InterpError("INT064", f"radius {abs(r):g} is too small for a chord of {chord:.4f}", col)
+    h = math.sqrt(max(r * r - half * half, 0.0))
+    mx, my = (p0[0] + p1[0]) / 2.0, (p0[1] + p1[1]) / 2.0
+    ux, uy = -dy / chord, dx / chord   # left normal of the chord
+    # centre to the right of the chord for a clockwise arc under 180 degrees
+    side = -1.0 if clockwise else 1.0
+    if r < 0:
+        side = -side
+    return (mx + side * h * ux, my + side * h * uy)

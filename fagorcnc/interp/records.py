@@ -1,0 +1,154 @@
+"""Canonical motion records: what the interpreter hands downstream.
+
+Like LinuxCNC's canonical machining functions, the records say *what* path
+the tool follows, never how fast in time.  Positions are ``{axis: float}`` in
+**machine** coordinates (mm, degrees); ``end_part`` gives the same end point in
+part coordinates.  Feeds are in mm/min (``feed_mode`` "G94"), mm/rev ("G95")
+or seconds for the whole move ("G93"); rapid moves carry ``feed=None``.
+Every record keeps its :class:`Source` so later errors can name the block.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True, slots=True)
+class Source:
+    """Where a record comes from: file, 1-based line, the block's text."""
+
+    file: str
+    line: int
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Line:
+    """A straight move; ``kind`` is ``"rapid"`` (G00) or ``"linear"`` (G01)."""
+
+    kind: str
+    start: dict
+    end: dict
+    end_part: dict
+    feed: float | None
+    feed_mode: str
+    src: Source
+
+    @property
+    def line(self) -> int:
+        return self.src.line
+
+    @property
+    def rapid(self) -> bool:
+        return self.kind == "rapid"
+
+    @property
+    def length(self) -> float:
+        """Length of the move over all axes that change (mm; degrees count as mm)."""
+        return math.sqrt(sum((self.end[a] - self.start[a]) ** 2 for a in self.end))
+
+
+@dataclass(frozen=True, slots=True)
+class Arc:
+    """A circular or helical move in the plane (``abscissa``, ``ordinate``).
+
+    ``center``/``center_part`` hold the centre's plane coordinates;
+    ``direction`` is ``"cw"`` (G02) or ``"ccw"`` (G03) seen from the positive
+    side of the plane's normal; ``turns`` counts extra full turns (0 for an
+    ordinary arc).  Other axes that change move linearly (helix).
+    """
+
+    kind: str
+    start: dict
+    end: dict
+    end_part: dict
+    center: dict
+    center_part: dict
+    direction: str
+    plane: tuple
+    radius: float
+    turns: int
+    feed: float | None
+    feed_mode: str
+    src: Source
+
+    @property
+    def line(self) -> int:
+        return self.src.line
+
+    @property
+    def sweep(self) -> float:
+        """Signed sweep angle in degrees (negative clockwise), full turns included."""
+        a, o = self.plane[0], self.plane[1]
+        a0 = math.atan2(self.start[o] - self.center[o], self.start[a] - self.center[a])
+        a1 = math.atan2(self.end[o] - self.center[o], self.end[a] - self.center[a])
+        d = math.degrees(a1 - a0)
+        if self.direction == "ccw":
+            d = d % 360.0 or 360.0
+            return d + 360.0 * self.turns
+        d = -((-d) % 360.0 or 360.0)
+        return d - 360.0 * self.turns
+
+    @property
+    def length(self) -> float:
+        """Path length of the arc (helix included), mm."""
+        a, o = self.plane[0], self.plane[1]
+        planar = abs(math.radians(self.sweep)) * self.radius
+        other = sum((self.end[x] - self.start[x]) ** 2 for x in self.end if x not in (a, o))
+        return math.hypot(planar, math.sqrt(other))
+
+
+@dataclass(frozen=True, slots=True)
+class Dwell:
+    """A dwell (G04, #TIME) of ``seconds`` at ``position`` (machine coordinates)."""
+
+    kind: str
+    seconds: float
+    position: dict
+    src: Source
+
+    @property
+    def line(self) -> int:
+        return self.src.line
+
+    @property
+    def start(self) -> dict:
+        return self.position
+
+    @property
+    def end(self) -> dict:
+        return self.position
+
+
+@dataclass(frozen=True, slots=True)
+class Aux:
+    """An auxiliary function for the machine: M, H, S, T or D.
+
+    ``timing`` is ``"before"`` or ``"after"`` the block's motion (seed 002
+    L5020-L5029: M functions not in the M table run before the motion);
+    ``spindle`` names the spindle of an S record.
+    """
+
+    kind: str
+    function: str
+    value: float
+    timing: str
+    position: dict
+    src: Source
+    spindle: str | None = None
+
+    @property
+    def line(self) -> int:
+        return self.src.line
+
+    @property
+    def start(self) -> dict:
+        return self.position
+
+    @property
+    def end(self) -> dict:
+        return self.position
+
+
+Record = Line | Arc | Dwell | Aux

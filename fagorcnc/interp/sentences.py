@@ -1,0 +1,128 @@
+"""What each ``#`` sentence does offline (seed 002 ch. 21.1 and the chapters cited).
+
+Three kinds:
+
+* executed here: #ERROR, #WARNING, #WARNINGSTOP, #MSG, #TIME, #MCS ON/OFF,
+  #PATH, #RET, #RETDSBLK, #MDOFF, #DELETE, #FLUSH;
+* recorded for the later stages (planner, path): #HSC, #ROUNDPAR, #SLOPE,
+  #TANGFEED, #ESBLK/#DSBLK, #SWTOUT, #SPLINE ... kept in ``state.planner``;
+* everything else cannot mean anything in an offline run of one channel
+  (hardware, PLC, other channels) or is a transformation fagorcnc does not
+  compute yet: each is reported with a warning naming it, never dropped
+  silently.
+"""
+
+from __future__ import annotations
+
+from ..syntax.ast import ItemList, Keyed, Name, Str, Var
+from .expressions import InterpError
+from .records import Dwell
+
+#: Sentences kept as state for the planner / path stages.
+RECORDED = frozenset({"HSC", "ROUNDPAR", "SLOPE", "TANGFEED", "ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "SPLINE",
+                      "ASPLINE", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD", "SCALE", "TOOL", "CD"})
+#: Geometric transformations the later stages will compute (issue: path / kinematics).
+NOT_YET = frozenset({"KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
+                     "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
+                     "INIT", "RPT"})
+
+
+def _text_of(args) -> str:
+    """Message text of #MSG/#ERROR/#WARNING: the string and its data values."""
+    parts = []
+    for a in args:
+        items = a.items if type(a) is ItemList else ((a,),)
+        for seq in items:
+            for item in seq:
+                if type(item) is Str:
+                    parts.append(item.text)
+                elif type(item) is Name:
+                    parts.append(item.name)
+    return " ".join(parts)
+
+
+def _values(interp, args) -> list[float]:
+    out = []
+    for a in args:
+        items = a.items if type(a) is ItemList else ((a,),)
+        for seq in items:
+            for item in seq:
+                if type(item) not in (Str, Name, Keyed):
+                    out.append(interp.evaluator.value(item))
+    return out
+
+
+def _format(interp, args) -> str:
+    text = _text_of(args)
+    values = _values(interp, args)
+    for v in values:  # %D-style placeholders take the data values in order
+        for mark in ("%D", "%d", "%F", "%f"):
+            if mark in text:
+                text = text.replace(mark, f"{v:g}", 1)
+                break
+        else:
+            text += f" {v:g}"
+    return text
+
+
+def execute_sentence(interp, node, src):
+    kw = node.keyword
+    st = interp.state
+    first = node.args[0] if node.args else None
+    sub = first.name if type(first) in (Name, Keyed) else None
+    if kw == "ERROR":
+        # seed 002 L14139-L14212: stops the program with the error
+        values = _values(interp, node.args)
+        text = _format(interp, node.args) if _text_of(node.args) else f"error {values[0]:g}" if values else "#ERROR"
+        raise InterpError("INT070", f"#ERROR: {text}", node.col)
+    if kw in ("WARNING", "WARNINGSTOP"):
+        text = _format(interp, node.args)
+        stop = " (the CNC stops here until cycle start)" if kw == "WARNINGSTOP" else ""
+        interp.message("INT076", "warning", f"#{kw}: {text}{stop}", node.col)
+        return
+    if kw == "MSG":
+        interp.message("INT077", "info", f"#MSG: {_format(interp, node.args)}", node.col)
+        return
+    if kw == "TIME":
+        # seed 002 L9166-L9190: #TIME <seconds>
+        if not node.args:
+            raise InterpError("INT017", "#TIME needs the time in seconds", node.col)
+        arg = node.args[0]
+        t = interp.evaluator.value(arg)
+        if t < 0:
+            raise InterpError("INT017", f"dwell time {t:g} is negative", node.col)
+        yield Dwell("dwell", t, dict(st.machine_pos), src)
+        return
+    if kw == "MCS":
+        st.mcs_on = sub == "ON"
+        return
+    if kw == "PATH":
+        texts = [i.text for a in node.args if type(a) is ItemList for seq in a.items for i in seq if type(i) is Str]
+        if not texts:
+            raise InterpError("INT071", '#PATH needs a directory in brackets and quotes: #PATH ["dir"]', node.col)
+        st.path = texts[0]
+        return
+    if kw in ("RET", "RETDSBLK"):
+        interp.return_from_subroutine(node.col)
+        return
+    if kw == "MDOFF":
+        interp.modal_call = None
+        return
+    if kw == "DELETE":
+        for a in node.args:
+            if type(a) is not Var:
+                raise InterpError("INT049", "#DELETE takes user variables: #DELETE V.S.name V.P.name", node.col)
+            interp.variables.delete(a.name, tuple(interp.evaluator.value(i) for i in a.index), a.col)
+        return
+    if kw == "FLUSH":
+        return  # preparation and execution are one offline (seed 002 L16998)
+    if kw in RECORDED:
+        st.planner[kw if sub is None else f"{kw} {sub}"] = node.args
+        return
+    if kw in NOT_YET:
+        interp.message("INT078", "warning", f"#{kw} is not computed by fagorcnc yet; the path ignores it",
+                       node.col)
+        return
+    interp.message("INT079", "warning", f"#{kw} has no effect in an offline run (hardware, PLC or other "
+                   "channels)", node.col)
+    return

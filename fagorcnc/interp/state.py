@@ -1,0 +1,133 @@
+"""The channel state: modal functions, positions, the origin chain, tools, feed.
+
+The origin chain (spec 02 §8.0, seed 002 L3167-L3195), per axis::
+
+    machine = part + FIX[active fixture] + ABS + INC
+
+``ABS`` is the absolute origin offset loaded by G54-G59 / G159=n (table
+entry), by a G92 preset, or zero after G53; ``INC`` is the G158 incremental
+offset.  G174 redefines the machine coordinate of the current point.  The PLC
+offset is a hardware input and is zero offline.
+"""
+
+from __future__ import annotations
+
+import copy
+
+from ..machine import Machine
+from .gtable import power_on_modes
+
+
+class ChannelState:
+    """Everything the interpreter knows about the channel between blocks."""
+
+    def __init__(self, machine: Machine) -> None:
+        self.machine = machine
+        self.axes = machine.axis_names
+        self.modes: dict[str, int | None] = power_on_modes(machine)
+        self.machine_pos: dict[str, float] = dict.fromkeys(self.axes, 0.0)
+        # origin chain
+        self.origin_table: dict[int, dict[str, float]] = copy.deepcopy(machine.origins)
+        self.fixture_table: dict[int, dict[str, float]] = copy.deepcopy(machine.fixtures)
+        self.fixture = 0                       # V.G.FIX
+        self.abs_offset: dict[str, float] = dict.fromkeys(self.axes, 0.0)
+        self.inc_offset: dict[str, float] = dict.fromkeys(self.axes, 0.0)
+        self.origin_source: str = "G53"        # "G54".."G59", "G159=n", "G92", "G53"
+        self.excluded: set[str] = set()        # pending G157 exclusion
+        # polar origin in work coordinates of the plane (abscissa, ordinate)
+        self.polar_origin = (0.0, 0.0)
+        self.last_polar_angle = 0.0
+        # technology
+        self.feed: float | None = None         # mm/min (G94), mm/rev (G95), s (G93)
+        self.feed_programmed: float | None = None  # as written, in the active unit
+        self.speeds: dict[str, float] = dict.fromkeys(machine.spindles, 0.0)
+        self.spindle_state: dict[str, int] = dict.fromkeys(machine.spindles, 5)  # M3 / M4 / M5
+        self.tool = 0
+        self.next_tool = 0
+        self.offset = 0                        # active D
+        self.lower_limits: dict[str, float] = {a: ax.min_limit for a, ax in machine.axes.items()}
+        self.upper_limits: dict[str, float] = {a: ax.max_limit for a, ax in machine.axes.items()}
+        self.block_modes: dict[str, object] = {}  # G108/G109/G193/G60/G61/G266 of the last block
+        self.planner: dict[str, object] = {}      # #HSC, #ROUNDPAR, #SLOPE, G130-G135 ... for the planner
+        self.path: str | None = None           # #PATH directory
+        self.user_vars: dict[str, float] = {}  # V.P.* and V.S.*
+        self.mcs_on = False                    # #MCS ON
+        self.block_skip = False
+        self.executed_blocks = 0
+        self.line = 0
+
+    # ------------------------------------------------------------ coordinates
+    def chain(self, axis: str) -> float:
+        """Total offset between part and machine coordinates on ``axis``."""
+        fix = self.fixture_table.get(self.fixture, {}).get(axis, 0.0) if self.fixture else 0.0
+        return fix + self.abs_offset[axis] + self.inc_offset[axis]
+
+    def part_pos(self) -> dict[str, float]:
+        return {a: self.machine_pos[a] - self.chain(a) for a in self.axes}
+
+    def to_machine(self, part: dict[str, float]) -> dict[str, float]:
+        return {a: v + self.chain(a) for a, v in part.items()}
+
+    def to_part(self, machine: dict[str, float]) -> dict[str, float]:
+        return {a: v - self.chain(a) for a, v in machine.items()}
+
+    # ------------------------------------------------------------ plane
+    def plane_axes(self) -> tuple[str, str, str]:
+        """(abscissa, ordinate, longitudinal) of the active plane (seed 002 L2961-L3012).
+
+        Planes are defined by the order of the first three channel axes.
+        """
+        a = list(self.axes) + [None] * max(0, 3 - len(self.axes))
+        plane = self.modes["plane"]
+        if plane == 18:
+            return a[2], a[0], a[1]
+        if plane == 19:
+            return a[1], a[2], a[0]
+        return a[0], a[1], a[2]
+
+    # ------------------------------------------------------------ origins
+    def select_origin(self, n: int, label: str) -> None:
+        """G54-G59 / G159=n: load table entry n on all non-excluded axes (L3531-L3545)."""
+        entry = self.origin_table.get(n, {})
+        for a in self.axes:
+            if a not in self.excluded:
+                self.abs_offset[a] = entry.get(a, 0.0)
+        self.excluded.clear()
+        self.origin_source = label
+
+    def cancel_origin(self) -> None:
+        """G53: ABS and INC to zero, pending exclusion cleared; fixture stays (L3897-L3902)."""
+        for a in self.axes:
+            self.abs_offset[a] = 0.0
+            self.inc_offset[a] = 0.0
+        self.excluded.clear()
+        self.origin_source = "G53"
+
+    def preset(self, values: dict[str, float]) -> None:
+        """G92: the current point gets the given part coordinates (L3400-L3440)."""
+        for a, v in values.items():
+            self.abs_offset[a] = self.machine_pos[a] - (self.chain(a) - self.abs_offset[a]) - v
+        self.origin_source = "G92"
+
+    def reset(self, event: str) -> None:
+        """M02/M30/reset: groups flagged 'default' return to their power-on value."""
+        from .gtable import G_FUNCTIONS
+
+        defaults = power_on_modes(self.machine)
+        for group, value in defaults.items():
+            current = self.modes.get(group)
+            g = G_FUNCTIONS.get(current) if current is not None else None
+            if g is None or g.reset == "default":
+                if group != "origin":
+                    self.modes[group] = value
+        self.polar_origin = (0.0, 0.0)
+        self.excluded.clear()
+        self.block_modes = {}
+        self.planner = {}
+        self.path = None
+        self.mcs_on = False
+        if self.machine.default("SPDLSTOP"):
+            for s in self.spindle_state:
+                self.spindle_state[s] = 5
+        for s in self.speeds:  # S is 0 after M02/M30 (spec 02 §16)
+            self.speeds[s] = 0.0

@@ -1,0 +1,270 @@
+"""Machine configuration: axes, limits, power-on defaults, origin and tool tables.
+
+A :class:`Machine` is built from a TOML file or an equivalent ``dict``;
+whatever it leaves out comes from the shipped default machine (three linear
+axes X Y Z).  The power-on modal defaults use the manual's machine-parameter
+names (``INCHES``, ``ISYSTEM``, ``IPLANE``, ``IMOVE``, ``IFEED``, ``ICORNER``,
+``IRCOMP``...; spec 07 §B.3.3, seed 002 L18497, L20013-L20175).
+
+Units: lengths in mm, linear speeds in mm/min, rotary in degrees and deg/min,
+accelerations in mm/s², jerks in mm/s³, times in s.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+#: Power-on / reset defaults: parameter -> (default value, allowed values, meaning).
+DEFAULTS_SCHEMA: dict[str, tuple[int, tuple, str]] = {
+    "INCHES": (0, (0, 1), "0 = G71 millimetres, 1 = G70 inches (seed 002 L2434)"),
+    "ISYSTEM": (0, (0, 1), "0 = G90 absolute, 1 = G91 incremental (L2482)"),
+    "IPLANE": (0, (0, 1), "0 = G17, 1 = G18 (L2995)"),
+    "IMOVE": (0, (0, 1), "0 = G00, 1 = G01 (L6022)"),
+    "IFEED": (0, (0, 1), "0 = G94, 1 = G95 (L4182)"),
+    "ICORNER": (2, (0, 1, 2), "0 = G50, 1 = G05, 2 = G07 (L20157)"),
+    "IRCOMP": (0, (0, 1), "0 = G136, 1 = G137 (L9591)"),
+    "MIRRORCANCEL": (1, (0, 1), "1 = M30/reset cancel mirror images (L8779)"),
+    "SPDLSTOP": (1, (0, 1), "1 = M02/M30 stop the spindle (L867)"),
+    "DEFAULTFEED": (0, (0, 1), "1 = G1/G2/G3 without F use MAXFEED (L4062)"),
+}
+
+
+@dataclass
+class Axis:
+    """One axis of the channel (spec 07 §B.4-B.5)."""
+
+    name: str
+    type: str = "linear"            # "linear" or "rotary"
+    max_velocity: float = 10000.0   # mm/min or deg/min (G00FEED)
+    max_feed: float = 0.0           # MAXFEED of the axis; 0 = max_velocity
+    max_acceleration: float = 1000.0  # mm/s²
+    max_jerk: float = 20000.0       # mm/s³
+    min_limit: float = -1000.0      # soft limits, machine coordinates
+    max_limit: float = 1000.0
+    diameter: bool = False          # DIAMPROG: G151 programs diameters
+    rotary_mode: str = "linearlike"  # linearlike | normal | unidirectional | positioning
+    module: float = 360.0           # rotary module (MODUPLIM - MODLOWLIM)
+    direction: int = 1              # unidirectional rotary: +1 or -1
+
+    @property
+    def rotary(self) -> bool:
+        return self.type == "rotary"
+
+
+@dataclass
+class ToolOffset:
+    """One offset D of a tool: length, radius and their wear (mm)."""
+
+    length: float = 0.0
+    radius: float = 0.0
+    length_wear: float = 0.0
+    radius_wear: float = 0.0
+
+
+@dataclass
+class Limits:
+    """Guards against runaway programs (documented in README)."""
+
+    max_loop_iterations: int = 1_000_000   # per loop instance
+    max_blocks: int = 100_000_000          # executed blocks per run
+    max_call_depth: int = 20               # subroutine nesting (seed 002 L10207)
+    max_parameter_levels: int = 7          # local parameter levels (seed 002 L10503)
+
+
+@dataclass
+class Machine:
+    """A machine configuration.  Build with :func:`load_machine`."""
+
+    axes: dict[str, Axis]
+    spindles: list[str] = field(default_factory=lambda: ["S"])
+    defaults: dict[str, int] = field(default_factory=dict)
+    local_params: tuple[int, int] = (0, 25)        # MINLOCP..MAXLOCP (L1876)
+    global_params: tuple[int, int] = (100, 299)    # MINGLBP..MAXGLBP (L1888)
+    common_params: tuple[int, int] = (10000, 10999)  # MINCOMP..MAXCOMP (L1897)
+    origins: dict[int, dict[str, float]] = field(default_factory=dict)   # G159=n table (1..99)
+    fixtures: dict[int, dict[str, float]] = field(default_factory=dict)  # V.A.FIXT[n] (1..10)
+    tools: dict[int, dict[int, ToolOffset]] = field(default_factory=dict)  # tool -> D -> offset
+    max_feed: float = 0.0        # channel MAXFEED, 0 = not limited (L20762)
+    rapid_feed: float = 0.0      # channel rapid; 0 = from the axes' max_velocity
+    servo_period: float = 0.001  # s
+    cirinerr: float = 0.01       # mm, arc radius tolerance (L20298)
+    cirinfact: float = 0.1       # %, relative arc radius tolerance (L20308)
+    subroutine_paths: list[Path] = field(default_factory=list)
+    oem_subroutines: dict[int, str] = field(default_factory=dict)  # G180.. -> file name
+    limits: Limits = field(default_factory=Limits)
+
+    def default(self, name: str) -> int:
+        """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
+        return self.defaults.get(name, DEFAULTS_SCHEMA[name][0])
+
+    @property
+    def axis_names(self) -> list[str]:
+        """Axis names in channel order (``?1`` is the first)."""
+        return list(self.axes)
+
+    def tool_offset(self, tool: int, offset: int) -> ToolOffset | None:
+        return self.tools.get(tool, {}).get(offset)
+
+
+class MachineError(ValueError):
+    """A configuration problem; the message names the key."""
+
+
+DEFAULT_MACHINE: dict[str, Any] = {
+    "axes": {
+        "X": {"type": "linear", "max_velocity": 10000.0, "min_limit": -1000.0, "max_limit": 1000.0},
+        "Y": {"type": "linear", "max_velocity": 10000.0, "min_limit": -1000.0, "max_limit": 1000.0},
+        "Z": {"type": "linear", "max_velocity": 10000.0, "min_limit": -1000.0, "max_limit": 1000.0},
+    },
+    "spindles": ["S"],
+    "tools": {str(t): {"1": {"length": 0.0, "radius": 0.0}} for t in range(0, 100)},
+}
+
+
+def _merge(base: dict, over: dict) -> dict:
+    out = copy.deepcopy(base)
+    for key, value in over.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict) and key != "axes":
+            out[key] = _merge(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+    return out
+
+
+def _number(where: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise MachineError(f"{where}: expected a number, got {value!r}")
+    return float(value)
+
+
+def _axis_table(where: str, table: Any) -> dict[str, float]:
+    if not isinstance(table, dict):
+        raise MachineError(f"{where}: expected a table of axis values")
+    return {str(k): _number(f"{where}.{k}", v) for k, v in table.items()}
+
+
+def _build(data: dict) -> Machine:
+    axes = {}
+    for name, spec in data.get("axes", {}).items():
+        if not isinstance(spec, dict):
+            raise MachineError(f"axes.{name}: expected a table")
+        known = set(Axis.__dataclass_fields__) - {"name"}
+        unknown = set(spec) - known
+        if unknown:
+            raise MachineError(f"axes.{name}: unknown key(s) {', '.join(sorted(unknown))}")
+        kwargs = {}
+        for key, value in spec.items():
+            if key in ("type", "rotary_mode"):
+                kwargs[key] = str(value)
+            elif key == "diameter":
+                kwargs[key] = bool(value)
+            elif key == "direction":
+                kwargs[key] = 1 if int(value) >= 0 else -1
+            else:
+                kwargs[key] = _number(f"axes.{name}.{key}", value)
+        axis = Axis(name=str(name), **kwargs)
+        if axis.type not in ("linear", "rotary"):
+            raise MachineError(f"axes.{name}.type must be 'linear' or 'rotary'")
+        if axis.rotary_mode not in ("linearlike", "normal", "unidirectional", "positioning"):
+            raise MachineError(f"axes.{name}.rotary_mode: unknown mode {axis.rotary_mode!r}")
+        if axis.min_limit > axis.max_limit:
+            raise MachineError(f"axes.{name}: min_limit is above max_limit")
+        axes[str(name)] = axis
+    if not axes:
+        raise MachineError("axes: the machine needs at least one axis")
+
+    defaults = {}
+    for key, value in data.get("defaults", {}).items():
+        if key not in DEFAULTS_SCHEMA:
+            raise MachineError(f"defaults.{key}: unknown parameter (known: {', '.join(DEFAULTS_SCHEMA)})")
+        if value not in DEFAULTS_SCHEMA[key][1]:
+            raise MachineError(f"defaults.{key} = {value!r}: {DEFAULTS_SCHEMA[key][2]}")
+        defaults[key] = int(value)
+
+    origins = {}
+    for key, table in data.get("origins", {}).items():
+        k = str(key).upper()
+        if k in ("G54", "G55", "G56", "G57", "G58", "G59"):
+            n = int(k[1:]) - 53
+        elif k.startswith("G159."):
+            n = int(k[5:])
+        else:
+            try:
+                n = int(k)
+            except ValueError:
+                raise MachineError(f"origins.{key}: use G54..G59, 'G159.n' or n") from None
+        if not 1 <= n <= 99:
+            raise MachineError(f"origins.{key}: entry must be 1..99")
+        origins[n] = _axis_table(f"origins.{key}", table)
+
+    fixtures = {}
+    for key, table in data.get("fixtures", {}).items():
+        n = int(key)
+        if not 1 <= n <= 10:
+            raise MachineError(f"fixtures.{key}: entry must be 1..10")
+        fixtures[n] = _axis_table(f"fixtures.{key}", table)
+
+    tools: dict[int, dict[int, ToolOffset]] = {}
+    for tkey, offsets in data.get("tools", {}).items():
+        for dkey, spec in offsets.items():
+            fields = {k: _number(f"tools.{tkey}.{dkey}.{k}", v) for k, v in spec.items()}
+            unknown = set(fields) - set(ToolOffset.__dataclass_fields__)
+            if unknown:
+                raise MachineError(f"tools.{tkey}.{dkey}: unknown key(s) {', '.join(sorted(unknown))}")
+            tools.setdefault(int(tkey), {})[int(dkey)] = ToolOffset(**fields)
+
+    def prange(key: str, default: tuple[int, int], hard: tuple[int, int]) -> tuple[int, int]:
+        lo, hi = data.get(key, default)
+        if not (hard[0] <= lo <= hi <= hard[1]):
+            raise MachineError(f"{key}: range must lie within P{hard[0]}..P{hard[1]}")
+        return int(lo), int(hi)
+
+    limits = Limits(**{k: int(v) for k, v in data.get("limits", {}).items()})
+    return Machine(
+        axes=axes,
+        spindles=[str(s) for s in data.get("spindles", ["S"])],
+        defaults=defaults,
+        local_params=prange("local_params", (0, 25), (0, 99)),
+        global_params=prange("global_params", (100, 299), (100, 9999)),
+        common_params=prange("common_params", (10000, 10999), (10000, 19999)),
+        origins=origins,
+        fixtures=fixtures,
+        tools=tools,
+        max_feed=_number("max_feed", data.get("max_feed", 0.0)),
+        rapid_feed=_number("rapid_feed", data.get("rapid_feed", 0.0)),
+        servo_period=_number("servo_period", data.get("servo_period", 0.001)),
+        cirinerr=_number("cirinerr", data.get("cirinerr", 0.01)),
+        cirinfact=_number("cirinfact", data.get("cirinfact", 0.1)),
+        subroutine_paths=[Path(p) for p in data.get("subroutine_paths", [])],
+        oem_subroutines={int(k): str(v) for k, v in data.get("oem_subroutines", {}).items()},
+        limits=limits,
+    )
+
+
+def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
+    """A :class:`Machine` from ``None`` (the default machine), a dict, or a TOML path.
+
+    A dict or file is merged over the default machine; its ``axes`` table, when
+    given, replaces the default axes entirely.
+    """
+    if isinstance(machine, Machine):
+        return machine
+    if machine is None:
+        return _build(DEFAULT_MACHINE)
+    if isinstance(machine, str | Path):
+        path = Path(machine)
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except OSError as exc:
+            raise MachineError(f"{path}: cannot read the machine file ({exc.strerror or exc})") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise MachineError(f"{path}: {exc}") from None
+        return _build(_merge(DEFAULT_MACHINE, data))
+    if isinstance(machine, dict):
+        return _build(_merge(DEFAULT_MACHINE, machine))
+    raise MachineError(f"machine: expected a path, a dict or a Machine, not {type(machine).__name__}")

@@ -1,0 +1,202 @@
+"""``fagorcnc.simulate()``: parse, interpret and summarise a program.
+
+The result is the public API of ``../shared/guide/architecture.md``: ``ok``,
+``diagnostics``, ``moves`` (motion records in machine coordinates with the
+part-coordinate end point), ``state`` (final positions, parameters, variables,
+modal functions, active origin) and ``cycle_time``.  Until the planner exists
+the cycle time is the feed-rate estimate: each move's length at its feed
+(rapids at the axes' rapid speed), plus dwells; no acceleration.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from .diagnostics import Diagnostic
+from .interp.interpreter import Interpreter
+from .interp.state import ChannelState
+from .machine import Machine, MachineError, load_machine
+from .syntax import parse_file, parse_text
+from .syntax.ast import Program
+
+
+class FinalState:
+    """The channel state after the run."""
+
+    def __init__(self, interp: Interpreter) -> None:
+        self._interp = interp
+        self._state: ChannelState = interp.state
+
+    def position(self, frame: str = "part") -> dict[str, float]:
+        """Current position: ``frame="part"`` (work coordinates) or ``"machine"``."""
+        if frame == "machine":
+            return dict(self._state.machine_pos)
+        if frame == "part":
+            return self._state.part_pos()
+        raise ValueError("frame must be 'part' or 'machine'")
+
+    def param(self, n: int) -> float:
+        """Value of arithmetic parameter Pn (local parameters of the main level)."""
+        return self._interp.params.get(n)
+
+    def var(self, name: str) -> float:
+        """Value of a V. variable, e.g. ``var("V.A.ORG.X")``, ``var("V.A.ORGT[1].X")``."""
+        from .syntax.ast import Var as VarNode
+        from .syntax.reader import line_parser
+
+        node, diags = line_parser().parse(f"P0={name}", 1)
+        if diags or node is None or type(node.items[0].value) is not VarNode:
+            raise KeyError(name)
+        v = node.items[0].value
+        return self._interp.variables.get(v.name, tuple(self._interp.evaluator.value(i) for i in v.index))
+
+    @property
+    def origin(self) -> str:
+        """The active absolute origin: ``"G54"``..``"G59"``, ``"G159=n"``, ``"G92"`` or ``"G53"``."""
+        return self._state.origin_source
+
+    @property
+    def modes(self) -> dict[str, int | None]:
+        """Active G function of every modal group (``{"motion": 1, "plane": 17, ...}``)."""
+        return dict(self._state.modes)
+
+    @property
+    def g_functions(self) -> list[int]:
+        """The active modal G functions, sorted."""
+        return sorted(v for v in self._state.modes.values() if v is not None)
+
+    @property
+    def tool(self) -> int:
+        return self._state.tool
+
+    @property
+    def offset(self) -> int:
+        return self._state.offset
+
+    @property
+    def feed(self) -> float | None:
+        return self._state.feed
+
+
+@dataclass
+class Result:
+    """What :func:`simulate` returns."""
+
+    ok: bool
+    diagnostics: list[Diagnostic]
+    moves: list
+    state: FinalState | None
+    cycle_time: float
+    program: Program | None
+    ended_by: str | None = None
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+
+def _rapid_speed(machine: Machine, move) -> float:
+    """mm/min along a rapid move: every axis within its max velocity."""
+    length = move.length
+    if length == 0:
+        return 1.0
+    speed = math.inf
+    for a in move.end:
+        d = abs(move.end[a] - move.start[a])
+        if d > 0:
+            speed = min(speed, machine.axes[a].max_velocity * length / d)
+    if machine.rapid_feed > 0:
+        speed = min(speed, machine.rapid_feed)
+    return speed
+
+
+def estimate_time(machine: Machine, moves: list, spindle_rpm: float = 0.0) -> float:
+    """Feed-rate cycle-time estimate in seconds (no acceleration)."""
+    total = 0.0
+    for m in moves:
+        kind = m.kind
+        if kind == "dwell":
+            total += m.seconds
+        elif kind == "rapid":
+            total += m.length / _rapid_speed(machine, m) * 60.0
+        elif kind in ("linear", "arc"):
+            if m.feed_mode == "G93":
+                total += m.feed
+            elif m.feed:
+                total += m.length / m.feed * 60.0
+    return total
+
+
+def simulate(source: str | Path, machine: Machine | dict | str | Path | None = None, *,
+             block_skip: bool = False) -> Result:
+    """Run a program offline.
+
+    ``source`` is a path to a program file or the program text itself (text
+    is recognised by containing a newline or not naming an existing file).
+    ``machine`` is a :class:`~fagorcnc.machine.Machine`, a dict or a TOML
+    path (see :func:`~fagorcnc.machine.load_machine`); ``None`` is the default
+    machine.  Never raises on a bad program: problems are in ``diagnostics``.
+    """
+    try:
+        mach = load_machine(machine)
+    except MachineError as exc:
+        d = Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))
+        return Result(False, [d], [], None, 0.0, None)
+    if isinstance(source, Path) or ("\n" not in str(source) and Path(str(source)).is_file()):
+        program = parse_file(source)
+    else:
+        program = parse_text(str(source))
+    interp = Interpreter(program, mach, block_skip=block_skip)
+    moves = list(interp.run())
+    diagnostics = sorted([*program.diagnostics, *interp.diagnostics], key=lambda d: (d.file, d.line, d.col))
+    ok = not any(d.is_error for d in diagnostics)
+    motion = [m for m in moves if m.kind != "aux"]
+    return Result(ok, diagnostics, moves, FinalState(interp), estimate_time(mach, motion), program, interp.ended)
+
+
+class Run:
+    """A streaming run: iterate it for the motion records, one block at a time.
+
+    Memory stays flat whatever the program length (the program is read lazily
+    and only blocks a jump or loop can reach again are kept).  After (or
+    during) the iteration, :attr:`diagnostics` and :attr:`state` describe the
+    run.  A syntax error stops the run at the block before it.
+    """
+
+    def __init__(self, lines, file: str, machine: Machine, block_skip: bool = False) -> None:
+        from .interp.source import stream_program
+
+        self._close = getattr(lines, "close", None)
+        self.program, self._stream = stream_program(lines, file)
+        self.interpreter = Interpreter(self.program, machine, block_skip=block_skip, stream=self._stream)
+        self.state = FinalState(self.interpreter)
+
+    def __iter__(self):
+        try:
+            yield from self.interpreter.run()
+        finally:
+            if self._close is not None:
+                self._close()
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        seen = {id(d) for d in self.program.diagnostics}
+        extra = [d for d in self._stream.diagnostics if id(d) not in seen]
+        out = [*self.program.diagnostics, *extra, *self.interpreter.diagnostics]
+        return sorted(out, key=lambda d: (d.file, d.line, d.col))
+
+    @property
+    def ok(self) -> bool:
+        return not any(d.is_error for d in self.diagnostics)
+
+
+def interpret(source: str | Path, machine: Machine | dict | str | Path | None = None, *,
+              block_skip: bool = False) -> Run:
+    """Stream a program (a file path, or text) through the interpreter; see :class:`Run`."""
+    mach = load_machine(machine)
+    if isinstance(source, Path) or ("\n" not in str(source) and Path(str(source)).is_file()):
+        path = Path(source)
+        return Run(open(path, encoding="utf-8", errors="replace"), str(path), mach, block_skip)
+    return Run(str(source).split("\n"), "<string>", mach, block_skip)
