@@ -79,6 +79,11 @@ class IsoExecutor:
                 bw.g.append((n, col, eq))
             elif addr == "N":
                 ev.integer(w.value, "N", col)
+            elif addr == "":
+                if "K" in bw.params or not any(n == 4 for n, _c, _e in bw.g):
+                    raise InterpError("INT025", "a number without its letter is only allowed as the time "
+                                      "of G04 (G04 5)", col)
+                bw.params["K"] = (ev.value(w.value), col)   # seed 002 L9187: G04 5
             elif addr == "F":
                 bw.feed = (ev.value(w.value), col)
             elif addr == "S" or (addr[0] == "S" and addr[1:].isdigit()):

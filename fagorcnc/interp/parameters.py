@@ -63,7 +63,8 @@ class Parameters:
 
     def push(self, values: dict[int, float], col: int = 1) -> None:
         """Open a new local level initialised with ``values`` (a #PCALL's arguments)."""
-        if len(self.levels) > self.max_levels:
+        # spec 05 §1.2 (A4): the main program's set is one of the 7 levels (L10220)
+        if len(self.levels) >= self.max_levels:
             raise InterpError("INT042", f"more than {self.max_levels} local parameter levels", col)
         self.levels.append(dict(values))
 

@@ -52,17 +52,30 @@ def _values(interp, args) -> list[float]:
     return out
 
 
-def _format(interp, args) -> str:
+def _format(interp, args, col: int) -> str:
+    """The text with %D/%d replaced by the data values and %% by % (seed 002 L14185-L14199)."""
     text = _text_of(args)
     values = _values(interp, args)
-    for v in values:  # %D-style placeholders take the data values in order
-        for mark in ("%D", "%d", "%F", "%f"):
-            if mark in text:
-                text = text.replace(mark, f"{v:g}", 1)
-                break
+    out, i, k = [], 0, 0
+    while i < len(text):
+        ch = text[i]
+        nxt = text[i + 1] if i + 1 < len(text) else ""
+        if ch == "%" and nxt == "%":
+            out.append("%")
+            i += 2
+        elif ch == "%" and nxt in "Dd" and nxt:
+            if k >= len(values):
+                raise InterpError("INT071", f"the text has more %D than data values ({len(values)})", col)
+            out.append(f"{values[k]:g}")
+            k += 1
+            i += 2
         else:
-            text += f" {v:g}"
-    return text
+            out.append(ch)
+            i += 1
+    if k != len(values) and _text_of(args):
+        raise InterpError("INT071", f"{len(values)} data values for {k} %D in the text (L14389: as many "
+                          "data as %D)", col)
+    return "".join(out)
 
 
 def execute_sentence(interp, node, src):
@@ -73,15 +86,16 @@ def execute_sentence(interp, node, src):
     if kw == "ERROR":
         # seed 002 L14139-L14212: stops the program with the error
         values = _values(interp, node.args)
-        text = _format(interp, node.args) if _text_of(node.args) else f"error {values[0]:g}" if values else "#ERROR"
+        text = (_format(interp, node.args, node.col) if _text_of(node.args)
+                else f"error {values[0]:g}" if values else "#ERROR")
         raise InterpError("INT070", f"#ERROR: {text}", node.col)
     if kw in ("WARNING", "WARNINGSTOP"):
-        text = _format(interp, node.args)
+        text = _format(interp, node.args, node.col)
         stop = " (the CNC stops here until cycle start)" if kw == "WARNINGSTOP" else ""
         interp.message("INT076", "warning", f"#{kw}: {text}{stop}", node.col)
         return
     if kw == "MSG":
-        interp.message("INT077", "info", f"#MSG: {_format(interp, node.args)}", node.col)
+        interp.message("INT077", "info", f"#MSG: {_format(interp, node.args, node.col)}", node.col)
         return
     if kw == "TIME":
         # seed 002 L9166-L9190: #TIME <seconds>

@@ -158,7 +158,8 @@ class Word(NamedTuple):
     ``"MG"``, numbered names ``"X1"``, ``"S2"``, generic axes ``"?3"``, call
     arguments ``"P10"``.  ``value`` is a ``float`` for a literal or an
     expression, ``None`` for an address written without a value (the axes
-    of ``G157 X Z``, seed 002 L3851).  For ``G159=5`` and ``G263=30`` the address is ``"G"``, the
+    of ``G157 X Z``, seed 002 L3851).  A number without a letter (``G04 5``)
+    has the address ``""``.  For ``G159=5`` and ``G263=30`` the address is ``"G"``, the
     value the function number and ``eq`` the value after ``=``.
     """
 

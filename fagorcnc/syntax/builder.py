@@ -79,6 +79,11 @@ def _float(text: str) -> float:
         return float("inf")
 
 
+def _unquote(text: str) -> str:
+    """Text of a STRING token: quotes removed, \\" -> " (seed 002 L14194)."""
+    return text[1:-1].replace('\\"', '"')
+
+
 def _neg(x):
     if type(x) is Num:
         return Num(-x.value, x.col)
@@ -202,6 +207,14 @@ class AstBuilder(Transformer):
         tok, value = c
         return Word(tok.value, _literal(self._expr(value, tok.column)), tok.column)
 
+    def param_letter(self, c):
+        tok = c[0]
+        return Word("P", _float(tok.value[1:]), tok.column)
+
+    def bare_value(self, c):
+        tok = c[0]
+        return Word("", _float(tok.value), tok.column)
+
     def bare_word(self, c):
         tok = c[0]
         return Word(tok.value, None, tok.column)
@@ -290,11 +303,11 @@ class AstBuilder(Transformer):
         return Direction(c[0].value, c[1].value, c[0].column)
 
     def s_string(self, c):
-        return Str(c[0].value[1:-1], c[0].column)
+        return Str(_unquote(c[0].value), c[0].column)
 
     def s_define(self, c):
         self._plain_eq(c[1])
-        return Definition(c[0].value[1:-1], c[2].value[1:-1], c[0].column)
+        return Definition(_unquote(c[0].value), _unquote(c[2].value), c[0].column)
 
     # ------------------------------------------------------------ flow
     def _flow(self, c, args=()):
