@@ -67,3 +67,24 @@ def test_console_script_runs_as_a_module():
     r = subprocess.run([sys.executable, "-m", "fagorcnc.cli", "parse", "-q", str(DEMO)],
                        capture_output=True, text=True, check=False)
     assert r.returncode == 0 and r.stdout == "" and "Traceback" not in r.stderr
+
+
+def test_run_demo_on_the_embedded_simulator(capsys):
+    assert main(["run", str(DEMO)]) == 0
+    out = capsys.readouterr().out
+    assert "OK on the embedded simulator" in out and "ended by M30" in out and "0 errors" in out
+
+
+def test_run_reports_an_interpreter_error_and_exits_1(tmp_path, capsys):
+    f = tmp_path / "bad.nc"
+    f.write_text("G1 X10 F100\nP1 = 1/0\nG1 X20\nM30\n")
+    assert main(["run", str(f)]) == 1
+    out = capsys.readouterr().out
+    assert f"{f}:2:" in out and "INT033" in out and "STOPPED" in out and "1 moves" in out
+
+
+def test_run_with_a_bad_machine_file_is_a_usage_error(tmp_path, capsys):
+    m = tmp_path / "m.toml"
+    m.write_text("[axes.X]\ntype = 'spiral'\n")
+    assert main(["run", "--machine", str(m), str(DEMO)]) == 2
+    assert "axes.X.type" in capsys.readouterr().err

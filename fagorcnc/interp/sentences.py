@@ -133,6 +133,9 @@ def execute_sentence(interp, node, src):
     if kw in RECORDED:
         st.planner[kw if sub is None else f"{kw} {sub}"] = node.args
         return
+    if kw in NOT_YET and sub == "OFF":
+        st.planner[f"{kw} OFF"] = node.args   # cancelling what was never computed changes nothing
+        return
     if kw in NOT_YET:
         interp.message("INT078", "warning", f"#{kw} is not computed by fagorcnc yet; the path ignores it",
                        node.col)
