@@ -96,6 +96,8 @@ CODES: dict[str, str] = {
     "INT062": "arc start and end radius differ",
     "INT063": "motion not allowed in #MCS",
     "INT064": "arc radius impossible for the end point",
+    "INT065": "feed per revolution without spindle speed",
+    "INT066": "invalid G20 plane definition",
     "INT070": "#ERROR in the program",
     "INT071": "malformed # sentence",
     "INT072": "$FOR step 0",

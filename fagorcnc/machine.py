@@ -26,7 +26,7 @@ DEFAULTS_SCHEMA: dict[str, tuple[int, tuple, str]] = {
     "IPLANE": (0, (0, 1), "0 = G17, 1 = G18 (L2995)"),
     "IMOVE": (0, (0, 1), "0 = G00, 1 = G01 (L6022)"),
     "IFEED": (0, (0, 1), "0 = G94, 1 = G95 (L4182)"),
-    "ICORNER": (2, (0, 1, 2), "0 = G50, 1 = G05, 2 = G07 (L20157)"),
+    "ICORNER": (0, (0, 1, 2), "0 = G50, 1 = G05, 2 = G07 (L20157; spec 07 §B.11 default 0)"),
     "IRCOMP": (0, (0, 1), "0 = G136, 1 = G137 (L9591)"),
     "MIRRORCANCEL": (1, (0, 1), "1 = M30/reset cancel mirror images (L8779)"),
     "SPDLSTOP": (1, (0, 1), "1 = M02/M30 stop the spindle (L867)"),
@@ -96,6 +96,7 @@ class Machine:
     cirinfact: float = 0.1       # %, relative arc radius tolerance (L20308)
     subroutine_paths: list[Path] = field(default_factory=list)
     oem_subroutines: dict[int, str] = field(default_factory=dict)  # G180.. -> file name
+    m_functions: dict[int, str] = field(default_factory=dict)  # M table: number -> "before" | "after"
     limits: Limits = field(default_factory=Limits)
 
     def default(self, name: str) -> int:
@@ -242,8 +243,20 @@ def _build(data: dict) -> Machine:
         cirinfact=_number("cirinfact", data.get("cirinfact", 0.1)),
         subroutine_paths=[Path(p) for p in data.get("subroutine_paths", [])],
         oem_subroutines={int(k): str(v) for k, v in data.get("oem_subroutines", {}).items()},
+        m_functions=_m_table(data.get("m_functions", {})),
         limits=limits,
     )
+
+
+def _m_table(table: dict) -> dict[int, str]:
+    """The OEM M table's timing (seed 002 L5020-L5029): {m: "before" | "after"}."""
+    out = {}
+    for key, value in table.items():
+        m = int(key)
+        if not 0 <= m <= 65535 or value not in ("before", "after"):
+            raise MachineError(f"m_functions.{key}: M0..M65535 = \"before\" or \"after\"")
+        out[m] = value
+    return out
 
 
 def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:

@@ -121,11 +121,8 @@ def estimate_time(machine: Machine, moves: list, spindle_rpm: float = 0.0) -> fl
             total += m.seconds
         elif kind == "rapid":
             total += m.length / _rapid_speed(machine, m) * 60.0
-        elif kind in ("linear", "arc"):
-            if m.feed_mode == "G93":
-                total += m.feed
-            elif m.feed:
-                total += m.length / m.feed * 60.0
+        elif kind in ("linear", "arc") and m.feed:
+            total += m.length / m.feed * 60.0   # feed is mm/min along the path for every feed mode
     return total
 
 

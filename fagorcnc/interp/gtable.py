@@ -77,7 +77,7 @@ _TABLE = [
     _g(17, "plane", "default", "plane XY, longitudinal Z", "L2991"),
     _g(18, "plane", "default", "plane ZX, longitudinal Y", "L2991"),
     _g(19, "plane", "default", "plane YZ, longitudinal X", "L2991"),
-    _g(20, "plane", "default", "plane from two directions", "L3117", "no"),
+    _g(20, "plane", "default", "plane from two directions", "L3117"),
     _g(30, None, "block", "polar origin preset", "L3994"),
     _g(31, None, "block", "temporary polar origin at the arc centre", "L6903", "no"),
     _g(33, "motion", "default", "threading", "L7402", "no"),

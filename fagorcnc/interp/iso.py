@@ -47,6 +47,7 @@ class BlockWords:
     h: list = field(default_factory=list)
     nr: tuple | None = None
     call: tuple | None = None                        # (G number, modal, col, argument words)
+    roles: list = field(default_factory=list)        # G20: (axis, type, col); an axis may repeat
 
 
 class IsoExecutor:
@@ -64,6 +65,7 @@ class IsoExecutor:
         bw = BlockWords()
         axes = st.axes
         g157 = any(w.address == "G" and w.value == 157.0 for w in words)
+        g20 = any(w.address == "G" and w.value == 20.0 for w in words)
         for i, w in enumerate(words):
             addr, col = w.address, w.col
             if w.value is None:
@@ -113,6 +115,9 @@ class IsoExecutor:
                     raise InterpError("INT022", f"generic axis {addr} does not designate an axis", col)
                 self._axis_word(bw, axes[k - 1], ev.value(w.value), col)
             elif addr in st.machine.axes:
+                if g20:
+                    bw.roles.append((addr, ev.value(w.value), col))
+                    continue
                 self._axis_word(bw, addr, ev.value(w.value), col)
             elif addr in _PARAM_LETTERS or (len(addr) == 1 and addr not in _AXIS_LETTERS):
                 if addr in bw.params:
@@ -207,9 +212,18 @@ class IsoExecutor:
                 block_modes[f"G{n}"] = True
         if 130 in gs or 131 in gs or 132 in gs or 133 in gs or 134 in gs or 135 in gs:
             self._percentages(gs, bw)
+        if 192 in gs:  # spindle speed limit for G96 (seed 002 L5368-L5405): "G192 S<rpm>"
+            if not bw.speeds:
+                raise InterpError("INT027", "G192 needs the speed limit: G192 S<rpm>", gs[192][0])
+            self.state.planner["G192"] = next(iter(bw.speeds.values()))[0]
+            bw.speeds.clear()
         st.block_modes = block_modes
         if st.modes["plane"] != previous_plane:
             st.polar_origin = (0.0, 0.0)  # plane change -> polar origin at work zero (L2682)
+            interp.plane_changed()
+        if 20 in gs:
+            self._g20(gs[20][0], bw)
+            st.polar_origin = (0.0, 0.0)
             interp.plane_changed()
         # 3. origins
         self._origins(gs, bw)
@@ -230,8 +244,9 @@ class IsoExecutor:
         for h, _col in bw.h:
             yield self.aux("H", float(h), "before", src)
         after = []
+        table = self.machine.m_functions
         for m, col in bw.m:
-            if m in _M_AFTER:
+            if m in (2, 30, 17, 29) or table.get(m, "after" if m in _M_AFTER else "before") == "after":
                 after.append((m, col))
                 continue
             yield from self._m_before(m, col, bw, src)
@@ -330,6 +345,37 @@ class IsoExecutor:
             if st.lower_limits[a] == 0.0 and st.upper_limits[a] == 0.0:
                 st.lower_limits[a], st.upper_limits[a] = -math.inf, math.inf
 
+    def _g20(self, col: int, bw: BlockWords) -> None:
+        """G20: plane from the trihedron axes (seed 002 L3048-L3125).
+
+        Each axis word gives a role: 1 abscissa, 2 ordinate, +3/-3 longitudinal
+        axis (sign = tool orientation), 5 perpendicular axis when the
+        longitudinal axis is also the abscissa or the ordinate.
+        """
+        st = self.state
+        trihedron = st.axes[:3]
+        roles: dict[int, str] = {}
+        direction = -1
+        for axis, v, c in bw.roles:
+            if axis not in trihedron:
+                raise InterpError("INT066", f"G20: {axis} is not one of the first three channel axes", c)
+            kind = abs(v)
+            if kind not in (1, 2, 3, 5) or v != int(v):
+                raise InterpError("INT066", f"G20 {axis}{v:g}: the type must be 1, 2, +3, -3 or 5", c)
+            if kind in roles:
+                raise InterpError("INT066", f"G20: two axes of type {kind:g}", c)
+            roles[int(kind)] = axis
+            if kind == 3:
+                direction = 1 if v > 0 else -1
+        if 1 not in roles or 2 not in roles or roles[1] == roles[2]:
+            raise InterpError("INT066", "G20 needs an abscissa (type 1) and a different ordinate (type 2)", col)
+        longitudinal = roles.get(3) or next(a for a in trihedron if a not in (roles[1], roles[2]))
+        if longitudinal in (roles[1], roles[2]) and 5 not in roles:
+            raise InterpError("INT066", "G20: the tool axis is in the plane, so the perpendicular axis (type 5) "
+                              "is needed", col)
+        st.g20_plane = (roles[1], roles[2], longitudinal)
+        st.tool_direction = direction
+
     def _percentages(self, gs: dict, bw: BlockWords) -> None:
         planner = self.state.planner
         for n in (130, 132, 134, 135):
@@ -354,14 +400,14 @@ class IsoExecutor:
     def _tool(self, bw: BlockWords, src: Source):
         st = self.state
         t, col = bw.tool
-        if t != 0 and t not in self.machine.tools:
+        if t != 0 and t not in st.tools:
             raise InterpError("INT050", f"tool T{t} is not in the tool table", col)
         st.next_tool = t
         yield self.aux("T", float(t), "before", src)
 
     def _offset(self, d: int, col: int) -> None:
         st = self.state
-        if d != 0 and st.tool != 0 and self.machine.tool_offset(st.tool, d) is None:
+        if d != 0 and st.tool != 0 and st.tools.get(st.tool, {}).get(d) is None:
             raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", col)
         st.offset = d
 
@@ -434,19 +480,52 @@ class IsoExecutor:
         st.machine_pos = dict(end)
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src)
-        feed = self._active_feed(src)
-        return Line("linear", start, end, end_part, feed, f"G{st.modes['feed']}", src)
+        length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
+        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src)
 
-    def _active_feed(self, src: Source) -> float:
+    def _active_feed(self, length: float, start: dict) -> float:
+        """Feed along the path in mm/min (seed 002 L4127-L4192).
+
+        G94: F mm/min; G95: F mm/rev times the master spindle's speed (under
+        G96 the speed follows from the surface speed and the radius on the
+        first channel axis, limited by G192); G93: the move takes F seconds.
+        MAXFEED clamps silently (L4072).
+        """
         st = self.state
-        if st.feed is None or (st.feed == 0 and st.modes["feed"] != 93):
+        mode = st.modes["feed"]
+        if st.feed is None or st.feed == 0:
             if self.machine.default("DEFAULTFEED") and self.machine.max_feed > 0:
                 return self.machine.max_feed
             raise InterpError("INT060", "no feed programmed for this G01/G02/G03 move (F)", 1)
-        feed = st.feed
-        if st.modes["feed"] == 94 and self.machine.max_feed > 0:
-            feed = min(feed, self.machine.max_feed)  # MAXFEED clamps silently (L4072)
+        if mode == 93:
+            feed = length / st.feed * 60.0
+        elif mode == 95:
+            feed = st.feed * self._spindle_rpm(start)
+        else:
+            feed = st.feed
+        if self.machine.max_feed > 0:
+            feed = min(feed, self.machine.max_feed)
         return feed
+
+    def _spindle_rpm(self, start: dict) -> float:
+        st = self.state
+        if not st.speeds:
+            raise InterpError("INT065", "G95 feed per revolution needs a spindle", 1)
+        spindle = next(iter(st.speeds))
+        s = st.speeds[spindle]
+        if st.spindle_state[spindle] == 5 or s <= 0:
+            raise InterpError("INT065", "G95 feed per revolution with the spindle stopped: the axes would not move "
+                              "(program S and M03/M04)", 1)
+        if st.modes["css"] == 96:  # seed 002 L5406-L5464: S is the cutting speed in m/min
+            radius = abs(st.to_part(start)[st.axes[0]])
+            limit = float(st.planner.get("G192", 0.0) or 0.0)
+            rpm = s * 1000.0 / (2.0 * math.pi * radius) if radius > 1e-6 else math.inf
+            if limit > 0:
+                rpm = min(rpm, limit)
+            if not math.isfinite(rpm):
+                raise InterpError("INT065", "G96 at the spindle centre without a G192 speed limit", 1)
+            return rpm
+        return s
 
     def _polar(self, bw: BlockWords, cur_part: dict, end_part: dict) -> None:
         """R/Q polar end point in the plane (spec 02 §6.3, seed 002 L2639-L2672)."""
@@ -479,7 +558,8 @@ class IsoExecutor:
         a, o, n = st.plane_axes()
         end_part = self.target(bw, cur_part)
         # centre words of the plane: G17 I J, G18 K I, G19 J K (seed 002 ch. 8.3)
-        ci, cj = {17: ("I", "J"), 18: ("K", "I"), 19: ("J", "K")}[st.modes["plane"]]
+        # (G20: I abscissa, J ordinate; spec 03 §0)
+        ci, cj = {17: ("I", "J"), 18: ("K", "I"), 19: ("J", "K")}.get(st.modes["plane"], ("I", "J"))
         absolute = 6 in gs or st.modes["arc_centre"] == 261
         col = bw.axes[next(iter(bw.axes))][1] if bw.axes else 1
         if ci in bw.params or cj in bw.params:
@@ -507,7 +587,7 @@ class IsoExecutor:
         st.machine_pos = dict(end)
         center_part = {a: center[0], o: center[1]}
         center_m = {a: center[0] + st.chain(a), o: center[1] + st.chain(o)}
-        feed = self._active_feed(src)
+        feed = self._active_feed(_arc_length(cur_part, end_part, center, a, o, mode), start)
         return Arc("arc", start, end, end_part, center_m, center_part, "cw" if mode == 2 else "ccw",
                    (a, o, n), (r0 + r1) / 2.0, 0, feed, f"G{st.modes['feed']}", src)
 
@@ -530,7 +610,19 @@ class IsoExecutor:
             return Line("rapid", start, end, end_part, None, "G94", src)
         if mode != 1:
             raise InterpError("INT063", "#MCS moves are G00 or G01", 1)
-        return Line("linear", start, end, end_part, self._active_feed(src), f"G{st.modes['feed']}", src)
+        length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
+        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src)
+
+
+def _arc_length(p0: dict, p1: dict, center, a: str, o: str, mode: int) -> float:
+    """Length of a G02/G03 move (helix included), for the feed of G93."""
+    a0 = math.atan2(p0[o] - center[1], p0[a] - center[0])
+    a1 = math.atan2(p1[o] - center[1], p1[a] - center[0])
+    sweep = (a1 - a0) % (2 * math.pi) if mode == 3 else (a0 - a1) % (2 * math.pi)
+    sweep = sweep or 2 * math.pi
+    planar = sweep * math.hypot(p0[a] - center[0], p0[o] - center[1])
+    other = sum((p1[x] - p0[x]) ** 2 for x in p1 if x not in (a, o))
+    return math.hypot(planar, math.sqrt(other))
 
 
 def _centre_from_radius(p0, p1, r, clockwise: bool, col: int):

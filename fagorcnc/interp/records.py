@@ -3,9 +3,12 @@
 Like LinuxCNC's canonical machining functions, the records say *what* path
 the tool follows, never how fast in time.  Positions are ``{axis: float}`` in
 **machine** coordinates (mm, degrees); ``end_part`` gives the same end point in
-part coordinates.  Feeds are in mm/min (``feed_mode`` "G94"), mm/rev ("G95")
-or seconds for the whole move ("G93"); rapid moves carry ``feed=None``.
-Every record keeps its :class:`Source` so later errors can name the block.
+part coordinates.  Every record keeps its :class:`Source` so later errors can
+name the block.
+
+``feed`` is always the programmed feed along the path in **mm/min** (after
+MAXFEED); ``feed_mode`` says how it was programmed: ``"G94"`` mm/min,
+``"G95"`` mm/rev times the spindle speed, ``"G93"`` the move's time.
 """
 
 from __future__ import annotations

@@ -42,6 +42,9 @@ class ChannelState:
         self.feed_programmed: float | None = None  # as written, in the active unit
         self.speeds: dict[str, float] = dict.fromkeys(machine.spindles, 0.0)
         self.spindle_state: dict[str, int] = dict.fromkeys(machine.spindles, 5)  # M3 / M4 / M5
+        self.tools = copy.deepcopy(machine.tools)   # V.TM.TOR... may write it
+        self.g20_plane: tuple[str, str, str] | None = None   # G20 (abscissa, ordinate, longitudinal)
+        self.tool_direction = -1               # V.G.TOOLDIR: the tool points along -longitudinal
         self.tool = 0
         self.next_tool = 0
         self.offset = 0                        # active D
@@ -79,6 +82,8 @@ class ChannelState:
         """
         a = list(self.axes) + [None] * max(0, 3 - len(self.axes))
         plane = self.modes["plane"]
+        if plane == 20 and self.g20_plane is not None:
+            return self.g20_plane
         if plane == 18:
             return a[2], a[0], a[1]
         if plane == 19:

@@ -26,6 +26,16 @@ def _entry(table: dict, n: int, col: int, what: str, hi: int) -> dict:
     return table.setdefault(n, {})
 
 
+_AXIS_ORDER = "XYZUVWABC"
+
+
+def _axis_code(name: str | None) -> int:
+    """Axis code of V.G.PLANE/LONGAX: X=10, Y=20 ... C=90, plus the axis digit (X1=11)."""
+    if not name or name[0] not in _AXIS_ORDER:
+        return 0
+    return 10 * (_AXIS_ORDER.index(name[0]) + 1) + (int(name[1:]) if name[1:].isdigit() else 0)
+
+
 class Variables:
     """Reads and writes ``V.`` variables against a :class:`ChannelState`."""
 
@@ -73,10 +83,77 @@ class Variables:
             "V.G.PORGS": (lambda i: s.polar_origin[1], None),
             "V.G.BLKN": (lambda i: float(s.line), None),
         }
-        for group, label in (("motion", "GMOTION"), ("plane", "PLANE"), ("units", "UNITS")):
-            self.plain_vars[f"V.G.{label}"] = (lambda i, g=group: float(s.modes[g] or 0), None)
+        # active and next tool (seed 002 L37501-L38290); [ofd] optional: the active D
+        self.plain_vars.update({
+            "V.TM.TOOL": (lambda i: float(s.tool), None),
+            "V.TM.TOD": (lambda i: float(s.offset), None),
+            "V.TM.NXTOOL": (lambda i: float(s.next_tool), None),
+            "V.TM.NUMOFD": (lambda i: float(len(s.tools.get(s.tool, {}))), None),
+        })
+        for name, fld in (("TOR", "radius"), ("TOI", "radius_wear"), ("TOL", "length"), ("TOK", "length_wear")):
+            get, put = self._tool_field(fld)
+            self.plain_vars[f"V.TM.{name}"] = (get, put)
+            self.plain_vars[f"V.TM.{name}[]"] = (get, put)
+        # programmed functions (seed 002 L40015-L40258)
+        self.plain_vars.update({
+            "V.G.GS[]": (self._g_state, None),
+            "V.G.MS[]": (self._m_state, None),
+            "V.G.PLANE": (self._plane_code, None),
+            "V.G.LONGAX": (lambda i: float(_axis_code(s.plane_axes()[2])), None),
+            "V.G.TOOLDIR": (lambda i: 1.0 if s.tool_direction > 0 else 2.0, None),
+        })
+        for k in range(1, 11):
+            self.plain_vars[f"V.G.HGS{k}"] = (lambda i, k=k: float(self._hgs(k)), None)
 
     # ------------------------------------------------------------------
+    def _tool_field(self, fld: str):
+        st = self.state
+
+        def offset_of(index: tuple):
+            d = int(index[0]) if index else st.offset
+            off = st.tools.get(st.tool, {}).get(d)
+            if off is None:
+                raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", 1)
+            return off
+
+        def get(index: tuple) -> float:
+            return getattr(offset_of(index), fld)
+
+        def put(index: tuple, value: float) -> None:
+            setattr(offset_of(index), fld, value)
+
+        return get, put
+
+    def _plane_code(self, index: tuple) -> float:
+        a, o, _ = self.state.plane_axes()
+        return float(100 * _axis_code(a) + _axis_code(o))
+
+    def _active_g(self) -> set[int]:
+        st = self.state
+        active = {v for v in st.modes.values() if v is not None}
+        origin = st.origin_source
+        if origin.startswith("G159="):
+            active.add(159)
+        elif origin[1:].isdigit():
+            active.add(int(origin[1:]))
+        return active
+
+    def _g_state(self, index: tuple) -> float:
+        return 1.0 if int(index[0]) in self._active_g() else 0.0
+
+    def _m_state(self, index: tuple) -> float:
+        m = int(index[0])
+        spindle = next(iter(self.state.spindle_state.values()), 5)
+        return 1.0 if m in (3, 4, 5) and m == spindle else 0.0
+
+    def _hgs(self, k: int) -> int:
+        """V.G.HGSk: bit b is G(32(k-1)+b) (seed 002 L40179-L40258)."""
+        word = 0
+        for g in self._active_g():
+            if 32 * (k - 1) <= g < 32 * k:
+                word |= 1 << (g - 32 * (k - 1))
+        return word
+
     def _set_fix(self, index: tuple, value: float) -> None:
         n = int(value)
         if n != value or not 0 <= n <= 10:

@@ -1,0 +1,122 @@
+"""Feed modes, G20 planes, the M table, tool and G-state variables (hand-worked numbers)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import fagorcnc
+
+TOOLS = {"tools": {"5": {"1": {"length": 100.0, "radius": 4.0}, "2": {"length": 90.0, "radius": 3.0}}}}
+
+
+def _linear(r):
+    return [m for m in r.moves if m.kind == "linear"]
+
+
+def test_g94_feed_is_mm_per_min_and_g70_feed_is_converted():
+    # seed 002 L4127-L4192: G94 mm/min; G70: F20 in/min = 508 mm/min (L2440-L2447)
+    r = fagorcnc.simulate("G94 G1 X10 F600\nG70 X1 F20\nM30\n")
+    assert [m.feed for m in _linear(r)] == [pytest.approx(600.0), pytest.approx(508.0)]
+
+
+def test_g95_feed_per_revolution_times_spindle_speed():
+    # F0.1 mm/rev at S2000 rpm = 200 mm/min; 10 mm takes 3 s
+    r = fagorcnc.simulate("S2000 M3\nG95 G1 X10 F0.1\nM30\n")
+    assert r.ok
+    (m,) = _linear(r)
+    assert m.feed == pytest.approx(200.0) and m.feed_mode == "G95"
+    assert r.cycle_time == pytest.approx(3.0)
+
+
+def test_g95_with_the_spindle_stopped_is_an_error():
+    r = fagorcnc.simulate("S2000\nG95 G1 X10 F0.1\nM30\n")
+    assert [d.code for d in r.errors] == ["INT065"] and r.errors[0].line == 2
+
+
+def test_g96_constant_surface_speed_gives_rpm_from_the_radius():
+    # G96 S100 m/min at X radius 25 mm: rpm = 100000 / (2 pi 25) = 636.62; F0.2 mm/rev -> 127.32 mm/min
+    r = fagorcnc.simulate("G0 X25\nG96 S100 M3\nG95 G1 Z-10 F0.2\nM30\n")
+    assert r.ok, [str(d) for d in r.diagnostics]
+    (m,) = _linear(r)
+    assert m.feed == pytest.approx(0.2 * 100000 / (2 * math.pi * 25))
+
+
+def test_g192_limits_the_g96_spindle_speed():
+    # at X5: 100000 / (2 pi 5) = 3183 rpm, limited to 1000 rpm by G192 -> 0.2 * 1000 = 200 mm/min
+    r = fagorcnc.simulate("G192 S1000\nG0 X5\nG96 S100 M3\nG95 G1 Z-10 F0.2\nM30\n")
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert _linear(r)[0].feed == pytest.approx(200.0)
+
+
+def test_g93_feed_is_the_time_of_the_move():
+    # G93 F2: the 30 mm move takes 2 s -> 900 mm/min
+    r = fagorcnc.simulate("G93 G1 X30 F2\nM30\n")
+    (m,) = _linear(r)
+    assert m.feed == pytest.approx(900.0) and r.cycle_time == pytest.approx(2.0)
+
+
+def test_max_feed_clamps_silently():
+    # seed 002 L4072: MAXFEED clamps the programmed feed without an error
+    r = fagorcnc.simulate("G1 X10 F9000\nM30\n", {"max_feed": 5000.0})
+    assert r.ok and _linear(r)[0].feed == 5000.0
+
+
+def test_g20_plane_from_axis_roles():
+    # seed 002 L3096-L3125: G20 X1 Z2 Y3 -> abscissa X, ordinate Z, longitudinal Y
+    # polar R10 Q90 about (0, 0) -> ordinate Z = 10
+    r = fagorcnc.simulate("G20 X1 Z2 Y3\nG1 R10 Q90 F100\nP1 = V.G.PLANE P2 = V.G.LONGAX P3 = V.G.TOOLDIR\nM30\n")
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert r.state.position() == pytest.approx({"X": 0.0, "Y": 0.0, "Z": 10.0}, abs=1e-12)
+    assert (r.state.param(1), r.state.param(2), r.state.param(3)) == (1030.0, 20.0, 1.0)
+
+
+def test_g20_arc_uses_i_for_the_abscissa_and_j_for_the_ordinate():
+    # spec 03 §0: in G20 I/J belong to abscissa/ordinate.  Plane X (abscissa), Z (ordinate):
+    # from (X10, Z0), G03 X0 Z10 I-10 J0 -> centre (0, 0), radius 10
+    r = fagorcnc.simulate("G0 X10\nG20 X1 Z2 Y3\nG3 X0 Z10 I-10 J0 F100\nM30\n")
+    assert r.ok, [str(d) for d in r.diagnostics]
+    (arc,) = [m for m in r.moves if m.kind == "arc"]
+    assert arc.center == pytest.approx({"X": 0.0, "Z": 0.0}) and arc.radius == pytest.approx(10.0)
+
+
+@pytest.mark.parametrize(("text", "why"), [
+    ("G20 X1 Y1 Z3", "two abscissas"),
+    ("G20 X1 Z3", "no ordinate"),
+    ("G20 X1 Y2 X3", "tool axis in the plane without a perpendicular axis"),
+    ("G20 X1 Y2 Z4", "type 4 is reserved"),
+])
+def test_g20_errors(text, why):
+    r = fagorcnc.simulate(text + "\nM30\n")
+    assert [d.code for d in r.errors] == ["INT066"], why
+
+
+def test_g20_with_perpendicular_axis():
+    # seed 002 L3113: G20 X1 Y2 X3 Z5 -> plane XY, tool along X, perpendicular Z
+    r = fagorcnc.simulate("G20 X1 Y2 X3 Z5\nP1 = V.G.LONGAX\nM30\n")
+    assert r.ok and r.state.param(1) == 10.0
+
+
+def test_m_table_timing_from_the_machine():
+    # seed 002 L5020-L5029: M functions run before the motion unless the M table says after
+    r = fagorcnc.simulate("G1 X10 F100 M8 M9\nM30\n", {"m_functions": {"9": "after"}})
+    kinds = [(m.kind, getattr(m, "value", None)) for m in r.moves][:3]
+    assert kinds == [("aux", 8.0), ("linear", None), ("aux", 9.0)]
+
+
+def test_tool_variables_read_and_write_the_active_offset():
+    # seed 002 L37896-L37967: V.TM.TOR / TOL of the active (or given) offset
+    text = "T5 D1 M6\nP1 = V.TM.TOR P2 = V.TM.TOL[2]\nV.TM.TOR = 4.5\nP3 = V.TM.TOR P4 = V.TM.TOOL P5 = V.TM.TOD\nM30\n"
+    r = fagorcnc.simulate(text, TOOLS)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert [r.state.param(i) for i in range(1, 6)] == [4.0, 90.0, 4.5, 5.0, 1.0]
+
+
+def test_g_state_variables():
+    # seed 002 L40147, L40179-L40258: GS[n] and the HGS words; XYZ planes 1020 / 3010
+    r = fagorcnc.simulate("G1 G18 G91 X0 F100\nP1 = V.G.GS[18] P2 = V.G.GS[17] P3 = V.G.PLANE\n"
+                          "P4 = [V.G.HGS3 & [2**27]] == 2**27\nM30\n")
+    assert r.ok
+    # G91 is bit 91 - 64 = 27 of HGS3
+    assert [r.state.param(i) for i in range(1, 5)] == [1.0, 0.0, 3010.0, 1.0]
