@@ -10,12 +10,12 @@ the cycle time is the feed-rate estimate: each move's length at its feed
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
 from .diagnostics import Diagnostic
 from .interp.interpreter import Interpreter
+from .interp.records import record_time
 from .interp.state import ChannelState
 from .machine import Machine, MachineError, load_machine
 from .syntax import parse_file, parse_text
@@ -97,33 +97,9 @@ class Result:
         return [d for d in self.diagnostics if d.is_error]
 
 
-def _rapid_speed(machine: Machine, move) -> float:
-    """mm/min along a rapid move: every axis within its max velocity."""
-    length = move.length
-    if length == 0:
-        return 1.0
-    speed = math.inf
-    for a in move.end:
-        d = abs(move.end[a] - move.start[a])
-        if d > 0:
-            speed = min(speed, machine.axes[a].max_velocity * length / d)
-    if machine.rapid_feed > 0:
-        speed = min(speed, machine.rapid_feed)
-    return speed
-
-
-def estimate_time(machine: Machine, moves: list, spindle_rpm: float = 0.0) -> float:
+def estimate_time(machine: Machine, moves: list) -> float:
     """Feed-rate cycle-time estimate in seconds (no acceleration)."""
-    total = 0.0
-    for m in moves:
-        kind = m.kind
-        if kind == "dwell":
-            total += m.seconds
-        elif kind == "rapid":
-            total += m.length / _rapid_speed(machine, m) * 60.0
-        elif kind in ("linear", "arc") and m.feed:
-            total += m.length / m.feed * 60.0   # feed is mm/min along the path for every feed mode
-    return total
+    return sum(record_time(machine, m) for m in moves)
 
 
 def simulate(source: str | Path, machine: Machine | dict | str | Path | None = None, *,
@@ -149,8 +125,7 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
     moves = list(interp.run())
     diagnostics = sorted([*program.diagnostics, *interp.diagnostics], key=lambda d: (d.file, d.line, d.col))
     ok = not any(d.is_error for d in diagnostics)
-    motion = [m for m in moves if m.kind != "aux"]
-    return Result(ok, diagnostics, moves, FinalState(interp), estimate_time(mach, motion), program, interp.ended)
+    return Result(ok, diagnostics, moves, FinalState(interp), interp.state.elapsed, program, interp.ended)
 
 
 class Run:

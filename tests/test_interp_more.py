@@ -120,3 +120,35 @@ def test_g_state_variables():
     assert r.ok
     # G91 is bit 91 - 64 = 27 of HGS3
     assert [r.state.param(i) for i in range(1, 5)] == [1.0, 0.0, 3010.0, 1.0]
+
+
+def test_call_letters_feed_speed_and_program_state_variables():
+    # seed 002 L40409: #PCALL sub A12.56 D3 -> V.C.PCALLP_A = 1, PCALLP_D = 1, others 0
+    # L36198: V.G.FEED = active G94 feed; L43028: V.G.BLKN = last N executed;
+    # L43219: V.G.CYTIME in hundredths of a second: 10 mm at 600 mm/min = 1 s -> 100
+    # L36746: V.A.SPEED.S / V.SP.SPEED = active G97 speed; L43175: V.G.PARTC +1 at M30
+    text = """%L SUB
+P101 = V.C.PCALLP_A P102 = V.C.PCALLP_D P103 = V.C.PCALLP_B
+M17
+%MAIN
+N10 G1 X10 F600
+P104 = V.G.FEED P105 = V.G.BLKN P106 = V.G.CYTIME
+S1200 M3
+P107 = V.A.SPEED.S P108 = V.SP.SPEED P109 = V.A.SREAL.S
+#PCALL SUB A12.56 D3
+P110 = V.C.PCALLP_A
+V.G.PARTC = 7
+M30
+"""
+    r = fagorcnc.simulate(text)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert [r.state.param(i) for i in range(101, 111)] == [1.0, 1.0, 0.0, 600.0, 10.0, 100.0, 1200.0, 1200.0,
+                                                           1200.0, 0.0]
+    assert r.state.var("V.G.PARTC") == 8.0
+
+
+def test_spindle_variables_need_an_existing_spindle():
+    r = fagorcnc.simulate("P1 = V.A.SPEED.S7\nM30\n")
+    assert [d.code for d in r.errors] == ["INT046"]
+    r = fagorcnc.simulate("V.A.SPEED.S = 5\nM30\n")
+    assert [d.code for d in r.errors] == ["INT048"]

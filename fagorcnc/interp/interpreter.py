@@ -20,7 +20,7 @@ from ..syntax.reader import parse_file
 from .expressions import Evaluator, InterpError
 from .iso import IsoExecutor
 from .parameters import Parameters
-from .records import Dwell, Source
+from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
 from .state import ChannelState
 from .variables import Variables
@@ -117,7 +117,11 @@ class Interpreter:
                                   "(limits.max_blocks)", 1)
             if block.skip and state.block_skip:
                 continue
-            yield from self._block(block)
+            if block.number is not None:
+                state.last_n = block.number
+            for record in self._block(block):
+                state.elapsed += record_time(self.machine, record)
+                yield record
 
     # ------------------------------------------------------------------ helpers
     def _src(self, block: Block) -> Source:
@@ -483,6 +487,8 @@ class Interpreter:
         opened = kind in ("CALL", "PCALL", "MCALL", "OEM")   # L10503: these open a parameter level
         if opened:
             self.params.push(args, col)
+            # V.C.PCALLP_A..Z: which letters the call passed (seed 002 L40409)
+            self.state.call_letters.append(frozenset(chr(ord("A") + n) for n in args if 0 <= n <= 25))
         self.frames.append(Frame(RoutineSource(routine), program, opened_level=opened, modal=modal))
 
     def _oem_call(self, call: tuple, src: Source) -> None:
@@ -501,6 +507,8 @@ class Interpreter:
         frame = self.frames.pop()
         if frame.opened_level:
             self.params.pop()
+            if len(self.state.call_letters) > 1:
+                self.state.call_letters.pop()
 
     def _end_of_routine(self, frame: Frame) -> None:
         if len(self.frames) == 1:

@@ -80,7 +80,7 @@ class IsoExecutor:
                 eq = ev.value(w.eq) if w.eq is not None else None
                 bw.g.append((n, col, eq))
             elif addr == "N":
-                ev.integer(w.value, "N", col)
+                st.last_n = ev.integer(w.value, "N", col)
             elif addr == "":
                 if "K" in bw.params or not any(n == 4 for n, _c, _e in bw.g):
                     raise InterpError("INT025", "a number without its letter is only allowed as the time "
@@ -427,6 +427,7 @@ class IsoExecutor:
     def _m_after(self, m: int, col: int, src: Source):
         yield self.aux("M", float(m), "after", src)
         if m in (2, 30):
+            self.state.parts += 1   # V.G.PARTC (seed 002 L43175)
             self.interp.end_program(m, src)
         elif m in (17, 29):
             self.interp.return_from_subroutine(col)

@@ -155,3 +155,23 @@ class Aux:
 
 
 Record = Line | Arc | Dwell | Aux
+
+
+def record_time(machine, record) -> float:
+    """Seconds a record takes at its programmed feed, without acceleration
+    (rapids: every axis within its maximum speed, seed 002 L5969-L6030)."""
+    kind = record.kind
+    if kind == "dwell":
+        return record.seconds
+    if kind == "aux":
+        return 0.0
+    length = record.length
+    if length == 0.0:
+        return 0.0
+    if kind == "rapid":
+        t = max((abs(record.end[a] - record.start[a]) / machine.axes[a].max_velocity for a in record.end),
+                default=0.0)
+        if machine.rapid_feed > 0:
+            t = max(t, length / machine.rapid_feed)
+        return t * 60.0
+    return length / record.feed * 60.0 if record.feed else 0.0

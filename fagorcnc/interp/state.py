@@ -58,6 +58,12 @@ class ChannelState:
         self.block_skip = False
         self.executed_blocks = 0
         self.line = 0
+        self.last_n = -1                       # V.G.BLKN: last N number executed (-1: none)
+        self.elapsed = 0.0                     # estimated seconds of motion so far (V.G.CYTIME)
+        self.parts = 0                         # V.G.PARTC: +1 at every M02/M30
+        self.feed_override = 100.0             # V.G.PRGFRO (0 = none set by the program)
+        self.programmed_override = 0.0
+        self.call_letters: list[frozenset] = [frozenset()]  # V.C.PCALLP_x per call level
 
     # ------------------------------------------------------------ coordinates
     def chain(self, axis: str) -> float:

@@ -71,8 +71,6 @@ class Variables:
             "V.G.TOOL": (lambda i: float(s.tool), None),                     # L37501
             "V.G.NXTOOL": (lambda i: float(s.next_tool), None),
             "V.G.TOD": (lambda i: float(s.offset), None),
-            "V.G.PRGF": (lambda i: s.feed_programmed or 0.0, None),
-            "V.G.FEED": (lambda i: s.feed_programmed or 0.0, None),
             "V.G.PRGS": (lambda i: s.speeds.get(s.machine.spindles[0], 0.0) if s.machine.spindles else 0.0, None),
             "V.G.BLKSKIP": (lambda i: 1.0 if s.block_skip else 0.0, None),
             "V.G.NUMORG": (lambda i: 99.0, None),
@@ -81,7 +79,6 @@ class Variables:
             "V.G.FFIX": (lambda i: 1.0, None),
             "V.G.PORGF": (lambda i: s.polar_origin[0], None),                # L40519
             "V.G.PORGS": (lambda i: s.polar_origin[1], None),
-            "V.G.BLKN": (lambda i: float(s.line), None),
         }
         # active and next tool (seed 002 L37501-L38290); [ofd] optional: the active D
         self.plain_vars.update({
@@ -104,6 +101,50 @@ class Variables:
         })
         for k in range(1, 11):
             self.plain_vars[f"V.G.HGS{k}"] = (lambda i, k=k: float(self._hgs(k)), None)
+        # feeds (seed 002 L36129-L36460); offline no PLC value and no panel override
+        self.plain_vars.update({
+            "V.G.FEED": (lambda i: self._feed(94), None),
+            "V.G.PRGF": (lambda i: self._feed(94), None),
+            "V.G.PATHFEED": (lambda i: self._feed(s.modes["feed"]), None),
+            "V.G.FREAL": (lambda i: self._feed(s.modes["feed"]), None),
+            "V.G.FPREV": (lambda i: self._feed(95), None),
+            "V.G.PRGFPR": (lambda i: self._feed(95), None),
+            "V.G.FTIME": (lambda i: self._feed(93), None),
+            "V.G.FRO": (lambda i: s.programmed_override or 100.0, None),
+            "V.G.PRGFRO": (lambda i: s.programmed_override, self._set_override),
+            "V.G.CNCFRO": (lambda i: 100.0, None),
+        })
+        # general and program state (seed 002 L42513-L43300)
+        self.plain_vars.update({
+            "V.G.HARDTYPE": (lambda i: 0.0, None),          # 0 = simulator
+            "V.G.CNCHANNEL": (lambda i: 1.0, None),
+            "V.G.STATUS": (lambda i: 2.0, None),            # executing
+            "V.G.FULLSTATUS": (lambda i: 525.0, None),      # $20D: executing, simulation
+            "V.G.BLKN": (lambda i: float(s.last_n), None),
+            "V.G.LINEN": (lambda i: float(s.executed_blocks), None),
+            "V.G.FIRST": (lambda i: 1.0, None),
+            "V.G.PARTC": (lambda i: float(s.parts), self._set_parts),
+            "V.G.CYTIME": (lambda i: float(round(s.elapsed * 100.0)), None),
+            "V.G.CLOCK": (lambda i: float(int(s.elapsed)), None),
+            "V.G.SBOUT": (lambda i: 0.0, None),
+            "V.G.SBLOCK": (lambda i: 0.0, None),
+            "V.G.M01STOP": (lambda i: 0.0, None),
+            "V.G.RAPID": (lambda i: 0.0, None),
+        })
+        for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ":
+            self.plain_vars[f"V.C.PCALLP_{letter}"] = (
+                lambda i, x=letter: 1.0 if x in s.call_letters[-1] else 0.0, None)
+        # spindle speeds (seed 002 L36721-L37300): V.A.<name>.<spindle> or V.SP.<name>[.<spindle>]
+        self.spindle_vars: dict[str, Callable[[str], float]] = {
+            "SPEED": lambda sp: s.speeds[sp] if s.modes["css"] != 96 else 0.0,
+            "PRGS": lambda sp: s.speeds[sp] if s.modes["css"] != 96 else 0.0,
+            "SREAL": lambda sp: s.speeds[sp] if s.spindle_state[sp] in (3, 4) and s.modes["css"] != 96 else 0.0,
+            "CSS": lambda sp: s.speeds[sp] if s.modes["css"] == 96 else 0.0,
+            "PRGCSS": lambda sp: s.speeds[sp] if s.modes["css"] == 96 else 0.0,
+            "SLIMIT": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
+            "PRGSL": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
+            "SSO": lambda sp: 100.0,
+        }
 
     # ------------------------------------------------------------------
     def _tool_field(self, fld: str):
@@ -123,6 +164,33 @@ class Variables:
             setattr(offset_of(index), fld, value)
 
         return get, put
+
+    def _feed(self, mode: int) -> float:
+        """Programmed feed of a feed mode, in the active unit (0 if that mode is not active)."""
+        st = self.state
+        if st.modes["feed"] != mode or st.feed_programmed is None:
+            return 0.0
+        return st.feed_programmed
+
+    def _set_override(self, index: tuple, value: float) -> None:
+        if not 0 <= value <= 200:
+            raise InterpError("INT045", f"feed override {value:g} % must be 0..200", 1)
+        self.state.programmed_override = value
+
+    def _set_parts(self, index: tuple, value: float) -> None:
+        self.state.parts = int(value)
+
+    def _spindle(self, token: str | None, col: int) -> str:
+        spindles = list(self.state.speeds)
+        if token is None:
+            if not spindles:
+                raise InterpError("INT046", "this machine has no spindle", col)
+            return spindles[0]
+        if token in spindles:
+            return token
+        if token.isdigit() and 1 <= int(token) <= len(spindles):
+            return spindles[int(token) - 1]
+        raise InterpError("INT046", f"spindle {token} does not exist on this machine", col)
 
     def _plane_code(self, index: tuple) -> float:
         a, o, _ = self.state.plane_axes()
@@ -180,6 +248,12 @@ class Variables:
         head, _, tail = name.rpartition(".")
         if head in self.axis_vars and tail:
             return ("axis", head, (index, self._axis(tail, col)))
+        parts = name.split(".")
+        if len(parts) in (3, 4) and parts[1] in ("A", "SP") and parts[2] in self.spindle_vars:
+            if parts[1] == "A" and len(parts) == 3:
+                raise InterpError("INT044", f"{name} needs the spindle: {name}.S", col)
+            spindle = self._spindle(parts[3] if len(parts) == 4 else None, col)
+            return ("spindle", parts[2], spindle)
         raise InterpError("INT044", f"unknown variable {name.replace('[]', '[..]')}", col)
 
     def get(self, name: str, index: tuple, col: int = 1) -> float:
@@ -191,6 +265,8 @@ class Variables:
                 raise InterpError("INT043", f"variable {key} has no value yet (use EXIST[{key}])", col) from None
         if kind == "plain":
             return self.plain_vars[key][0](extra)
+        if kind == "spindle":
+            return self.spindle_vars[key](extra)
         idx, axis = extra
         try:
             return self.axis_vars[key][0](self.state, tuple(int(x) for x in idx), axis)
@@ -209,6 +285,8 @@ class Variables:
                 raise InterpError("INT048", f"{key} is read-only", col)
             setter(extra, value)
             return
+        if kind == "spindle":
+            raise InterpError("INT048", f"{name} is read-only", col)
         idx, axis = extra
         setter = self.axis_vars[key][1]
         if setter is None:
