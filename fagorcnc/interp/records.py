@@ -102,14 +102,10 @@ class Arc:
         return math.hypot(planar, math.sqrt(other))
 
 
-@dataclass(frozen=True, slots=True)
-class Dwell:
-    """A dwell (G04, #TIME) of ``seconds`` at ``position`` (machine coordinates)."""
+class _AtPosition:
+    """Records that happen at one position: ``start`` and ``end`` are ``position``."""
 
-    kind: str
-    seconds: float
-    position: dict
-    src: Source
+    __slots__ = ()
 
     @property
     def line(self) -> int:
@@ -125,7 +121,17 @@ class Dwell:
 
 
 @dataclass(frozen=True, slots=True)
-class Aux:
+class Dwell(_AtPosition):
+    """A dwell (G04, #TIME) of ``seconds`` at ``position`` (machine coordinates)."""
+
+    kind: str
+    seconds: float
+    position: dict
+    src: Source
+
+
+@dataclass(frozen=True, slots=True)
+class Aux(_AtPosition):
     """An auxiliary function for the machine: M, H, S, T or D.
 
     ``timing`` is ``"before"`` or ``"after"`` the block's motion (seed 002
@@ -140,18 +146,6 @@ class Aux:
     position: dict
     src: Source
     spindle: str | None = None
-
-    @property
-    def line(self) -> int:
-        return self.src.line
-
-    @property
-    def start(self) -> dict:
-        return self.position
-
-    @property
-    def end(self) -> dict:
-        return self.position
 
 
 Record = Line | Arc | Dwell | Aux
