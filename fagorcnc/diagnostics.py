@@ -98,6 +98,7 @@ CODES: dict[str, str] = {
     "INT064": "arc radius impossible for the end point",
     "INT065": "feed per revolution without spindle speed",
     "INT066": "invalid G20 plane definition",
+    "INT067": "invalid G74 home search",
     "INT070": "#ERROR in the program",
     "INT071": "malformed # sentence",
     "INT072": "$FOR step 0",

@@ -50,6 +50,7 @@ class Axis:
     rotary_mode: str = "linearlike"  # linearlike | normal | unidirectional | positioning
     module: float = 360.0           # rotary module (MODUPLIM - MODLOWLIM)
     direction: int = 1              # unidirectional rotary: +1 or -1
+    home: float = 0.0               # machine coordinate of the reference point (G74)
 
     @property
     def rotary(self) -> bool:

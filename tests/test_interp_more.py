@@ -152,3 +152,30 @@ def test_spindle_variables_need_an_existing_spindle():
     assert [d.code for d in r.errors] == ["INT046"]
     r = fagorcnc.simulate("V.A.SPEED.S = 5\nM30\n")
     assert [d.code for d in r.errors] == ["INT048"]
+
+
+def test_g74_home_search_by_order_groups():
+    # seed 002 L2357-L2406: G74 X2 Z1 A3 -> Z first, then X, then A; the numbers need not be consecutive.
+    # Offsets are kept (L2351): with G54 X100 the part position after homing X is 0 - 100 = -100.
+    machine = {"axes": {"X": {"home": 0.0}, "Y": {}, "Z": {"home": 50.0},
+                        "A": {"type": "rotary", "home": 0.0}},
+               "origins": {"G54": {"X": 100.0}}}
+    r = fagorcnc.simulate("G54\nG0 X10 Y5 Z-20 A30\nG74 X2 Z1 A3\nM30\n", machine)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    homing = [m for m in r.moves if m.kind == "rapid" and m.line == 3]
+    assert [sorted(a for a in m.end if m.end[a] != m.start[a]) for m in homing] == [["Z"], ["X"], ["A"]]
+    assert r.state.position("machine") == {"X": 0.0, "Y": 5.0, "Z": 50.0, "A": 0.0}
+    assert r.state.position("part")["X"] == -100.0
+
+
+def test_g74_cancels_arcs_and_needs_axes():
+    # seed 002 L6333: G74 cancels G02/G03 (the motion mode becomes the IMOVE default, G00)
+    r = fagorcnc.simulate("G0 X10\nG2 X10 Y0 I-10 J0 F100\nG74 X1\nP1 = V.G.GS[0]\nM30\n")
+    assert r.ok and r.state.param(1) == 1.0
+    assert [d.code for d in fagorcnc.simulate("G74\nM30\n").errors] == ["INT067"]
+    assert [d.code for d in fagorcnc.simulate("G74 X1.5\nM30\n").errors] == ["INT067"]
+
+
+def test_arc_of_zero_radius_is_an_error():
+    r = fagorcnc.simulate("G2 X0 Y0 I0 J0 F100\nM30\n")
+    assert [d.code for d in r.errors] == ["INT061"]

@@ -99,7 +99,7 @@ _TABLE = [
     _g(71, "units", "default", "millimetres", "L2430"),
     _g(72, None, "keep", "scale factor", "L8989", "no"),
     _g(73, None, "default", "coordinate system rotation", "L8946", "no"),
-    _g(74, None, "block", "home search", "L2357", "no"),
+    _g(74, None, "block", "home search", "L2357"),
     _g(90, "distance", "default", "absolute coordinates", "L2478"),
     _g(91, "distance", "default", "incremental coordinates", "L2478"),
     _g(92, "origin", "keep", "coordinate preset", "L3418"),

@@ -258,6 +258,9 @@ class IsoExecutor:
         if 30 in gs:
             self._polar_preset(gs[30][0], bw)
             consumed = True
+        if 74 in gs:
+            yield from self._home(gs[74][0], bw, src)
+            consumed = True
         if not consumed:
             repeats = 1
             if bw.nr is not None:
@@ -446,6 +449,35 @@ class IsoExecutor:
             raise InterpError("INT017", f"dwell time {t:g} is negative", col)
         return Dwell("dwell", t, dict(self.state.machine_pos), src)
 
+    def _home(self, col: int, bw: BlockWords, src: Source):
+        """G74: home search (seed 002 L2357-L2406).
+
+        Each axis word gives the axis' order number; the groups run in
+        increasing order, the axes of one group together (one rapid move per
+        group to the reference point of the machine configuration).  Origins
+        are kept (L2351).  G74 cancels G02/G03 (L6333).  A spindle word
+        (``S1``) is accepted: the spindle is referenced with the first group.
+        """
+        st = self.state
+        bw.speeds.clear()
+        if not bw.axes:
+            raise InterpError("INT067", "G74 needs the axes to reference with their order: G74 X1 Y2", col)
+        groups: dict[int, list[str]] = {}
+        for axis, (v, c) in bw.axes.items():
+            if v != int(v) or v < 1:
+                raise InterpError("INT067", f"G74 {axis}{v:g}: the order must be a whole number 1, 2, ...", c)
+            groups.setdefault(int(v), []).append(axis)
+        bw.axes.clear()
+        for order in sorted(groups):
+            start = dict(st.machine_pos)
+            end = dict(start)
+            for axis in groups[order]:
+                end[axis] = self.machine.axes[axis].home
+            st.machine_pos = dict(end)
+            yield Line("rapid", start, end, st.to_part(end), None, "G94", src)
+        if st.modes["motion"] in (2, 3):
+            st.modes["motion"] = 1 if self.machine.default("IMOVE") else 0
+
     def _polar_preset(self, col: int, bw: BlockWords) -> None:
         """G30 [I J]: polar origin (seed 002 L3945-L3967)."""
         st = self.state
@@ -579,6 +611,8 @@ class IsoExecutor:
             raise InterpError("INT061", "G02/G03 needs the centre (I J K) or the radius (R)", col)
         r0 = math.hypot(cur_part[a] - center[0], cur_part[o] - center[1])
         r1 = math.hypot(end_part[a] - center[0], end_part[o] - center[1])
+        if r0 < 1e-9:
+            raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
         tol = max(self.machine.cirinerr, r0 * self.machine.cirinfact / 100.0)
         if abs(r0 - r1) > tol:  # seed 002 L6976 (CIRINERR, CIRINFACT)
             raise InterpError("INT062", f"arc start radius {r0:.4f} and end radius {r1:.4f} differ by more "
