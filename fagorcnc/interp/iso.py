@@ -267,7 +267,13 @@ class IsoExecutor:
                 repeats = bw.nr[0]
                 if not (bw.axes or "R" in bw.params or "Q" in bw.params):
                     raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
-            for _ in range(max(repeats, 1)):
+            limit = self.machine.limits.max_blocks
+            for k in range(max(repeats, 1)):
+                if k:  # every repetition counts as an executed block (runaway guard)
+                    st.executed_blocks += 1
+                    if st.executed_blocks > limit:
+                        raise InterpError("INT080", f"more than {limit} blocks executed: runaway program "
+                                          "stopped (limits.max_blocks)", bw.nr[1])
                 rec = self._motion(gs, bw, src)
                 if rec is not None:
                     moved = True
