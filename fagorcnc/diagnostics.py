@@ -99,6 +99,8 @@ CODES: dict[str, str] = {
     "INT065": "feed per revolution without spindle speed",
     "INT066": "invalid G20 plane definition",
     "INT067": "invalid G74 home search",
+    "INT068": "G08/G09 arc without what it needs",
+    "INT069": "invalid G31 or helix pitch",
     "INT070": "#ERROR in the program",
     "INT071": "malformed # sentence",
     "INT072": "$FOR step 0",

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..path import arcs
 from ..syntax.ast import Word
 from .expressions import InterpError
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
@@ -119,6 +120,8 @@ class IsoExecutor:
                     bw.roles.append((addr, ev.value(w.value), col))
                     continue
                 self._axis_word(bw, addr, ev.value(w.value), col)
+            elif addr == "R1":   # modal arc radius R1= (seed 002 L6418)
+                bw.params["R1"] = (ev.value(w.value), col)
             elif addr in _PARAM_LETTERS or (len(addr) == 1 and addr not in _AXIS_LETTERS):
                 if addr in bw.params:
                     raise InterpError("INT023", f"{addr} is written twice in the block", col)
@@ -500,7 +503,15 @@ class IsoExecutor:
     # ------------------------------------------------------------ motion
     def _motion(self, gs: dict, bw: BlockWords, src: Source):
         st = self.state
-        mode = st.modes["motion"]
+        mode = 8 if 8 in gs else 9 if 9 in gs else st.modes["motion"]   # G08/G09 act in their block only
+        a, o, _ = st.plane_axes()
+        if "R1" in bw.params or 263 in gs:  # modal arc radius (seed 002 L6533-L6566)
+            r = bw.params.pop("R1")[0] if "R1" in bw.params else gs[263][1]
+            if r is None or r == 0:
+                raise InterpError("INT064", "the arc radius R1= / G263= must not be 0", 1)
+            st.arc_radius = self.length(r)
+            if a not in bw.axes and o not in bw.axes:
+                return None   # "G02 G263=50" only stores the radius
         if not bw.axes and not ({"R", "Q"} & bw.params.keys()) and mode not in (2, 3):
             return None
         if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
@@ -509,14 +520,17 @@ class IsoExecutor:
             return self._mcs_move(bw, src)
         cur_part = st.part_pos()
         start = dict(st.machine_pos)
-        if mode in (2, 3):
+        if mode in (2, 3, 8, 9):
             return self._arc(mode, gs, bw, src, cur_part, start)
         end_part = self.target(bw, cur_part)
         if "R" in bw.params or "Q" in bw.params:
             self._polar(bw, cur_part, end_part)
+            st.arc_radius = None   # a polar move clears the stored arc radius (L6533)
         end = st.to_machine(end_part)
         self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
         st.machine_pos = dict(end)
+        st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_part[a], end_part[o]), None, True) \
+            or st.tangent
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src)
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
@@ -566,11 +580,14 @@ class IsoExecutor:
             return rpm
         return s
 
-    def _polar(self, bw: BlockWords, cur_part: dict, end_part: dict) -> None:
-        """R/Q polar end point in the plane (spec 02 §6.3, seed 002 L2639-L2672)."""
+    def _polar(self, bw: BlockWords, cur_part: dict, end_part: dict, origin=None) -> None:
+        """R/Q polar end point in the plane (spec 02 §6.3, seed 002 L2639-L2672).
+
+        ``origin`` replaces the polar origin for one block (G31: the arc centre).
+        """
         st = self.state
         a, o, _ = st.plane_axes()
-        pa, po = st.polar_origin
+        pa, po = st.polar_origin if origin is None else origin
         dx, dy = cur_part[a] - pa, cur_part[o] - po
         r_cur = math.hypot(dx, dy)
         q_cur = math.degrees(math.atan2(dy, dx)) if r_cur > 1e-12 else st.last_polar_angle
@@ -592,45 +609,128 @@ class IsoExecutor:
         end_part[o] = po + r * math.sin(math.radians(q))
 
     def _arc(self, mode: int, gs: dict, bw: BlockWords, src: Source, cur_part: dict, start: dict) -> Arc:
-        """G02/G03: centre by I J K (relative, or absolute with G06/G261), radius R, or polar Q."""
+        """G02/G03 (centre, radius or polar form), G08 tangent and G09 three-point arcs, helices.
+
+        seed 002 ch. 8.3-8.6; the reading of R follows spec 03 §B.3: with Q it
+        is the polar radius, without Q but with an in-plane end coordinate it
+        is the arc radius.
+        """
         st = self.state
         a, o, n = st.plane_axes()
+        p = bw.params
+        col = next(iter(bw.axes.values()))[1] if bw.axes else next(iter(p.values()), (0, 1))[1]
+        # centre words of the plane (G17 I J, G18 K I, G19 J K; G20 I J) and the helix pitch letter
+        ci, cj, ck = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}.get(
+            st.modes["plane"], ("I", "J", "K"))
+        pitch = p.pop(ck)[0] if ck in p and mode != 9 else None
+        in_plane = a in bw.axes or o in bw.axes
+        polar = "Q" in p or ("R" in p and not in_plane)
+        sp = (cur_part[a], cur_part[o])
         end_part = self.target(bw, cur_part)
-        # centre words of the plane: G17 I J, G18 K I, G19 J K (seed 002 ch. 8.3)
-        # (G20: I abscissa, J ordinate; spec 03 §0)
-        ci, cj = {17: ("I", "J"), 18: ("K", "I"), 19: ("J", "K")}.get(st.modes["plane"], ("I", "J"))
         absolute = 6 in gs or st.modes["arc_centre"] == 261
-        col = bw.axes[next(iter(bw.axes))][1] if bw.axes else 1
-        if ci in bw.params or cj in bw.params:
-            di = self.length(bw.params[ci][0]) if ci in bw.params else 0.0
-            dj = self.length(bw.params[cj][0]) if cj in bw.params else 0.0
-            center = (di, dj) if absolute else (cur_part[a] + di, cur_part[o] + dj)
-        elif "Q" in bw.params:
-            # polar arc around the polar origin (seed 002 L3969-L3994)
-            center = st.polar_origin
-            self._polar(bw, cur_part, end_part)
-        elif "R" in bw.params:
-            r = self.length(bw.params["R"][0])
-            center = _centre_from_radius((cur_part[a], cur_part[o]), (end_part[a], end_part[o]), r,
-                                         mode == 2, bw.params["R"][1])
-        else:
-            raise InterpError("INT061", "G02/G03 needs the centre (I J K) or the radius (R)", col)
-        r0 = math.hypot(cur_part[a] - center[0], cur_part[o] - center[1])
-        r1 = math.hypot(end_part[a] - center[0], end_part[o] - center[1])
+        center = None
+        given_centre = False
+        try:
+            if mode == 9:
+                center, ccw = self._three_point(bw, cur_part, end_part, polar, a, o)
+            elif mode == 8:
+                if polar:
+                    self._polar(bw, cur_part, end_part)
+                if st.tangent is None:
+                    raise InterpError("INT068", "G08 needs a previous move in the plane to be tangent to", col)
+                center, _r, ccw = arcs.tangent_arc(sp, st.tangent, (end_part[a], end_part[o]))
+            else:
+                ccw = mode == 3
+                if ci in p or cj in p:
+                    di = self.length(p[ci][0]) if ci in p else 0.0
+                    dj = self.length(p[cj][0]) if cj in p else 0.0
+                    center = (di, dj) if absolute else (sp[0] + di, sp[1] + dj)
+                    given_centre = True
+                    st.arc_radius = None   # an arc by its centre clears the stored radius (L6533)
+                elif 31 in gs:
+                    raise InterpError("INT069", "G31 needs the arc centre (I, J or K) in the block", col)
+                if polar:
+                    origin = center if 31 in gs else None
+                    self._polar(bw, cur_part, end_part, origin)
+                    st.arc_radius = None
+                    if center is None:   # centre = polar origin (L6622-L6625)
+                        center, given_centre = st.polar_origin, True
+                elif center is None:
+                    r = self.length(p["R"][0]) if "R" in p else st.arc_radius
+                    if r is None:
+                        raise InterpError("INT061", "G02/G03 needs the centre (I J K) or the radius (R)", col)
+                    center = arcs.centre_from_radius(sp, (end_part[a], end_part[o]), r, not ccw)
+        except arcs.ArcError as exc:
+            raise InterpError("INT064", str(exc), col) from None
+        ep = (end_part[a], end_part[o])
+        r0 = math.dist(sp, center)
         if r0 < 1e-9:
             raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
-        tol = max(self.machine.cirinerr, r0 * self.machine.cirinfact / 100.0)
-        if abs(r0 - r1) > tol:  # seed 002 L6976 (CIRINERR, CIRINFACT)
-            raise InterpError("INT062", f"arc start radius {r0:.4f} and end radius {r1:.4f} differ by more "
-                              f"than {tol:.4f} mm", col)
+        if given_centre:
+            center = self._radius_check(sp, ep, center, col)
+        delta = arcs.sweep(sp, ep, center, ccw)
+        turns = 0
+        if pitch is not None:
+            delta, turns, ep = self._helix(delta, pitch, cur_part, end_part, center, r0, ccw, col)
+            end_part[a], end_part[o] = ep
         end = st.to_machine(end_part)
         self.interp.check_limits(end, col, start)
         st.machine_pos = dict(end)
+        st.tangent = arcs.end_tangent(sp, ep, center, ccw)
         center_part = {a: center[0], o: center[1]}
         center_m = {a: center[0] + st.chain(a), o: center[1] + st.chain(o)}
-        feed = self._active_feed(_arc_length(cur_part, end_part, center, a, o, mode), start)
-        return Arc("arc", start, end, end_part, center_m, center_part, "cw" if mode == 2 else "ccw",
-                   (a, o, n), (r0 + r1) / 2.0, 0, feed, f"G{st.modes['feed']}", src)
+        planar = abs(math.radians(delta)) * r0
+        other = sum((end_part[x] - cur_part[x]) ** 2 for x in end_part if x not in (a, o))
+        feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
+        return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw",
+                   (a, o, n), math.dist(ep, center), turns, feed, f"G{st.modes['feed']}", src)
+
+    def _radius_check(self, s, e, c, col: int):
+        """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""
+        rs, re = math.dist(s, c), math.dist(e, c)
+        delta = abs(re - rs)
+        if delta <= 1e-12:
+            return c
+        ok = delta <= self.machine.cirinerr or 100.0 * delta / rs <= self.machine.cirinfact
+        if not ok:
+            raise InterpError("INT062", f"arc start radius {rs:.4f} and end radius {re:.4f} differ by "
+                              f"{delta:.4f} mm, more than CIRINERR {self.machine.cirinerr:g} mm and "
+                              f"CIRINFACT {self.machine.cirinfact:g} %", col)
+        if self.state.modes["centre_correction"] == 265:
+            return arcs.corrected_centre(s, e, c)
+        return c
+
+    def _three_point(self, bw: BlockWords, cur_part: dict, end_part: dict, polar: bool, a: str, o: str):
+        """G09: intermediate point I J (K) is cartesian and follows G90/G91 (spec 03 §B.11)."""
+        st = self.state
+        p = bw.params
+        plane = st.modes["plane"]
+        letters = {a: "I", o: "J"} if plane == 20 else {ax: lt for ax, lt in zip(st.axes[:3], "IJK", strict=False)}
+        la, lo = letters.get(a), letters.get(o)
+        if la not in p or lo not in p:
+            raise InterpError("INT068", f"G09 needs the intermediate point {la} {lo}", 1)
+        incremental = st.modes["distance"] == 91
+        pa = self.length(p[la][0], a) + (cur_part[a] if incremental else 0.0)
+        po = self.length(p[lo][0], o) + (cur_part[o] if incremental else 0.0)
+        if polar:
+            self._polar(bw, cur_part, end_part)
+        c, _r, ccw = arcs.three_point_arc((cur_part[a], cur_part[o]), (pa, po), (end_part[a], end_part[o]))
+        return c, ccw
+
+    def _helix(self, delta, pitch, cur_part, end_part, center, r, ccw, col):
+        """Multi-turn helix: the pitch fixes the sweep, the in-plane end follows (spec 03 §B.12)."""
+        st = self.state
+        a, o, _ = st.plane_axes()
+        pitch = self.length(pitch)
+        travel = math.sqrt(sum((end_part[x] - cur_part[x]) ** 2 for x in end_part if x not in (a, o)))
+        if pitch <= 0 or travel == 0:
+            raise InterpError("INT069", "a helix pitch needs a positive pitch and a move off the plane", col)
+        total = 360.0 * travel / pitch
+        start_angle = math.degrees(math.atan2(cur_part[o] - center[1], cur_part[a] - center[0]))
+        signed = total if ccw else -total
+        e = arcs.point_on(center, r, start_angle + signed)
+        turns = int((total - 1e-9) // 360.0)
+        return signed, turns, e
 
     def _mcs_move(self, bw: BlockWords, src: Source) -> Line:
         """#MCS move: machine coordinates, INCHES units, no offsets (seed 002 L3196-L3271)."""
@@ -653,33 +753,3 @@ class IsoExecutor:
             raise InterpError("INT063", "#MCS moves are G00 or G01", 1)
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
         return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src)
-
-
-def _arc_length(p0: dict, p1: dict, center, a: str, o: str, mode: int) -> float:
-    """Length of a G02/G03 move (helix included), for the feed of G93."""
-    a0 = math.atan2(p0[o] - center[1], p0[a] - center[0])
-    a1 = math.atan2(p1[o] - center[1], p1[a] - center[0])
-    sweep = (a1 - a0) % (2 * math.pi) if mode == 3 else (a0 - a1) % (2 * math.pi)
-    sweep = sweep or 2 * math.pi
-    planar = sweep * math.hypot(p0[a] - center[0], p0[o] - center[1])
-    other = sum((p1[x] - p0[x]) ** 2 for x in p1 if x not in (a, o))
-    return math.hypot(planar, math.sqrt(other))
-
-
-def _centre_from_radius(p0, p1, r, clockwise: bool, col: int):
-    """Arc centre from the radius; R < 0 selects the arc over 180 degrees (seed 002 L6418)."""
-    dx, dy = p1[0] - p0[0], p1[1] - p0[1]
-    chord = math.hypot(dx, dy)
-    if chord < 1e-12:
-        raise InterpError("INT064", "an arc programmed by its radius cannot be a full circle", col)
-    half = chord / 2.0
-    if abs(r) < half - 1e-9:
-        raise InterpError("INT064", f"radius {abs(r):g} is too small for a chord of {chord:.4f}", col)
-    h = math.sqrt(max(r * r - half * half, 0.0))
-    mx, my = (p0[0] + p1[0]) / 2.0, (p0[1] + p1[1]) / 2.0
-    ux, uy = -dy / chord, dx / chord   # left normal of the chord
-    # centre to the right of the chord for a clockwise arc under 180 degrees
-    side = -1.0 if clockwise else 1.0
-    if r < 0:
-        side = -side
-    return (mx + side * h * ux, my + side * h * uy)

@@ -83,15 +83,12 @@ class Arc:
     @property
     def sweep(self) -> float:
         """Signed sweep angle in degrees (negative clockwise), full turns included."""
+        from ..path.arcs import sweep
+
         a, o = self.plane[0], self.plane[1]
-        a0 = math.atan2(self.start[o] - self.center[o], self.start[a] - self.center[a])
-        a1 = math.atan2(self.end[o] - self.center[o], self.end[a] - self.center[a])
-        d = math.degrees(a1 - a0)
-        if self.direction == "ccw":
-            d = d % 360.0 or 360.0
-            return d + 360.0 * self.turns
-        d = -((-d) % 360.0 or 360.0)
-        return d - 360.0 * self.turns
+        d = sweep((self.start[a], self.start[o]), (self.end[a], self.end[o]),
+                  (self.center[a], self.center[o]), self.direction == "ccw")
+        return d + math.copysign(360.0 * self.turns, d)
 
     @property
     def length(self) -> float:

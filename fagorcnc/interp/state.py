@@ -37,6 +37,8 @@ class ChannelState:
         # polar origin in work coordinates of the plane (abscissa, ordinate)
         self.polar_origin = (0.0, 0.0)
         self.last_polar_angle = 0.0
+        self.arc_radius: float | None = None   # R1= / G263= (modal arc radius)
+        self.tangent: tuple[float, float] | None = None   # end direction of the last move in the plane (G08)
         # technology
         self.feed: float | None = None         # mm/min (G94), mm/rev (G95), s (G93)
         self.feed_programmed: float | None = None  # as written, in the active unit

@@ -1,0 +1,1 @@
+"""Path geometry: arcs in every form (more to come: compensation, corner aids, transformations)."""
