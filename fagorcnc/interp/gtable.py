@@ -50,7 +50,6 @@ GROUP_DEFAULTS: dict[str, Callable[[Machine], int | None]] = {
     "centre_correction": lambda m: 265,                           # L7013-L7018
     "manual_intervention": lambda m: 202,                         # L7728-L7729
     "origin": lambda m: None,                                     # kept (L3547-L3553)
-    "mirror": lambda m: 10,                                       # L8779-L8788
 }
 
 
@@ -69,11 +68,12 @@ _TABLE = [
     _g(7, "corner", "default", "square corner", "L8014", "recorded"),
     _g(8, None, "block", "arc tangent to the previous path", "L7077"),
     _g(9, None, "block", "arc through three points", "L7181"),
-    _g(10, "mirror", "default", "mirror image cancel", "L8779"),
-    _g(11, "mirror", "default", "mirror image on X", "L8781", "no"),
-    _g(12, "mirror", "default", "mirror image on Y", "L8781", "no"),
-    _g(13, "mirror", "default", "mirror image on Z", "L8781", "no"),
-    _g(14, "mirror", "default", "mirror image in programmed directions", "L8781", "no"),
+    # mirror images cumulate (G11-G13) and reset per MIRRORCANCEL: kept as state, not as one group
+    _g(10, None, "keep", "mirror image cancel", "L8779"),
+    _g(11, None, "keep", "mirror image on X", "L8781"),
+    _g(12, None, "keep", "mirror image on Y", "L8781"),
+    _g(13, None, "keep", "mirror image on Z", "L8781"),
+    _g(14, None, "keep", "mirror image in programmed directions", "L8781"),
     _g(17, "plane", "default", "plane XY, longitudinal Z", "L2991"),
     _g(18, "plane", "default", "plane ZX, longitudinal Y", "L2991"),
     _g(19, "plane", "default", "plane YZ, longitudinal X", "L2991"),
@@ -97,8 +97,8 @@ _TABLE = [
     _g(63, "motion", "default", "rigid tapping", "L7672", "no"),
     _g(70, "units", "default", "inches", "L2430"),
     _g(71, "units", "default", "millimetres", "L2430"),
-    _g(72, None, "keep", "scale factor", "L8989", "no"),
-    _g(73, None, "default", "coordinate system rotation", "L8946", "no"),
+    _g(72, None, "keep", "scale factor", "L8989"),
+    _g(73, None, "default", "coordinate system rotation", "L8946"),
     _g(74, None, "block", "home search", "L2357"),
     _g(90, "distance", "default", "absolute coordinates", "L2478"),
     _g(91, "distance", "default", "incremental coordinates", "L2478"),
@@ -159,7 +159,7 @@ for _n in range(500, 600):
     G_FUNCTIONS[_n] = GFunction(_n, None, "block", "user generic subroutine call", "L10961")
 
 #: Groups whose members are mutually exclusive in one block (spec 01 §5.7, E17).
-EXCLUSIVE_GROUPS = frozenset(GROUP_DEFAULTS) - {"mirror"}
+EXCLUSIVE_GROUPS = frozenset(GROUP_DEFAULTS)
 
 
 def power_on_modes(machine: Machine) -> dict[str, int | None]:

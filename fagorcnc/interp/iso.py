@@ -49,6 +49,7 @@ class BlockWords:
     nr: tuple | None = None
     call: tuple | None = None                        # (G number, modal, col, argument words)
     roles: list = field(default_factory=list)        # G20: (axis, type, col); an axis may repeat
+    scale: tuple | None = None                       # G72 S<factor> (S after G72, L9010)
 
 
 class IsoExecutor:
@@ -89,6 +90,8 @@ class IsoExecutor:
                 bw.params["K"] = (ev.value(w.value), col)   # seed 002 L9187: G04 5
             elif addr == "F":
                 bw.feed = (ev.value(w.value), col)
+            elif addr == "S" and any(g[0] == 72 for g in bw.g):
+                bw.scale = (ev.value(w.value), col)   # an S after G72 is the scale factor (L9010)
             elif addr == "S" or (addr[0] == "S" and addr[1:].isdigit()):
                 spindle = addr if addr in st.speeds else None
                 if spindle is None:
@@ -223,7 +226,10 @@ class IsoExecutor:
         st.block_modes = block_modes
         if st.modes["plane"] != previous_plane:
             st.polar_origin = (0.0, 0.0)  # plane change -> polar origin at work zero (L2682)
+            st.transform.angle = 0.0      # ... and cancels the rotation (L8946)
+            st.tool_axis = None           # each plane brings its perpendicular tool axis (L10074)
             interp.plane_changed()
+        self._transformations(gs, bw)
         if 20 in gs:
             self._g20(gs[20][0], bw)
             st.polar_origin = (0.0, 0.0)
@@ -356,6 +362,76 @@ class IsoExecutor:
         for a in bw.axes:
             if st.lower_limits[a] == 0.0 and st.upper_limits[a] == 0.0:
                 st.lower_limits[a], st.upper_limits[a] = -math.inf, math.inf
+
+    def _length_compensation(self, bw: BlockWords) -> None:
+        """Tool length compensation on the longitudinal axis (seed 002 L10072-L10171).
+
+        Active while an offset D (not 0) is selected: the controlled point is the
+        tool base, ``length + length wear`` away from the tip against the tool's
+        orientation.  It takes effect on the next move of the longitudinal axis.
+        """
+        st = self.state
+        axis, direction = st.longitudinal()
+        if axis is None or axis not in bw.axes:
+            return
+        off = st.tools.get(st.tool, {}).get(st.offset) if st.offset else None
+        length = (off.length + off.length_wear) if off is not None else 0.0
+        st.length_offset = {axis: -direction * length} if length else {}
+
+    def _transformations(self, gs: dict, bw: BlockWords) -> None:
+        """G10-G14 mirror, G72 scale, G73 rotation (seed 002 L8705-L9141)."""
+        st = self.state
+        tr = st.transform
+        mirror = [n for n in (10, 11, 12, 13, 14) if n in gs]
+        if (10 in mirror or 14 in mirror) and len(mirror) > 1:
+            raise InterpError("INT012", "G10 and G14 are incompatible with G11, G12, G13 and each other "
+                              "in one block (L8779)", gs[mirror[1]][0])
+        if 10 in gs:
+            tr.mirror = set()
+        for n, axis in ((11, 0), (12, 1), (13, 2)):
+            if n in gs and axis < len(st.axes):
+                tr.mirror = tr.mirror | {st.axes[axis]}
+        if 14 in gs:
+            for axis, (v, c) in list(bw.axes.items()):
+                if v not in (-1.0, 1.0):
+                    raise InterpError("INT014", f"G14 {axis}{v:g}: write -1 to mirror the axis, 1 to cancel", c)
+                tr.mirror = tr.mirror | {axis} if v < 0 else tr.mirror - {axis}
+            bw.axes.clear()
+        if 72 in gs:
+            if st.mcs_on:
+                raise InterpError("INT013", "the scale cannot be changed while #MCS ON is active (L9030)", gs[72][0])
+            factor = bw.scale[0] if bw.scale is not None else 1.0
+            self.set_scale(factor, gs[72][0])
+        if 73 in gs:
+            self._rotation(gs[73][0], bw)
+
+    def set_scale(self, factor: float, col: int) -> None:
+        """G72 S / #SCALE: 0 or 1 cancels (seed 002 L8989-L9027)."""
+        if factor < 0:
+            raise InterpError("INT070", f"scale factor {factor:g} must not be negative", col)
+        self.state.transform.scale = 1.0 if factor in (0.0, 1.0) else factor
+
+    def _rotation(self, col: int, bw: BlockWords) -> None:
+        """G73 Q [I J]: incremental rotation of the coordinate system (seed 002 L8906-L8980)."""
+        st = self.state
+        tr = st.transform
+        a, o, _ = st.plane_axes()
+        p = bw.params
+        if bw.axes:
+            raise InterpError("INT025", "G73 takes only Q and the centre I J in its block", col)
+        if "Q" not in p:
+            if "I" in p or "J" in p:
+                raise InterpError("INT025", "G73 I J needs the angle Q", col)
+            tr.angle, tr.centre = 0.0, (0.0, 0.0)   # G73 alone cancels the rotation
+            return
+        if ("I" in p) != ("J" in p):
+            raise InterpError("INT018", "G73 needs both I and J, or neither", col)
+        tr.angle += p.pop("Q")[0]
+        tr.plane = (a, o)
+        if "I" in p:
+            tr.centre = (self.length(p.pop("I")[0], a), self.length(p.pop("J")[0], o))
+        else:
+            tr.centre = (0.0, 0.0)
 
     def _g20(self, col: int, bw: BlockWords) -> None:
         """G20: plane from the trihedron axes (seed 002 L3048-L3125).
@@ -497,7 +573,7 @@ class IsoExecutor:
         if has_i:
             st.polar_origin = (self.length(bw.params["I"][0], a), self.length(bw.params["J"][0], o))
         else:
-            part = st.part_pos()
+            part = st.programmed_pos()
             st.polar_origin = (part[a], part[o])
 
     # ------------------------------------------------------------ motion
@@ -518,7 +594,7 @@ class IsoExecutor:
             return None
         if st.mcs_on or self.interp.mcs_block:
             return self._mcs_move(bw, src)
-        cur_part = st.part_pos()
+        cur_part = st.programmed_pos()   # computations are in programmed coordinates
         start = dict(st.machine_pos)
         if mode in (2, 3, 8, 9):
             return self._arc(mode, gs, bw, src, cur_part, start)
@@ -526,10 +602,13 @@ class IsoExecutor:
         if "R" in bw.params or "Q" in bw.params:
             self._polar(bw, cur_part, end_part)
             st.arc_radius = None   # a polar move clears the stored arc radius (L6533)
+        self._length_compensation(bw)
+        end_prog = end_part
+        end_part = st.transform.apply(end_prog)
         end = st.to_machine(end_part)
         self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
         st.machine_pos = dict(end)
-        st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_part[a], end_part[o]), None, True) \
+        st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
             or st.tangent
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src)
@@ -673,17 +752,22 @@ class IsoExecutor:
         if pitch is not None:
             delta, turns, ep = self._helix(delta, pitch, cur_part, end_part, center, r0, ccw, col)
             end_part[a], end_part[o] = ep
+        self._length_compensation(bw)
+        tr = st.transform
+        st.tangent = arcs.end_tangent(sp, ep, center, ccw)
+        end_part = tr.apply(end_part)
         end = st.to_machine(end_part)
         self.interp.check_limits(end, col, start)
         st.machine_pos = dict(end)
-        st.tangent = arcs.end_tangent(sp, ep, center, ccw)
-        center_part = {a: center[0], o: center[1]}
-        center_m = {a: center[0] + st.chain(a), o: center[1] + st.chain(o)}
-        planar = abs(math.radians(delta)) * r0
-        other = sum((end_part[x] - cur_part[x]) ** 2 for x in end_part if x not in (a, o))
+        center_part = tr.apply({a: center[0], o: center[1]})
+        center_m = st.to_machine(center_part)
+        scale = tr.scale if a in tr.linear else 1.0
+        ccw_path = ccw != tr.flips(a, o)   # an odd mirror in the plane turns G02 into G03 (L8740)
+        planar = abs(math.radians(delta)) * r0 * scale
+        other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
-        return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw",
-                   (a, o, n), math.dist(ep, center), turns, feed, f"G{st.modes['feed']}", src)
+        return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
+                   (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src)
 
     def _radius_check(self, s, e, c, col: int):
         """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""

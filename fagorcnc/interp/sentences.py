@@ -14,15 +14,15 @@ Three kinds:
 
 from __future__ import annotations
 
-from ..syntax.ast import ItemList, Keyed, Name, Str, Var
+from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
 from .expressions import InterpError
 from .records import Dwell
 
 #: Sentences kept as state for the planner / path stages.
 RECORDED = frozenset({"HSC", "ROUNDPAR", "SLOPE", "TANGFEED", "ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "SPLINE",
-                      "ASPLINE", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD", "SCALE", "TOOL", "CD"})
+                      "ASPLINE", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD", "CD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics).
-NOT_YET = frozenset({"KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
+NOT_YET = frozenset({"TOOL", "KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
                      "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
                      "INIT", "RPT"})
 
@@ -127,6 +127,24 @@ def execute_sentence(interp, node, src):
             if type(a) is not Var:
                 raise InterpError("INT049", "#DELETE takes user variables: #DELETE V.S.name V.P.name", node.col)
             interp.variables.delete(a.name, tuple(interp.evaluator.value(i) for i in a.index), a.col)
+        return
+    if kw == "SCALE":
+        # seed 002 L8981-L9035: #SCALE [factor]; the brackets are mandatory
+        arg = node.args[0] if len(node.args) == 1 else None
+        if arg is None or type(arg) is ItemList:
+            raise InterpError("INT071", "#SCALE takes one factor in brackets: #SCALE [2]", node.col)
+        if st.mcs_on:
+            raise InterpError("INT013", "the scale cannot be changed while #MCS ON is active (L9030)", node.col)
+        interp.iso.set_scale(interp.evaluator.value(arg), node.col)
+        return
+    if kw == "TOOL" and sub == "AX":
+        # seed 002 L3126-L3166: #TOOL AX [Z+] selects the longitudinal axis and the tool orientation
+        value = first.value if type(first) is Keyed else None
+        items = value.items if type(value) is ItemList else ()
+        item = items[0][0] if len(items) == 1 and len(items[0]) == 1 else None
+        if type(item) is not Direction or item.name not in st.axes:
+            raise InterpError("INT071", "#TOOL AX needs one axis and its direction: #TOOL AX [Z+]", node.col)
+        st.tool_axis = (item.name, 1 if item.sign == "+" else -1)
         return
     if kw == "FLUSH":
         return  # preparation and execution are one offline (seed 002 L16998)

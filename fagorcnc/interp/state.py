@@ -15,6 +15,7 @@ from __future__ import annotations
 import copy
 
 from ..machine import Machine
+from ..path.transform import Transform
 from .gtable import power_on_modes
 
 
@@ -35,6 +36,10 @@ class ChannelState:
         self.origin_source: str = "G53"        # "G54".."G59", "G159=n", "G92", "G53"
         self.excluded: set[str] = set()        # pending G157 exclusion
         # polar origin in work coordinates of the plane (abscissa, ordinate)
+        self.transform = Transform(linear=frozenset(a for a, ax in machine.axes.items() if not ax.rotary))
+        self.length_offset: dict[str, float] = {}   # applied tool length compensation (axis -> mm)
+        self.tool_axis: tuple[str, int] | None = None   # #TOOL AX [Z+]: (axis, orientation)
+        self.aid_size: float | None = None     # shared I register of G36-G39
         self.polar_origin = (0.0, 0.0)
         self.last_polar_angle = 0.0
         self.arc_radius: float | None = None   # R1= / G263= (modal arc radius)
@@ -73,14 +78,29 @@ class ChannelState:
         fix = self.fixture_table.get(self.fixture, {}).get(axis, 0.0) if self.fixture else 0.0
         return fix + self.abs_offset[axis] + self.inc_offset[axis]
 
+    def axis_offset(self, axis: str) -> float:
+        """Machine minus part coordinate on ``axis``: origin chain plus tool length compensation."""
+        return self.chain(axis) + self.length_offset.get(axis, 0.0)
+
     def part_pos(self) -> dict[str, float]:
-        return {a: self.machine_pos[a] - self.chain(a) for a in self.axes}
+        """Tool tip in (transformed) part coordinates."""
+        return {a: self.machine_pos[a] - self.axis_offset(a) for a in self.axes}
+
+    def programmed_pos(self) -> dict[str, float]:
+        """Tool tip in programmed coordinates (before scaling, mirror and rotation)."""
+        return self.transform.invert(self.part_pos())
 
     def to_machine(self, part: dict[str, float]) -> dict[str, float]:
-        return {a: v + self.chain(a) for a, v in part.items()}
+        return {a: v + self.axis_offset(a) for a, v in part.items()}
 
     def to_part(self, machine: dict[str, float]) -> dict[str, float]:
-        return {a: v - self.chain(a) for a, v in machine.items()}
+        return {a: v - self.axis_offset(a) for a, v in machine.items()}
+
+    def longitudinal(self) -> tuple[str | None, int]:
+        """The tool's longitudinal axis and the tool orientation (-1: the tool points to -axis)."""
+        if self.tool_axis is not None:
+            return self.tool_axis
+        return self.plane_axes()[2], self.tool_direction
 
     # ------------------------------------------------------------ plane
     def plane_axes(self) -> tuple[str, str, str]:
@@ -136,6 +156,13 @@ class ChannelState:
         self.polar_origin = (0.0, 0.0)
         self.excluded.clear()
         self.block_modes = {}
+        # transformations (spec 04 §25): scale and rotation always, mirror per MIRRORCANCEL (L8786)
+        self.transform.scale = 1.0
+        self.transform.angle = 0.0
+        if self.machine.default("MIRRORCANCEL"):
+            self.transform.mirror = set()
+        self.tool_axis = None
+        self.aid_size = None
         self.planner = {}
         self.path = None
         self.mcs_on = False

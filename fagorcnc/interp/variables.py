@@ -101,6 +101,15 @@ class Variables:
         })
         for k in range(1, 11):
             self.plain_vars[f"V.G.HGS{k}"] = (lambda i, k=k: float(self._hgs(k)), None)
+        # transformations (seed 002 L40543-L40650)
+        self.plain_vars.update({
+            "V.G.MIRROR": (lambda i: float(sum(1 << k for k, a in enumerate(s.axes) if a in s.transform.mirror)),
+                           None),
+            "V.G.SCALE": (lambda i: s.transform.scale, None),
+            "V.G.ORGROT": (lambda i: s.transform.angle, None),
+            "V.G.ROTPF": (lambda i: s.transform.centre[0], None),
+            "V.G.ROTPS": (lambda i: s.transform.centre[1], None),
+        })
         # feeds (seed 002 L36129-L36460); offline no PLC value and no panel override
         self.plain_vars.update({
             "V.G.FEED": (lambda i: self._feed(94), None),
