@@ -113,6 +113,7 @@ CODES: dict[str, str] = {
     "INT079": "# sentence without effect offline",
     "INT080": "runaway program: block limit reached",
     "INT081": "runaway loop: iteration limit reached",
+    "INT085": "corner aid G36-G39 impossible here",
     "INT090": "local subroutine calls one defined after it",
     "INT091": "local subroutine not defined",
     "INT092": "global subroutine file has errors",

@@ -125,7 +125,7 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
     moves = list(interp.run())
     diagnostics = sorted([*program.diagnostics, *interp.diagnostics], key=lambda d: (d.file, d.line, d.col))
     ok = not any(d.is_error for d in diagnostics)
-    return Result(ok, diagnostics, moves, FinalState(interp), interp.state.elapsed, program, interp.ended)
+    return Result(ok, diagnostics, moves, FinalState(interp), interp.cycle_time, program, interp.ended)
 
 
 class Run:

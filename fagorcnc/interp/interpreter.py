@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ..diagnostics import Diagnostic
 from ..machine import Machine
+from ..path.aids import apply_aids
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
 from ..syntax.reader import parse_file
 from .expressions import Evaluator, InterpError
@@ -81,12 +82,34 @@ class Interpreter:
             return  # a program with syntax errors is not executed
         main = self.stream if self.stream is not None else RoutineSource(self.program.main)
         self.frames.append(Frame(main, self.program))
+        machine = self.machine
+        try:
+            # G36-G39 rewrite the moves around them: a stage with one move of look-ahead
+            for record in apply_aids(self._guarded(), self._aid_error):
+                self.cycle_time += record_time(machine, record)
+                yield record
+        except _Stop:
+            pass
+
+    def _guarded(self) -> Iterator:
+        """The block loop; an error or the end of the program ends it normally so that
+        the stages after it can hand on the moves they still hold."""
         try:
             yield from self._loop(0)
         except InterpError as exc:
             self._error(exc)
+            self.failed = True
         except _Stop:
             pass
+
+    failed = False
+    cycle_time = 0.0   # seconds of the records handed on (after the corner aids)
+
+    def _aid_error(self, aid, message: str) -> None:
+        if not self.failed:
+            src = aid.src
+            self.diagnostics.append(Diagnostic(src.file, src.line, 1, "INT085", "error", message, src.text))
+        raise _Stop
 
     def _loop(self, depth: int) -> Iterator:
         """Execute blocks until the call stack is back to ``depth`` frames."""
@@ -120,7 +143,7 @@ class Interpreter:
             if block.number is not None:
                 state.last_n = block.number
             for record in self._block(block):
-                state.elapsed += record_time(self.machine, record)
+                state.elapsed += record_time(self.machine, record)   # V.G.CYTIME while running
                 yield record
 
     # ------------------------------------------------------------------ helpers

@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..path import arcs
+from ..path.aids import Aid
 from ..syntax.ast import Word
 from .expressions import InterpError
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
@@ -269,6 +270,10 @@ class IsoExecutor:
             consumed = True
         if 74 in gs:
             yield from self._home(gs[74][0], bw, src)
+            consumed = True
+        aids = [n for n in (36, 37, 38, 39) if n in gs]
+        if aids:
+            yield self._aid(aids, gs, bw, src)
             consumed = True
         if not consumed:
             repeats = 1
@@ -533,6 +538,27 @@ class IsoExecutor:
         if t < 0:
             raise InterpError("INT017", f"dwell time {t:g} is negative", col)
         return Dwell("dwell", t, dict(self.state.machine_pos), src)
+
+    def _aid(self, aids: list, gs: dict, bw: BlockWords, src: Source):
+        """G36/G37/G38/G39 [I<size>] [F]: a marker for the corner-aid stage (seed 002 L8393-L8703).
+
+        I is one register shared by the four functions (spec 04 §7); the aid
+        stands in a block of its own between the two moves it joins.
+        """
+        st = self.state
+        col = gs[aids[0]][0]
+        if len(aids) > 1:
+            raise InterpError("INT012", f"G{aids[0]} and G{aids[1]} in one block", gs[aids[1]][0])
+        if bw.axes or {"R", "Q"} & bw.params.keys():
+            raise InterpError("INT025", f"G{aids[0]} stands in a block of its own, between the two moves", col)
+        if "I" in bw.params:
+            st.aid_size = self.length(bw.params.pop("I")[0])
+        if st.aid_size is None:
+            raise InterpError("INT017", f"G{aids[0]} needs its size I (no earlier G36-G39 gave one)", col)
+        kind = {36: "round", 37: "entry", 38: "exit", 39: "chamfer"}[aids[0]]
+        feed = st.feed if bw.feed is not None and st.modes["feed"] == 94 else None
+        a, o, _ = st.plane_axes()
+        return Aid("aid", kind, st.aid_size * st.transform.scale, feed, (a, o), src)
 
     def _home(self, col: int, bw: BlockWords, src: Source):
         """G74: home search (seed 002 L2357-L2406).

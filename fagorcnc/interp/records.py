@@ -154,7 +154,7 @@ def record_time(machine, record) -> float:
     kind = record.kind
     if kind == "dwell":
         return record.seconds
-    if kind == "aux":
+    if kind in ("aux", "aid"):
         return 0.0
     length = record.length
     if length == 0.0:
