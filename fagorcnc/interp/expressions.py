@@ -25,6 +25,13 @@ class InterpError(Exception):
         self.code, self.message, self.col = code, message, max(int(col or 1), 1)
 
 
+def whole(v: float) -> int | None:
+    """``v`` as an int when it is a finite whole number of sane size, else None."""
+    if not math.isfinite(v) or abs(v) > 1e15 or v != math.floor(v):
+        return None
+    return int(v)
+
+
 def _int32(x: float, col: int) -> int:
     if not math.isfinite(x) or x < 0 or x >= 4294967296:
         raise InterpError("INT031", f"bitwise operators take integers 0..4294967295, not {x:g}", col)
@@ -170,15 +177,23 @@ class Evaluator:
         """The number a word value or expression stands for."""
         t = type(node)
         if t is float:
+            if node - node != 0.0:   # inf or nan from a literal too large for a double
+                raise InterpError("INT030", "this number is too large", 1)
             return node
         if t is Num:
-            return node.value
+            v = node.value
+            if v - v != 0.0:   # inf or nan: a literal beyond the range of a double
+                raise InterpError("INT030", "this number is too large", node.col)
+            return v
         if t is Param:
             return self.params.get(self.index(node), node.col)
         if t is Binary:
             a = self.value(node.left)
             b = self.value(node.right)
-            return _check(_binary(node.op, a, b, node.col), node.col)
+            try:
+                return _check(_binary(node.op, a, b, node.col), node.col)
+            except (ValueError, OverflowError):
+                raise InterpError("INT030", f"{a:g} {node.op} {b:g} cannot be computed", node.col) from None
         if t is Unary:
             return -self.value(node.operand)
         if t is Var:
@@ -188,7 +203,11 @@ class Evaluator:
                 return 1.0 if self.exists(node.args[0]) else 0.0
             if node.func == "ARG":
                 return _arg(self.value(node.args[0]), self.value(node.args[1]), node.col)
-            return _check(FUNCTIONS[node.func](self.value(node.args[0]), node.col), node.col)
+            x = self.value(node.args[0])
+            try:
+                return _check(FUNCTIONS[node.func](x, node.col), node.col)
+            except (ValueError, OverflowError):
+                raise InterpError("INT032", f"{node.func}[{x:g}] cannot be computed", node.col) from None
         if t is int:
             return float(node)
         raise InterpError("INT034", "this is not a number", getattr(node, "col", 1))
@@ -198,6 +217,8 @@ class Evaluator:
         if type(node.index) is int:
             return node.index
         v = self.value(node.index)
+        if not math.isfinite(v) or abs(v) > 1e9:
+            raise InterpError("INT041", f"P[{v:g}] does not exist", node.col)
         n = round(v)
         if abs(v - n) > 1e-9:
             raise InterpError("INT035", f"parameter index P[{v:g}] is not an integer", node.col)
@@ -216,6 +237,8 @@ class Evaluator:
         T, M and H (seed 002 L4678-L4681, spec 02 §19-20); otherwise it is an error.
         """
         v = self.value(node)
+        if not math.isfinite(v) or abs(v) > 1e15:
+            raise InterpError("INT037", f"{what}{v:g} is out of range {low:g}..{high:g}", col)
         n = math.floor(v + 1e-9) if floor else round(v)
         if not floor and abs(v - n) > 1e-9:
             raise InterpError("INT036", f"{what} must be a whole number, not {v:g}", col)

@@ -489,6 +489,8 @@ class Interpreter:
         out: dict[int, float] = {}
         for w in words:
             addr = w.address
+            if not addr:
+                raise InterpError("INT094", "a number without its letter cannot initialise a parameter", w.col)
             if addr[0] == "P" and addr[1:].isdigit():
                 n = int(addr[1:])
             elif len(addr) == 1 and addr.isalpha():
@@ -604,7 +606,12 @@ class _Links:
         self.source = source
 
     def __getitem__(self, i: int) -> int:
-        return self.source.link(i)
+        try:
+            return self.source.link(i)
+        except KeyError:
+            # a streamed program whose structure is unbalanced: the parser has
+            # reported it (STR005/STR006) and nothing more is executed
+            raise _Stop from None
 
 
 def _within(path: Path, root: Path) -> bool:

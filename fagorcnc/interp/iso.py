@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
-from .expressions import InterpError
+from .expressions import InterpError, whole
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
 from .records import Arc, Aux, Dwell, Line, Source
 from .state import ChannelState
@@ -321,9 +321,10 @@ class IsoExecutor:
                 st.select_origin(n - 53, f"G{n}")
         if 159 in gs:
             col, eq = gs[159]
-            if eq is None or eq != int(eq) or not 1 <= eq <= 99:
+            n = whole(eq) if eq is not None else None
+            if n is None or not 1 <= n <= 99:
                 raise InterpError("INT015", "G159 needs an entry number 1..99: G159=n", col)
-            st.select_origin(int(eq), f"G159={int(eq)}")
+            st.select_origin(n, f"G159={n}")
 
     def _axis_functions(self, gs: dict, bw: BlockWords) -> bool:
         """G92, G158, G157, G174, G198, G199: their axis words are not a motion."""
@@ -453,7 +454,7 @@ class IsoExecutor:
             if axis not in trihedron:
                 raise InterpError("INT066", f"G20: {axis} is not one of the first three channel axes", c)
             kind = abs(v)
-            if kind not in (1, 2, 3, 5) or v != int(v):
+            if whole(v) is None or kind not in (1, 2, 3, 5):
                 raise InterpError("INT066", f"G20 {axis}{v:g}: the type must be 1, 2, +3, -3 or 5", c)
             if kind in roles:
                 raise InterpError("INT066", f"G20: two axes of type {kind:g}", c)
@@ -575,7 +576,7 @@ class IsoExecutor:
             raise InterpError("INT067", "G74 needs the axes to reference with their order: G74 X1 Y2", col)
         groups: dict[int, list[str]] = {}
         for axis, (v, c) in bw.axes.items():
-            if v != int(v) or v < 1:
+            if whole(v) is None or v < 1:
                 raise InterpError("INT067", f"G74 {axis}{v:g}: the order must be a whole number 1, 2, ...", c)
             groups.setdefault(int(v), []).append(axis)
         bw.axes.clear()
@@ -839,6 +840,8 @@ class IsoExecutor:
         start_angle = math.degrees(math.atan2(cur_part[o] - center[1], cur_part[a] - center[0]))
         signed = total if ccw else -total
         e = arcs.point_on(center, r, start_angle + signed)
+        if not math.isfinite(total) or total > 3.6e8:
+            raise InterpError("INT069", "the helix pitch gives more than a million turns", col)
         turns = int((total - 1e-9) // 360.0)
         return signed, turns, e
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from .expressions import InterpError
+from .expressions import InterpError, whole
 from .state import ChannelState
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
@@ -27,6 +27,14 @@ def _entry(table: dict, n: int, col: int, what: str, hi: int) -> dict:
 
 
 _AXIS_ORDER = "XYZUVWABC"
+
+
+def _index(v: float) -> int:
+    """A table index: a whole number (seed 002 E20)."""
+    n = whole(v)
+    if n is None:
+        raise InterpError("INT045", f"index [{v:g}] must be a whole number", 1)
+    return n
 
 
 def _axis_code(name: str | None) -> int:
@@ -160,7 +168,7 @@ class Variables:
         st = self.state
 
         def offset_of(index: tuple):
-            d = int(index[0]) if index else st.offset
+            d = _index(index[0]) if index else st.offset
             off = st.tools.get(st.tool, {}).get(d)
             if off is None:
                 raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", 1)
@@ -187,7 +195,10 @@ class Variables:
         self.state.programmed_override = value
 
     def _set_parts(self, index: tuple, value: float) -> None:
-        self.state.parts = int(value)
+        n = whole(value)
+        if n is None or n < 0:
+            raise InterpError("INT045", f"V.G.PARTC = {value:g}: the part count is a whole number", 1)
+        self.state.parts = n
 
     def _spindle(self, token: str | None, col: int) -> str:
         spindles = list(self.state.speeds)
@@ -216,10 +227,10 @@ class Variables:
         return active
 
     def _g_state(self, index: tuple) -> float:
-        return 1.0 if int(index[0]) in self._active_g() else 0.0
+        return 1.0 if _index(index[0]) in self._active_g() else 0.0
 
     def _m_state(self, index: tuple) -> float:
-        m = int(index[0])
+        m = _index(index[0])
         spindle = next(iter(self.state.spindle_state.values()), 5)
         return 1.0 if m in (3, 4, 5) and m == spindle else 0.0
 
@@ -232,8 +243,8 @@ class Variables:
         return word
 
     def _set_fix(self, index: tuple, value: float) -> None:
-        n = int(value)
-        if n != value or not 0 <= n <= 10:
+        n = whole(value)
+        if n is None or not 0 <= n <= 10:
             raise InterpError("INT045", f"V.G.FIX = {value:g}: the fixture number must be 0..10", 1)
         self.state.fixture = n
 
@@ -278,7 +289,7 @@ class Variables:
             return self.spindle_vars[key](extra)
         idx, axis = extra
         try:
-            return self.axis_vars[key][0](self.state, tuple(int(x) for x in idx), axis)
+            return self.axis_vars[key][0](self.state, tuple(_index(x) for x in idx), axis)
         except InterpError as exc:
             exc.col = col
             raise
@@ -300,7 +311,7 @@ class Variables:
         setter = self.axis_vars[key][1]
         if setter is None:
             raise InterpError("INT048", f"{key}.{axis} is read-only", col)
-        setter(self.state, tuple(int(x) for x in idx), axis, value)
+        setter(self.state, tuple(_index(x) for x in idx), axis, value)
 
     def exists(self, name: str, index: tuple) -> bool:
         try:
