@@ -186,3 +186,22 @@ def test_huge_nr_is_stopped_by_the_block_limit():
     r = fagorcnc.simulate("G91 G1 X0.001 F1000 NR1000000000\nM30\n", {"limits": {"max_blocks": 1000}})
     assert [d.code for d in r.errors] == ["INT080"]
     assert len([m for m in r.moves if m.kind == "linear"]) == 1000  # the block and 999 repetitions
+
+
+def test_manual_tool_and_offset_example():
+    # seed 002 L4972-L4996: T1 M06 loads T1 with D1; T2 only prepares T2; D2 selects D2 *of T1*;
+    # M6 loads T2 with its D1
+    machine = {"tools": {"1": {"1": {"length": 10.0}, "2": {"length": 20.0}}, "2": {"1": {"length": 30.0}}}}
+    text = """N20 T1 M06
+P1 = V.TM.TOOL P2 = V.TM.TOD
+N50 T2
+P3 = V.TM.TOOL P4 = V.TM.NXTOOL
+N60 D2
+P5 = V.TM.TOOL P6 = V.TM.TOD P7 = V.TM.TOL
+N90 M6
+P8 = V.TM.TOOL P9 = V.TM.TOD P10 = V.TM.TOL
+M30
+"""
+    r = fagorcnc.simulate(text, machine)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert [r.state.param(i) for i in range(1, 11)] == [1.0, 1.0, 1.0, 2.0, 1.0, 2.0, 20.0, 2.0, 1.0, 30.0]
