@@ -114,6 +114,7 @@ CODES: dict[str, str] = {
     "INT080": "runaway program: block limit reached",
     "INT081": "runaway loop: iteration limit reached",
     "INT085": "corner aid G36-G39 impossible here",
+    "INT086": "radius compensation impossible or not supported here",
     "INT090": "local subroutine calls one defined after it",
     "INT091": "local subroutine not defined",
     "INT092": "global subroutine file has errors",

@@ -16,6 +16,7 @@ from pathlib import Path
 from ..diagnostics import Diagnostic
 from ..machine import Machine
 from ..path.aids import apply_aids
+from ..path.compensation import CompensationError, compensate
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
 from ..syntax.reader import parse_file
 from .expressions import Evaluator, InterpError
@@ -84,10 +85,15 @@ class Interpreter:
         self.frames.append(Frame(main, self.program))
         machine = self.machine
         try:
-            # G36-G39 rewrite the moves around them: a stage with one move of look-ahead
-            for record in apply_aids(self._guarded(), self._aid_error):
+            # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
+            # tool radius compensation G41/G42
+            for record in compensate(apply_aids(self._guarded(), self._aid_error)):
                 self.cycle_time += record_time(machine, record)
                 yield record
+        except CompensationError as exc:
+            src = exc.record.src
+            if not self.failed:
+                self.diagnostics.append(Diagnostic(src.file, src.line, 1, "INT086", "error", str(exc), src.text))
         except _Stop:
             pass
 

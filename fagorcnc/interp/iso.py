@@ -637,10 +637,30 @@ class IsoExecutor:
         st.machine_pos = dict(end)
         st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
             or st.tangent
+        comp = self._compensation()
         if mode == 0:
-            return Line("rapid", start, end, end_part, None, "G94", src)
+            return Line("rapid", start, end, end_part, None, "G94", src, comp)
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
-        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src)
+        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
+                    comp)
+
+    def _compensation(self) -> tuple | None:
+        """Radius compensation of a move: (side, R, G136/G137, G138/G139, plane) or None (seed 002 L9427).
+
+        R is the radius plus its wear of the active offset D; an odd number of
+        mirrored plane axes swaps G41 and G42 (L8774).
+        """
+        st = self.state
+        mode = st.modes["compensation"]
+        if mode not in (41, 42):
+            return None
+        a, o, _ = st.plane_axes()
+        side = 1 if mode == 41 else -1
+        if st.transform.flips(a, o):
+            side = -side
+        off = st.tools.get(st.tool, {}).get(st.offset) if st.offset else None
+        radius = (off.radius + off.radius_wear) if off is not None else 0.0
+        return (side, radius, st.modes["transition"], st.modes["comp_start"], (a, o))
 
     def _active_feed(self, length: float, start: dict) -> float:
         """Feed along the path in mm/min (seed 002 L4127-L4192).
@@ -794,7 +814,8 @@ class IsoExecutor:
         other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
         return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
-                   (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src)
+                   (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src,
+                   self._compensation())
 
     def _radius_check(self, s, e, c, col: int):
         """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""

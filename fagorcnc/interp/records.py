@@ -37,6 +37,7 @@ class Line:
     feed: float | None
     feed_mode: str
     src: Source
+    comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
 
     @property
     def line(self) -> int:
@@ -75,6 +76,7 @@ class Arc:
     feed: float | None
     feed_mode: str
     src: Source
+    comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
 
     @property
     def line(self) -> int:

@@ -1,0 +1,298 @@
+"""Tool radius compensation G40/G41/G42 with G136/G137 and G138/G139 (seed 002 L9427-L10071).
+
+A streaming stage over the interpreter's records.  Each compensated move
+carries ``comp = (side, radius, transition, start)``: side +1 for G41 (tool on
+the left of the path), -1 for G42; ``transition`` 136 (circular joins) or 137
+(linear joins) at outside corners; ``start`` 138 (direct) or 139 (indirect)
+activation and cancellation.  The stage holds one programmed element until
+the next one shows the corner (spec 04 §18):
+
+* inside corners (the path turns toward the tool): both offsets are trimmed
+  to their intersection;
+* outside corners: G136 inserts an arc of radius R about the programmed
+  corner; G137 prolongs the offsets in straight lines (one point for a
+  corner up to 90 degrees, two beyond);
+* the activation block (the first compensated move, a straight one) and the
+  cancellation block (the first move after G40, straight) follow the tables
+  of spec 04 §19-§20.
+
+Moves off the plane (a Z plunge) between compensated moves are kept at the
+joint.  Not handled yet, reported as errors: a change of side or of radius
+without G40, an inside corner whose trim would reverse a move (a "step").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import replace
+
+from .aids import _circle_circle, _cross, _left, _line_circle, _unit
+
+Point = tuple[float, float]
+
+
+class CompensationError(ValueError):
+    """A compensated path fagorcnc cannot build; the message says why."""
+
+    def __init__(self, record, message: str) -> None:
+        super().__init__(message)
+        self.record = record
+
+
+def _planar(rec, a: str, o: str) -> bool:
+    return math.hypot(rec.end[a] - rec.start[a], rec.end[o] - rec.start[o]) > 1e-9
+
+
+def _pts(rec, a, o):
+    return (rec.start[a], rec.start[o]), (rec.end[a], rec.end[o])
+
+
+def _tangent(rec, a, o, at_end: bool) -> Point:
+    p, q = _pts(rec, a, o)
+    if rec.kind != "arc":
+        return _unit((q[0] - p[0], q[1] - p[1]))
+    c = (rec.center[a], rec.center[o])
+    x = q if at_end else p
+    t = _left(_unit((x[0] - c[0], x[1] - c[1])))
+    return t if rec.direction == "ccw" else (-t[0], -t[1])
+
+
+def _geometry(rec, a, o, s: float, r: float):
+    """The offset of a move: ("line", point, direction) or ("circle", centre, radius)."""
+    p, q = _pts(rec, a, o)
+    if rec.kind != "arc":
+        t = _unit((q[0] - p[0], q[1] - p[1]))
+        n = _left(t)
+        return ("line", (p[0] + s * r * n[0], p[1] + s * r * n[1]), t)
+    c = (rec.center[a], rec.center[o])
+    rho = math.dist(p, c)
+    delta = 1.0 if rec.direction == "ccw" else -1.0
+    rr = rho - s * delta * r
+    if rr <= 1e-9:
+        raise CompensationError(rec, f"the tool radius {r:g} is not smaller than the concave arc radius "
+                                f"{rho:g}: the arc cannot be followed")
+    return ("circle", c, rr)
+
+
+def _meet(g1, g2, near: Point) -> Point | None:
+    if g1[0] == "line" and g2[0] == "line":
+        den = _cross(g1[2], g2[2])
+        if abs(den) < 1e-12:
+            return None
+        d = (g2[1][0] - g1[1][0], g2[1][1] - g1[1][1])
+        k = _cross(d, g2[2]) / den
+        hits = [(g1[1][0] + k * g1[2][0], g1[1][1] + k * g1[2][1])]
+    elif g1[0] == "line":
+        hits = _line_circle(g1[1], g1[2], g2[1], g2[2])
+    elif g2[0] == "line":
+        hits = _line_circle(g2[1], g2[2], g1[1], g1[2])
+    else:
+        hits = _circle_circle(g1[1], g1[2], g2[1], g2[2])
+    return min(hits, key=lambda x: math.dist(x, near)) if hits else None
+
+
+def _offset_point(rec, a, o, s, r, at_end: bool) -> Point:
+    """The perpendicular point of the offset at the start or the end of a move."""
+    p, q = _pts(rec, a, o)
+    x = q if at_end else p
+    n = _left(_tangent(rec, a, o, at_end))
+    return (x[0] + s * r * n[0], x[1] + s * r * n[1])
+
+
+class _Move:
+    """A move being compensated: its record and the plane points fixed so far."""
+
+    __slots__ = ("end", "rec", "start")
+
+    def __init__(self, rec, start: Point | None) -> None:
+        self.rec, self.start, self.end = rec, start, None
+
+
+def _join(prev: _Move, nxt_rec, a, o, s, r, transition, start_mode, activation: bool, cancel: bool):
+    """Close the corner between ``prev`` and ``nxt_rec``.
+
+    Returns (points inserted between them as a list of ("line"|"arc", p, q, centre, ccw),
+    the start point of the next move).  Sets ``prev.end``.
+    """
+    rec = prev.rec
+    _, corner = _pts(rec, a, o)
+    t1 = _tangent(rec, a, o, True)
+    t2 = _tangent(nxt_rec, a, o, False)
+    n1, n2 = _left(t1), _left(t2)
+    pa = (corner[0] + s * r * n1[0], corner[1] + s * r * n1[1])
+    pb = (corner[0] + s * r * n2[0], corner[1] + s * r * n2[1])
+    cross = _cross(t1, t2)
+    dot = t1[0] * t2[0] + t1[1] * t2[1]
+    if abs(cross) < 1e-9 and dot > 0:     # tangent: the offsets meet at A = B
+        prev.end = pa
+        return [], pb
+    if s * cross > 1e-9:                  # inside corner: trim both offsets to their intersection
+        g1 = (("line", pa, t1) if activation else _geometry(rec, a, o, s, r))
+        g2 = (("line", pb, t2) if cancel else _geometry(nxt_rec, a, o, s, r))
+        x = _meet(g1, g2, corner)
+        if x is None or math.dist(x, corner) > 100 * max(r, 1e-9):
+            raise CompensationError(nxt_rec, "the compensated moves do not meet at this inside corner")
+        _check_step(prev, rec, a, o, x, t1)
+        prev.end = x
+        return [], x
+    # outside corner (or a reversal)
+    if (activation or cancel) and start_mode == 138:   # G138: straight to / from the offset point
+        prev.end = pb if activation else pa
+        return [], prev.end
+    prev.end = pa
+    if transition == 136:
+        return [("arc", pa, pb, corner, s < 0)], pb
+    psi = math.acos(max(-1.0, min(1.0, dot)))
+    if psi <= math.pi / 2 + 1e-12:
+        k = r * math.tan(psi / 2)
+        q = (pa[0] + k * t1[0], pa[1] + k * t1[1])
+        return [("line", pa, q, None, True), ("line", q, pb, None, True)], pb
+    a2 = (pa[0] + r * t1[0], pa[1] + r * t1[1])
+    b2 = (pb[0] - r * t2[0], pb[1] - r * t2[1])
+    return [("line", pa, a2, None, True), ("line", a2, b2, None, True), ("line", b2, pb, None, True)], pb
+
+
+def _check_step(prev: _Move, rec, a, o, x: Point, t1: Point) -> None:
+    if rec.kind == "arc" or prev.start is None:
+        return
+    along = (x[0] - prev.start[0]) * t1[0] + (x[1] - prev.start[1]) * t1[1]
+    if along < -1e-9:
+        raise CompensationError(rec, "this move is too short for the tool radius at the inside corner "
+                                "(a step in the profile); fagorcnc does not remove such moves yet")
+
+
+def _record(rec, a, o, start: Point | None, end: Point | None):
+    changes = {}
+    if start is not None:
+        changes["start"] = {**rec.start, a: start[0], o: start[1]}
+    if end is not None:
+        da, do = end[0] - rec.end[a], end[1] - rec.end[o]
+        changes["end"] = {**rec.end, a: end[0], o: end[1]}
+        changes["end_part"] = {**rec.end_part, a: rec.end_part[a] + da, o: rec.end_part[o] + do}
+    if rec.kind == "arc" and end is not None:
+        c = (rec.center[a], rec.center[o])
+        changes["radius"] = math.dist(end, c)
+    return replace(rec, **changes)
+
+
+def _inserted(template, a, o, items, feed):
+    from ..interp.records import Arc, Line
+
+    shift = {x: template.end_part[x] - template.end[x] for x in template.end}
+    out = []
+    for kind, p, q, c, ccw in items:
+        start = {**template.end, a: p[0], o: p[1]}
+        end = {**template.end, a: q[0], o: q[1]}
+        part = {x: v + shift[x] for x, v in end.items()}
+        if math.dist(p, q) < 1e-12:
+            continue
+        if kind == "arc":
+            out.append(Arc("arc", start, end, part, {a: c[0], o: c[1]}, {a: c[0] + shift[a], o: c[1] + shift[o]},
+                           "ccw" if ccw else "cw", template.plane if template.kind == "arc" else (a, o, None),
+                           math.dist(p, c), 0, feed, template.feed_mode, template.src))
+        else:
+            out.append(Line("rapid" if feed is None else "linear", start, end, part, feed, template.feed_mode,
+                            template.src))
+    return out
+
+
+def compensate(records: Iterable) -> Iterator:
+    """Offset the compensated moves of a record stream (see the module docstring).
+
+    A compensated record carries ``comp = (side, radius, transition, start, (abscissa, ordinate))``.
+    """
+    pending: _Move | None = None   # the last compensated move, end not fixed yet
+    activation = False             # pending is the activation move
+    waiting = False                # activation without plane motion seen, waiting for the plane move
+    held: list = []                # records after pending (off-plane moves, aux)
+    comp = None
+
+    def flush_held(point: Point | None, a, o, first_from: Point | None = None):
+        out = []
+        for k, h in enumerate(held):
+            if point is not None and h.kind in ("rapid", "linear") and not _planar(h, a, o):
+                start = first_from if (first_from is not None and k == 0) else point
+                h = replace(h, start={**h.start, a: start[0], o: start[1]},
+                            end={**h.end, a: point[0], o: point[1]},
+                            end_part={**h.end_part, a: h.end_part[a] + point[0] - h.end[a],
+                                      o: h.end_part[o] + point[1] - h.end[o]})
+            out.append(h)
+        held.clear()
+        return out
+
+    for rec in records:
+        kind = rec.kind
+        if kind not in ("rapid", "linear", "arc"):
+            if pending is None and not waiting:
+                yield rec
+            else:
+                held.append(rec)
+            continue
+        rc = getattr(rec, "comp", None)
+        if pending is None and not waiting:
+            if rc is None:
+                yield rec
+                continue
+            comp = rc
+            a, o = rc[4]
+            if not _planar(rec, a, o):   # activation without plane motion (L9684-L9734)
+                waiting = True
+                held.append(rec)
+                continue
+            if rec.kind == "arc":
+                raise CompensationError(rec, "radius compensation starts with a straight move (G00/G01), "
+                                        "not an arc (L9659)")
+            pending, activation = _Move(rec, _pts(rec, a, o)[0]), True
+            continue
+        s, r, transition, start_mode, (a, o) = comp
+        if rc is not None and not _planar(rec, a, o):
+            held.append(rec)          # a move off the plane: executed at the joint
+            continue
+        if rc is not None and (rc[0] != s or abs(rc[1] - r) > 1e-12 or rc[4] != (a, o)):
+            raise CompensationError(rec, "changing the compensation side, radius or plane without G40 is not "
+                                    "supported by fagorcnc yet")
+        if waiting:
+            if rc is None:   # G40 before any plane move: nothing was compensated
+                waiting = False
+                yield from flush_held(None, a, o)
+                yield rec
+                continue
+            # the zero-motion block moves to the offset start of this first plane move
+            b = _offset_point(rec, a, o, s, r, False)
+            here = _pts(rec, a, o)[0]
+            yield from flush_held(b, a, o, first_from=here)
+            waiting = False
+            pending, activation = _Move(rec, b), False
+            continue
+        cancel = rc is None
+        if cancel and rec.kind == "arc":
+            raise CompensationError(rec, "radius compensation is cancelled with a straight move (G00/G01), "
+                                    "not an arc (L9971)")
+        if cancel and not _planar(rec, a, o):
+            # cancellation without plane motion (L9994-L10029): the last move ends at its
+            # perpendicular point; this block goes from there to the uncompensated end point
+            pending.end = _offset_point(pending.rec, a, o, s, r, True)
+            yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
+            yield from flush_held(pending.end, a, o)
+            yield _record(rec, a, o, pending.end, None)
+            pending, comp, activation = None, None, False
+            continue
+        inserted, next_start = _join(pending, rec, a, o, s, r, transition, start_mode, activation, cancel)
+        feed = rec.feed if rec.kind != "rapid" else None
+        yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
+        yield from flush_held(pending.end, a, o)
+        yield from _inserted(pending.rec, a, o, inserted, feed)
+        activation = False
+        if cancel:
+            yield _record(rec, a, o, next_start, None)
+            pending, comp = None, None
+        else:
+            pending = _Move(rec, next_start)
+    if pending is not None:
+        s, r, _t, _m, (a, o) = comp
+        pending.end = _offset_point(pending.rec, a, o, s, r, True)
+        yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
+        yield from flush_held(pending.end, a, o)
+    else:
+        yield from held
