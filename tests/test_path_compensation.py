@@ -107,7 +107,7 @@ def test_mirror_swaps_the_compensation_side():
 @pytest.mark.parametrize(("text", "why"), [
     ("G00 X0 Y0\nT1 D1 M6\nG41 G02 X10 Y10 I10 J0 F100\nG01 X20\nM30\n", "activation with an arc"),
     ("G00 X0 Y0\nT1 D1 M6\nG41 G01 X10 F100\nX20\nG40 G02 X30 Y10 I0 J10\nM30\n", "cancellation with an arc"),
-    ("G00 X0 Y0\nT1 D1 M6\nG41 G01 X10 F100\nG42 X20\nM30\n", "side change without G40"),
+    ("G00 X0 Y0\nT1 D1 M6\nG41 G01 X10 F100\nG18 X20\nM30\n", "plane change while compensating"),
 ])
 def test_compensation_errors(text, why):
     r = fagorcnc.simulate(text, TOOL)
@@ -120,3 +120,18 @@ def test_activation_without_plane_motion_moves_to_the_first_offset_point():
     _, r = path("G90 G00 X0 Y0 Z5\nT1 D1 M6\nG01 G41 Z-1 F100\nX30\nM30\n")
     plunge = next(m for m in r.moves if m.kind == "linear" and m.end["Z"] == -1.0)
     assert (plunge.start["X"], plunge.start["Y"], plunge.end["X"], plunge.end["Y"]) == pytest.approx((0, 0, 0, 3))
+
+
+def test_side_change_on_a_collinear_continuation_inserts_a_segment():
+    # spec 04 §26 / §22 case B: G41 along +X on y=+3, G42 on y=-3: segment (30,3) -> (30,-3)
+    moves, _ = path("G90 G00 X0 Y-10\nT1 D1 M6\nG01 G41 X0 Y0 F100\nX30\nG42 X60\nG40 X70 Y-10\nM30\n")
+    points = [m[1:3] for m in moves]
+    i = points.index(pt(30, 3))
+    assert points[i + 1] == pt(30, -3)
+
+
+def test_side_change_where_the_offsets_meet_trims_both():
+    # spec 04 §22 case A: G41 along +X (y = 3), then G42 along +Y from (30,0) (x = 33): they meet at (33,3)
+    moves, _ = path("G90 G00 X0 Y-10\nT1 D1 M6\nG01 G41 X0 Y0 F100\nX30\nG42 Y30\nG40 X40 Y40\nM30\n")
+    points = [m[1:3] for m in moves]
+    assert pt(33, 3) in points and pt(30, 3) not in points

@@ -17,8 +17,11 @@ the next one shows the corner (spec 04 §18):
   of spec 04 §19-§20.
 
 Moves off the plane (a Z plunge) between compensated moves are kept at the
-joint.  Not handled yet, reported as errors: a change of side or of radius
-without G40, an inside corner whose trim would reverse a move (a "step").
+joint.  A change of side (G41 <-> G42) or of radius without G40 joins the two
+offsets at their intersection near the corner, else by a connecting segment
+(spec 04 §22).  Reported as errors rather than handled: an inside corner whose
+trim would reverse a move (a "step", which the CNC removes with a warning),
+arcs as activation or cancellation moves.
 """
 
 from __future__ import annotations
@@ -153,6 +156,27 @@ def _join(prev: _Move, nxt_rec, a, o, s, r, transition, start_mode, activation: 
     return [("line", pa, a2, None, True), ("line", a2, b2, None, True), ("line", b2, pb, None, True)], pb
 
 
+def _side_change(prev: _Move, nxt_rec, a, o, old, new, activation: bool):
+    """Case A: the two offsets meet near the corner -> trim both there; case B: a segment
+    from the old side's perpendicular point A to the new side's B (spec 04 §22)."""
+    s1, r1 = old[0], old[1]
+    s2, r2 = new[0], new[1]
+    rec = prev.rec
+    _, corner = _pts(rec, a, o)
+    n1 = _left(_tangent(rec, a, o, True))
+    n2 = _left(_tangent(nxt_rec, a, o, False))
+    pa = (corner[0] + s1 * r1 * n1[0], corner[1] + s1 * r1 * n1[1])
+    pb = (corner[0] + s2 * r2 * n2[0], corner[1] + s2 * r2 * n2[1])
+    g1 = ("line", pa, _tangent(rec, a, o, True)) if activation else _geometry(rec, a, o, s1, r1)
+    g2 = _geometry(nxt_rec, a, o, s2, r2)
+    x = _meet(g1, g2, corner)
+    if x is not None and math.dist(x, corner) <= 4 * max(r1, r2):
+        prev.end = x
+        return [], x
+    prev.end = pa
+    return [("line", pa, pb, None, True)], pb
+
+
 def _check_step(prev: _Move, rec, a, o, x: Point, t1: Point) -> None:
     if rec.kind == "arc" or prev.start is None:
         return
@@ -249,9 +273,19 @@ def compensate(records: Iterable) -> Iterator:
         if rc is not None and not _planar(rec, a, o):
             held.append(rec)          # a move off the plane: executed at the joint
             continue
-        if rc is not None and (rc[0] != s or abs(rc[1] - r) > 1e-12 or rc[4] != (a, o)):
-            raise CompensationError(rec, "changing the compensation side, radius or plane without G40 is not "
-                                    "supported by fagorcnc yet")
+        if rc is not None and rc[4] != (a, o):
+            raise CompensationError(rec, "the plane changed while radius compensation is active: cancel it "
+                                    "with G40 first")
+        if rc is not None and (rc[0] != s or abs(rc[1] - r) > 1e-12) and not waiting:
+            # G41 <-> G42 (or a new radius) without G40 (seed 002 L9867-L9966)
+            inserted, next_start = _side_change(pending, rec, a, o, comp, rc, activation)
+            yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
+            yield from flush_held(pending.end, a, o)
+            yield from _inserted(pending.rec, a, o, inserted, rec.feed if rec.kind != "rapid" else None)
+            activation = False
+            comp = rc
+            pending = _Move(rec, next_start)
+            continue
         if waiting:
             if rc is None:   # G40 before any plane move: nothing was compensated
                 waiting = False
