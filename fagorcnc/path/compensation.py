@@ -178,7 +178,19 @@ def _side_change(prev: _Move, nxt_rec, a, o, old, new, activation: bool):
 
 
 def _check_step(prev: _Move, rec, a, o, x: Point, t1: Point) -> None:
-    if rec.kind == "arc" or prev.start is None:
+    if prev.start is None:
+        return
+    if rec.kind == "arc":
+        # the offset arc, from its (trimmed) start to the trim point, must not sweep further
+        # than the programmed arc: a longer sweep means the trim went past its start (a step)
+        from .arcs import sweep
+
+        c = (rec.center[a], rec.center[o])
+        p, q = _pts(rec, a, o)
+        ccw = rec.direction == "ccw"
+        if abs(sweep(prev.start, x, c, ccw)) > abs(sweep(p, q, c, ccw)) + 1e-6:
+            raise CompensationError(rec, "this arc is too short for the tool radius at the inside corner "
+                                    "(a step in the profile); fagorcnc does not remove such moves yet")
         return
     along = (x[0] - prev.start[0]) * t1[0] + (x[1] - prev.start[1]) * t1[1]
     if along < -1e-9:
@@ -187,6 +199,20 @@ def _check_step(prev: _Move, rec, a, o, x: Point, t1: Point) -> None:
 
 
 def _record(rec, a, o, start: Point | None, end: Point | None):
+    p, q = _pts(rec, a, o)
+    ns, ne = start or p, end or q
+    if rec.kind != "arc":
+        if (ne[0] - ns[0]) * (q[0] - p[0]) + (ne[1] - ns[1]) * (q[1] - p[1]) < -1e-9:
+            raise CompensationError(rec, "this move is too short for the tool radius: its compensated path "
+                                    "would run backwards (a step in the profile)")
+    elif math.dist(ns, ne) > 1e-9:
+        from .arcs import sweep
+
+        c = (rec.center[a], rec.center[o])
+        ccw = rec.direction == "ccw"
+        if abs(sweep(ns, ne, c, ccw)) > abs(sweep(p, q, c, ccw)) + 1e-6:
+            raise CompensationError(rec, "this arc is too short for the tool radius: its compensated path "
+                                    "would turn the wrong way (a step in the profile)")
     changes = {}
     if start is not None:
         changes["start"] = {**rec.start, a: start[0], o: start[1]}
