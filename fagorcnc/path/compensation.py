@@ -104,12 +104,18 @@ def _offset_point(rec, a, o, s, r, at_end: bool) -> Point:
 
 
 class _Move:
-    """A move being compensated: its record and the plane points fixed so far."""
+    """A move being compensated: its record and the plane points fixed so far.
+
+    A compensated arc is checked at once: the tool must fit inside a concave arc.
+    """
 
     __slots__ = ("end", "rec", "start")
 
     def __init__(self, rec, start: Point | None) -> None:
         self.rec, self.start, self.end = rec, start, None
+        comp = getattr(rec, "comp", None)
+        if rec.kind == "arc" and comp is not None:
+            _geometry(rec, comp[4][0], comp[4][1], comp[0], comp[1])
 
 
 def _join(prev: _Move, nxt_rec, a, o, s, r, transition, start_mode, activation: bool, cancel: bool):
@@ -127,7 +133,9 @@ def _join(prev: _Move, nxt_rec, a, o, s, r, transition, start_mode, activation: 
     pb = (corner[0] + s * r * n2[0], corner[1] + s * r * n2[1])
     cross = _cross(t1, t2)
     dot = t1[0] * t2[0] + t1[1] * t2[1]
-    if abs(cross) < 1e-9 and dot > 0:     # tangent: the offsets meet at A = B
+    if dot > 0 and (abs(cross) < 1e-9 or math.dist(pa, pb) < 1e-6):
+        # tangent (or as good as): the offsets meet at A = B; a join arc of a few nanometres
+        # would read as a full circle
         prev.end = pa
         return [], pb
     if s * cross > 1e-9:                  # inside corner: trim both offsets to their intersection
@@ -235,7 +243,7 @@ def _inserted(template, a, o, items, feed):
         start = {**template.end, a: p[0], o: p[1]}
         end = {**template.end, a: q[0], o: q[1]}
         part = {x: v + shift[x] for x, v in end.items()}
-        if math.dist(p, q) < 1e-12:
+        if math.dist(p, q) < 1e-6:
             continue
         if kind == "arc":
             out.append(Arc("arc", start, end, part, {a: c[0], o: c[1]}, {a: c[0] + shift[a], o: c[1] + shift[o]},
