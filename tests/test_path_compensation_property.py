@@ -23,6 +23,14 @@ The approach goes perpendicular to that first edge from outside; the cancellatio
 The moves checked are those of the contour blocks, except the joins after the last contour block
 (they belong to the cancellation, spec §20 table: "offset k ends at A; arc ... from A to B; then
 B -> P2"; fagorcnc gives them the line of the last contour block).
+
+1. hand-written contours (rectangle, rounded rectangle, concave arc, notch, slot, triangle; both
+   orientations, G41/G42, G136/G137, R 3 and 5);
+2. properties over random contours (convex polygons, star-shaped polygons, star-shaped contours with arc
+   edges, convex polygons with fillets): refused with INT086 on a contour block, or compensated right.
+   Global interference is exempt: a neck of the contour narrower than the tool between elements at least
+   three blocks apart cannot be seen by a local look-ahead (spec 04 §16.2 asks for 3 elements);
+3. regressions: the minimal examples of the bugs the properties found.
 """
 
 from __future__ import annotations
@@ -764,7 +772,8 @@ def test_rounded_convex_polygons():
 
 # A. A move shortened past its start by the trim of the inside corner at its start, and followed by an outside
 #    corner or by the cancellation, was not seen as a step (only inside corners were checked): its offset ran
-#    backwards.  Here line 5 (2.27 long) is trimmed by 2.32 (deflection 98 degrees, R 2): gouge 0.05 into line 4.
+#    backwards.  Here line 6 (X30 Y0, 2.27 long) is trimmed by 2.32 at its start (deflection 98 degrees, R 2) and
+#    ends at an outside corner: its offset ran backwards, 0.05 into the edge of line 5.
 STEP_BEFORE_OUTSIDE_CORNER = """\
 G90 G17 G00 X8.787202077 Y-29.114184737
 T1 D1 M6
@@ -849,7 +858,8 @@ M30
 
 def test_regression_small_concave_arc():
     # minimal example of test_star_contours_with_arcs: line 8 is a half circle of radius 1 into a clockwise
-    # contour milled from outside (G41) with R 2: the offset "arc" on lines 7-8 dipped to 0.001 from the contour
+    # contour milled from outside (G41) with R 2: the join after line 7 and the offset of line 8 came within
+    # 0.0011 of the contour (gouge 1.9989)
     check_program(SMALL_CONCAVE_ARC, 2.0)
 
 
