@@ -30,7 +30,7 @@ import math
 from collections.abc import Iterable, Iterator
 from dataclasses import replace
 
-from .aids import _circle_circle, _cross, _left, _line_circle, _unit
+from .aids import _arc_record, _circle_circle, _cross, _left, _line_circle, _line_record, _unit
 
 Point = tuple[float, float]
 
@@ -235,23 +235,16 @@ def _record(rec, a, o, start: Point | None, end: Point | None):
 
 
 def _inserted(template, a, o, items, feed):
-    from ..interp.records import Arc, Line
-
-    shift = {x: template.end_part[x] - template.end[x] for x in template.end}
+    """Records for the join elements (lines and arcs) computed by :func:`_join`."""
+    plane = template.plane if template.kind == "arc" else (a, o, None)
     out = []
     for kind, p, q, c, ccw in items:
-        start = {**template.end, a: p[0], o: p[1]}
-        end = {**template.end, a: q[0], o: q[1]}
-        part = {x: v + shift[x] for x, v in end.items()}
         if math.dist(p, q) < 1e-6:
             continue
         if kind == "arc":
-            out.append(Arc("arc", start, end, part, {a: c[0], o: c[1]}, {a: c[0] + shift[a], o: c[1] + shift[o]},
-                           "ccw" if ccw else "cw", template.plane if template.kind == "arc" else (a, o, None),
-                           math.dist(p, c), 0, feed, template.feed_mode, template.src))
+            out.append(_arc_record(template, plane, p, q, c, ccw, feed))
         else:
-            out.append(Line("rapid" if feed is None else "linear", start, end, part, feed, template.feed_mode,
-                            template.src))
+            out.append(_line_record(template, plane, p, q, feed, "rapid" if feed is None else "linear"))
     return out
 
 
