@@ -32,3 +32,19 @@ def codes(text: str) -> list:
 def error_codes(text: str) -> list:
     """Codes of the error diagnostics of ``text``."""
     return [d.code for d in parse_text(text).diagnostics if d.is_error]
+
+
+def edit_text(draw, text: str, chars) -> str:
+    """One random edit of ``text`` (hypothesis ``draw``): insert, delete, replace or duplicate."""
+    from hypothesis import strategies as st
+
+    op = draw(st.sampled_from(["insert", "delete", "replace", "duplicate"]))
+    pos = draw(st.integers(0, len(text)))
+    if op == "insert":
+        return text[:pos] + draw(chars) + text[pos:]
+    if op == "delete":
+        return text[:pos] + text[pos + draw(st.integers(1, 4)):]
+    if op == "replace":
+        return text[:pos] + draw(chars) + text[pos + 1:]
+    end = min(len(text), pos + draw(st.integers(1, 12)))  # duplicate a slice
+    return text[:end] + text[pos:end] + text[end:]

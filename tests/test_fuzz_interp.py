@@ -30,6 +30,7 @@ import re
 from pathlib import Path
 
 import pytest
+from helpers import edit_text
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -367,16 +368,7 @@ EDIT_CHARS = st.one_of(
 
 
 def _edit(draw, text: str) -> str:
-    op = draw(st.sampled_from(["insert", "delete", "replace", "duplicate"]))
-    pos = draw(st.integers(0, len(text)))
-    if op == "insert":
-        return text[:pos] + draw(EDIT_CHARS) + text[pos:]
-    if op == "delete":
-        return text[:pos] + text[pos + draw(st.integers(1, 4)):]
-    if op == "replace":
-        return text[:pos] + draw(EDIT_CHARS) + text[pos + 1:]
-    end = min(len(text), pos + draw(st.integers(1, 12)))  # duplicate a slice
-    return text[:end] + text[pos:end] + text[end:]
+    return edit_text(draw, text, EDIT_CHARS)
 
 
 @st.composite

@@ -30,7 +30,7 @@ import math
 from collections.abc import Iterable, Iterator
 from dataclasses import replace
 
-from .aids import _arc_record, _circle_circle, _cross, _left, _line_circle, _line_record, _unit
+from .aids import _arc_record, _circle_circle, _cross, _left, _line_circle, _line_record, _moved, _unit
 
 Point = tuple[float, float]
 
@@ -221,17 +221,10 @@ def _record(rec, a, o, start: Point | None, end: Point | None):
         if abs(sweep(ns, ne, c, ccw)) > abs(sweep(p, q, c, ccw)) + 1e-6:
             raise CompensationError(rec, "this arc is too short for the tool radius: its compensated path "
                                     "would turn the wrong way (a step in the profile)")
-    changes = {}
-    if start is not None:
-        changes["start"] = {**rec.start, a: start[0], o: start[1]}
-    if end is not None:
-        da, do = end[0] - rec.end[a], end[1] - rec.end[o]
-        changes["end"] = {**rec.end, a: end[0], o: end[1]}
-        changes["end_part"] = {**rec.end_part, a: rec.end_part[a] + da, o: rec.end_part[o] + do}
+    moved = _moved(rec, (a, o), start, end)
     if rec.kind == "arc" and end is not None:
-        c = (rec.center[a], rec.center[o])
-        changes["radius"] = math.dist(end, c)
-    return replace(rec, **changes)
+        moved = replace(moved, radius=math.dist(end, (rec.center[a], rec.center[o])))
+    return moved
 
 
 def _inserted(template, a, o, items, feed):
