@@ -126,6 +126,12 @@ CODES: dict[str, str] = {
     "INT098": "program ends without M02 or M30",
     "INT099": "global subroutine without M17/M29/#RET",
     "INT100": "position beyond a software limit",
+    "INT110": "invalid #HSC statement",
+    "INT111": "invalid #ROUNDPAR or #SLOPE statement",
+    "INT112": "invalid acceleration, jerk or feed-forward percentage",
+    "INT114": "G193 needs linear acceleration",
+    "INT115": "corner rounding type not modelled",
+    "PLN001": "motion cannot be planned within the machine limits",
     "CFG001": "invalid machine configuration",
 }
 

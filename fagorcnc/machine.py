@@ -78,6 +78,28 @@ class Limits:
 
 
 @dataclass
+class PlannerConfig:
+    """Channel parameters the planner uses (spec 07 §B.3, §B.12); ``[planner]`` in TOML."""
+
+    servo_period: float = 0.001     # s, sampling period of the trajectory
+    slope_type: int = 1             # SLOPETYPE: 0 linear (no jerk limit), 1 trapezoidal, 2 square sine (L19967)
+    round_type: int = 0             # ROUNDTYPE: 0 chordal error MAXROUND, 1 feed percentage ROUNDFEED (L20276)
+    max_round: float = 0.01         # mm, MAXROUND: G05 rounding error (L20276)
+    round_feed: float = 100.0       # %, ROUNDFEED (L20286)
+    hsc_default_mode: int = 1       # HSCDEFAULTMODE: 0 SURFACE, 1 CONTERROR, 2 FAST (L19804)
+    hsc_round: float = 0.01         # mm, HSCROUND: default HSC tolerance (L19784)
+    corner: float = 150.0           # degrees, CORNER: sharp-edge angle in HSC (L19668)
+    fast_factor: float = 100.0      # %, FASTFACTOR (L19688)
+    min_corner_feed: float = 0.0    # mm/min, MINCORFEED (L19723); informative
+    feed_override: float = 100.0    # %, feed override applied to G01/G02/G03 (0-200)
+    rapid_override: float = 100.0   # %, override of G00 (never above 100, L20355)
+    inposition_time: float = 0.0    # s, settle time after a G07/G60 stop (INPOSW wait)
+    max_path_acceleration: float = 0.0   # mm/s², MAXACCEL on the path; 0 = none (L20873)
+    max_path_jerk: float = 0.0           # mm/s³, MAXJERK on the path; 0 = none (L20883)
+    lookahead: int = 2000           # segments kept in the look-ahead window at most
+
+
+@dataclass
 class Machine:
     """A machine configuration.  Build with :func:`load_machine`."""
 
@@ -99,6 +121,7 @@ class Machine:
     oem_subroutines: dict[int, str] = field(default_factory=dict)  # G180.. -> file name
     m_functions: dict[int, str] = field(default_factory=dict)  # M table: number -> "before" | "after"
     limits: Limits = field(default_factory=Limits)
+    planner: PlannerConfig = field(default_factory=PlannerConfig)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -174,6 +197,9 @@ def _build(data: dict) -> Machine:
             raise MachineError(f"axes.{name}.type must be 'linear' or 'rotary'")
         if axis.rotary_mode not in ("linearlike", "normal", "unidirectional", "positioning"):
             raise MachineError(f"axes.{name}.rotary_mode: unknown mode {axis.rotary_mode!r}")
+        for key in ("max_velocity", "max_acceleration", "max_jerk"):
+            if not getattr(axis, key) > 0:
+                raise MachineError(f"axes.{name}.{key} must be positive, got {getattr(axis, key):g}")
         if axis.min_limit > axis.max_limit:
             raise MachineError(f"axes.{name}: min_limit is above max_limit")
         axes[str(name)] = axis
@@ -227,6 +253,7 @@ def _build(data: dict) -> Machine:
         return int(lo), int(hi)
 
     limits = Limits(**{k: int(v) for k, v in data.get("limits", {}).items()})
+    planner = _planner(data.get("planner", {}), data.get("servo_period"))
     return Machine(
         axes=axes,
         spindles=[str(s) for s in data.get("spindles", ["S"])],
@@ -239,14 +266,47 @@ def _build(data: dict) -> Machine:
         tools=tools,
         max_feed=_number("max_feed", data.get("max_feed", 0.0)),
         rapid_feed=_number("rapid_feed", data.get("rapid_feed", 0.0)),
-        servo_period=_number("servo_period", data.get("servo_period", 0.001)),
+        servo_period=planner.servo_period,
         cirinerr=_number("cirinerr", data.get("cirinerr", 0.01)),
         cirinfact=_number("cirinfact", data.get("cirinfact", 0.1)),
         subroutine_paths=[Path(p) for p in data.get("subroutine_paths", [])],
         oem_subroutines={int(k): str(v) for k, v in data.get("oem_subroutines", {}).items()},
         m_functions=_m_table(data.get("m_functions", {})),
         limits=limits,
+        planner=planner,
     )
+
+
+#: Allowed ranges of the [planner] keys: (low, high, integer?)
+_PLANNER_RANGES = {
+    "servo_period": (1e-5, 1.0, False), "slope_type": (0, 2, True), "round_type": (0, 1, True),
+    "max_round": (1e-6, 1000.0, False), "round_feed": (1e-3, 100.0, False), "hsc_default_mode": (0, 2, True),
+    "hsc_round": (0.0, 1000.0, False), "corner": (0.0, 180.0, False), "fast_factor": (0.01, 100.0, False),
+    "min_corner_feed": (0.0, 1e9, False), "feed_override": (0.0, 200.0, False), "rapid_override": (0.0, 100.0, False),
+    "inposition_time": (0.0, 60.0, False), "max_path_acceleration": (0.0, 1e12, False),
+    "max_path_jerk": (0.0, 1e15, False), "lookahead": (16, 1_000_000, True),
+}
+
+
+def _planner(table: Any, servo_period: Any) -> PlannerConfig:
+    if not isinstance(table, dict):
+        raise MachineError("planner: expected a table")
+    unknown = set(table) - set(_PLANNER_RANGES)
+    if unknown:
+        raise MachineError(f"planner: unknown key(s) {', '.join(sorted(unknown))}")
+    values = dict(table)
+    if servo_period is not None and "servo_period" not in values:
+        values["servo_period"] = servo_period   # older top-level key
+    out = {}
+    for key, value in values.items():
+        lo, hi, integer = _PLANNER_RANGES[key]
+        v = _number(f"planner.{key}", value)
+        if integer and v != int(v):
+            raise MachineError(f"planner.{key}: expected a whole number, got {value!r}")
+        if not lo <= v <= hi:
+            raise MachineError(f"planner.{key} = {value!r}: must be between {lo:g} and {hi:g}")
+        out[key] = int(v) if integer else v
+    return PlannerConfig(**out)
 
 
 def _m_table(table: dict) -> dict[int, str]:

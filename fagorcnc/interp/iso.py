@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
+from . import dynamics
 from .expressions import InterpError, whole
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
 from .records import Arc, Aux, Dwell, Line, Source
@@ -51,6 +52,7 @@ class BlockWords:
     call: tuple | None = None                        # (G number, modal, col, argument words)
     roles: list = field(default_factory=list)        # G20: (axis, type, col); an axis may repeat
     scale: tuple | None = None                       # G72 S<factor> (S after G72, L9010)
+    percent: tuple | None = None                     # G131/G133 <percent> (L4437)
 
 
 class IsoExecutor:
@@ -84,6 +86,8 @@ class IsoExecutor:
                 bw.g.append((n, col, eq))
             elif addr == "N":
                 st.last_n = ev.integer(w.value, "N", col)
+            elif addr == "" and bw.percent is None and any(n in (131, 133) for n, _c, _e in bw.g):
+                bw.percent = (ev.value(w.value), col)   # seed 002 L4437: G131 100 X50 Y80
             elif addr == "":
                 if "K" in bw.params or not any(n == 4 for n, _c, _e in bw.g):
                     raise InterpError("INT025", "a number without its letter is only allowed as the time "
@@ -215,16 +219,25 @@ class IsoExecutor:
             g = G_FUNCTIONS[n]
             if g.group is not None and g.group != "origin":
                 st.modes[g.group] = n
+                if g.group == "corner":
+                    st.hsc = None          # L13659: G05/G07/G50 cancel HSC
+                    st.dynamics_changed()
             elif g.reset == "block" and g.support == "recorded":
                 block_modes[f"G{n}"] = True
         if 130 in gs or 131 in gs or 132 in gs or 133 in gs or 134 in gs or 135 in gs:
-            self._percentages(gs, bw)
+            dynamics.percentages(self.interp, gs, bw.axes, bw.percent)
+            if 130 in gs or 132 in gs or 134 in gs or 135 in gs:
+                bw.axes.clear()   # their axis words are percentages, not targets (L4396)
         if 192 in gs:  # spindle speed limit for G96 (seed 002 L5368-L5405): "G192 S<rpm>"
             if not bw.speeds:
                 raise InterpError("INT027", "G192 needs the speed limit: G192 S<rpm>", gs[192][0])
             self.state.planner["G192"] = next(iter(bw.speeds.values()))[0]
             bw.speeds.clear()
         st.block_modes = block_modes
+        if 193 in gs and st.slope[0] != 0:
+            # seed 002 L4246-L4250: G193 needs linear acceleration (SLOPETYPE / #SLOPE type 0)
+            raise InterpError("INT114", "G193 (feed interpolated over the block) needs linear acceleration: "
+                              "#SLOPE [0] or SLOPETYPE 0 (L4246)", gs[193][0])
         if st.modes["plane"] != previous_plane:
             st.polar_origin = (0.0, 0.0)  # plane change -> polar origin at work zero (L2682)
             st.transform.angle = 0.0      # ... and cancels the rotation (L8946)
@@ -470,16 +483,6 @@ class IsoExecutor:
         st.g20_plane = (roles[1], roles[2], longitudinal)
         st.tool_direction = direction
 
-    def _percentages(self, gs: dict, bw: BlockWords) -> None:
-        planner = self.state.planner
-        for n in (130, 132, 134, 135):
-            if n in gs:
-                planner[f"G{n}"] = {a: v for a, (v, _c) in bw.axes.items()}
-                bw.axes.clear()
-        for n in (131, 133):
-            if n in gs:
-                planner[f"G{n}"] = gs[n][1]
-
     # ------------------------------------------------------------ F S T D M
     def _feed(self, value: float, col: int) -> None:
         st = self.state
@@ -586,7 +589,7 @@ class IsoExecutor:
             for axis in groups[order]:
                 end[axis] = self.machine.axes[axis].home
             st.machine_pos = dict(end)
-            yield Line("rapid", start, end, st.to_part(end), None, "G94", src)
+            yield Line("rapid", start, end, st.to_part(end), None, "G94", src, dyn=st.dynamics())
         if st.modes["motion"] in (2, 3):
             st.modes["motion"] = 1 if self.machine.default("IMOVE") else 0
 
@@ -639,10 +642,10 @@ class IsoExecutor:
             or st.tangent
         comp = self._compensation()
         if mode == 0:
-            return Line("rapid", start, end, end_part, None, "G94", src, comp)
+            return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics())
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
         return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
-                    comp)
+                    comp, st.dynamics())
 
     def _compensation(self) -> tuple | None:
         """Radius compensation of a move: (side, R, G136/G137, G138/G139, plane) or None (seed 002 L9427).
@@ -815,7 +818,7 @@ class IsoExecutor:
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
         return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
                    (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src,
-                   self._compensation())
+                   self._compensation(), st.dynamics())
 
     def _radius_check(self, s, e, c, col: int):
         """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""
@@ -882,8 +885,9 @@ class IsoExecutor:
         mode = st.modes["motion"]
         end_part = st.to_part(end)
         if mode == 0:
-            return Line("rapid", start, end, end_part, None, "G94", src)
+            return Line("rapid", start, end, end_part, None, "G94", src, dyn=st.dynamics())
         if mode != 1:
             raise InterpError("INT063", "#MCS moves are G00 or G01", 1)
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
-        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src)
+        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
+                    dyn=st.dynamics())

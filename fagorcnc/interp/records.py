@@ -38,6 +38,7 @@ class Line:
     feed_mode: str
     src: Source
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
+    dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
 
     @property
     def line(self) -> int:
@@ -77,6 +78,7 @@ class Arc:
     feed_mode: str
     src: Source
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
+    dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
 
     @property
     def line(self) -> int:

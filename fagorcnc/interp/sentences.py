@@ -4,8 +4,8 @@ Three kinds:
 
 * executed here: #ERROR, #WARNING, #WARNINGSTOP, #MSG, #TIME, #MCS ON/OFF,
   #PATH, #RET, #RETDSBLK, #MDOFF, #DELETE, #FLUSH;
-* recorded for the later stages (planner, path): #HSC, #ROUNDPAR, #SLOPE,
-  #TANGFEED, #ESBLK/#DSBLK, #SWTOUT, #SPLINE ... kept in ``state.planner``;
+* planning context (interp/dynamics.py): #HSC, #ROUNDPAR, #SLOPE;
+* recorded for the later stages: #TANGFEED, #ESBLK/#DSBLK, #SWTOUT, #SPLINE ... kept in ``state.planner``;
 * everything else cannot mean anything in an offline run of one channel
   (hardware, PLC, other channels) or is a transformation fagorcnc does not
   compute yet: each is reported with a warning naming it, never dropped
@@ -15,11 +15,12 @@ Three kinds:
 from __future__ import annotations
 
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
+from . import dynamics
 from .expressions import InterpError
 from .records import Dwell
 
 #: Sentences kept as state for the planner / path stages.
-RECORDED = frozenset({"HSC", "ROUNDPAR", "SLOPE", "TANGFEED", "ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "SPLINE",
+RECORDED = frozenset({"TANGFEED", "ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "SPLINE",
                       "ASPLINE", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD", "CD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics).
 NOT_YET = frozenset({"TOOL", "KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
@@ -145,6 +146,15 @@ def execute_sentence(interp, node, src):
         if type(item) is not Direction or item.name not in st.axes:
             raise InterpError("INT071", "#TOOL AX needs one axis and its direction: #TOOL AX [Z+]", node.col)
         st.tool_axis = (item.name, 1 if item.sign == "+" else -1)
+        return
+    if kw == "HSC":
+        dynamics.hsc_statement(interp, node, sub)
+        return
+    if kw == "ROUNDPAR":
+        dynamics.roundpar_statement(interp, node)
+        return
+    if kw == "SLOPE":
+        dynamics.slope_statement(interp, node)
         return
     if kw == "FLUSH":
         return  # preparation and execution are one offline (seed 002 L16998)

@@ -16,6 +16,7 @@ import copy
 
 from ..machine import Machine
 from ..path.transform import Transform
+from .dynamics import Dynamics, build, default_roundpar
 from .gtable import power_on_modes
 
 
@@ -58,7 +59,14 @@ class ChannelState:
         self.lower_limits: dict[str, float] = {a: ax.min_limit for a, ax in machine.axes.items()}
         self.upper_limits: dict[str, float] = {a: ax.max_limit for a, ax in machine.axes.items()}
         self.block_modes: dict[str, object] = {}  # G108/G109/G193/G60/G61/G266 of the last block
-        self.planner: dict[str, object] = {}      # #HSC, #ROUNDPAR, #SLOPE, G130-G135 ... for the planner
+        self.planner: dict[str, object] = {}      # recorded sentences and G134/G135 for later stages
+        # planning context (see interp/dynamics.py)
+        self.hsc = None                          # Hsc of an active #HSC ON
+        self.roundpar: tuple = default_roundpar(machine)
+        self.slope: tuple = (machine.planner.slope_type, 0, 0, 0)
+        self.acceleration: dict[str, float] = {}   # G130/G131 percentages not at 100
+        self.jerk: dict[str, float] = {}           # G132/G133
+        self._dynamics: Dynamics | None = None
         self.path: str | None = None           # #PATH directory
         self.user_vars: dict[str, float] = {}  # V.P.* and V.S.*
         self.mcs_on = False                    # #MCS ON
@@ -71,6 +79,20 @@ class ChannelState:
         self.feed_override = 100.0             # V.G.PRGFRO (0 = none set by the program)
         self.programmed_override = 0.0
         self.call_letters: list[frozenset] = [frozenset()]  # V.C.PCALLP_x per call level
+
+    # ------------------------------------------------------------ planning context
+    def dynamics_changed(self) -> None:
+        """Something the planner depends on changed: rebuild :meth:`dynamics` on next use."""
+        self._dynamics = None
+
+    def dynamics(self) -> Dynamics:
+        """The planning context of a motion in the current block (shared while unchanged)."""
+        if self.block_modes:
+            return build(self, self.block_modes)
+        d = self._dynamics
+        if d is None:
+            d = self._dynamics = build(self, {})
+        return d
 
     # ------------------------------------------------------------ coordinates
     def chain(self, axis: str) -> float:
@@ -164,6 +186,12 @@ class ChannelState:
         self.tool_axis = None
         self.aid_size = None
         self.planner = {}
+        self.hsc = None               # L13665: HSC is cancelled by M02/M30 and reset
+        self.roundpar = default_roundpar(self.machine)
+        self.slope = (self.machine.planner.slope_type, 0, 0, 0)
+        self.acceleration = {}        # L4447, L4495: 100 % after reset
+        self.jerk = {}
+        self._dynamics = None
         self.path = None
         self.mcs_on = False
         if self.machine.default("SPDLSTOP"):
