@@ -3,13 +3,13 @@
 The result is the public API of ``../shared/guide/architecture.md``: ``ok``,
 ``diagnostics``, ``moves`` (motion records in machine coordinates with the
 part-coordinate end point), ``state`` (final positions, parameters, variables,
-modal functions, active origin) and ``cycle_time``.  Until the planner exists
-the cycle time is the feed-rate estimate: each move's length at its feed
-(rapids at the axes' rapid speed), plus dwells; no acceleration.
+modal functions, active origin) and ``cycle_time`` from the jerk-limited
+planner; ``trajectory()`` samples the planned motion.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -18,6 +18,7 @@ from .interp.interpreter import Interpreter
 from .interp.records import record_time
 from .interp.state import ChannelState
 from .machine import Machine, MachineError, load_machine
+from .plan import Planner, PlanningError, Segment, Trajectory, sample
 from .syntax import parse_file, parse_text
 from .syntax.ast import Program
 
@@ -91,10 +92,23 @@ class Result:
     cycle_time: float
     program: Program | None
     ended_by: str | None = None
+    machine: Machine | None = None
 
     @property
     def errors(self) -> list[Diagnostic]:
         return [d for d in self.diagnostics if d.is_error]
+
+    def segments(self, *, jerk: bool = True, keep_profiles: bool = True) -> Iterator[Segment]:
+        """The planned motion as timed :class:`~fagorcnc.plan.Segment` objects."""
+        return Planner(self.machine, jerk=jerk, keep_profiles=keep_profiles).segments(self.moves)
+
+    def trajectory(self, period: float | None = None) -> Trajectory:
+        """The planned motion sampled every ``period`` seconds (default: the machine's
+        servo period): ``.t`` and per-axis ``.position``/``.velocity``/``.acceleration``/
+        ``.jerk`` arrays in machine coordinates."""
+        mach = self.machine or load_machine(None)
+        start = self.moves[0].start if self.moves else None
+        return sample(self.segments(), mach.axis_names, period or mach.planner.servo_period, start)
 
 
 def estimate_time(machine: Machine, moves: list) -> float:
@@ -123,9 +137,17 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
         program = parse_text(str(source))
     interp = Interpreter(program, mach, block_skip=block_skip)
     moves = list(interp.run())
-    diagnostics = sorted([*program.diagnostics, *interp.diagnostics], key=lambda d: (d.file, d.line, d.col))
+    diagnostics = [*program.diagnostics, *interp.diagnostics]
+    cycle_time = 0.0
+    try:
+        for seg in Planner(mach).segments(moves):
+            cycle_time += seg.duration
+    except PlanningError as exc:
+        file = exc.record.src.file if exc.record is not None else program.file
+        diagnostics.append(Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc)))
+    diagnostics.sort(key=lambda d: (d.file, d.line, d.col))
     ok = not any(d.is_error for d in diagnostics)
-    return Result(ok, diagnostics, moves, FinalState(interp), interp.cycle_time, program, interp.ended)
+    return Result(ok, diagnostics, moves, FinalState(interp), cycle_time, program, interp.ended, mach)
 
 
 class Run:

@@ -116,11 +116,19 @@ def test_circle_per_revolution_time() -> None:
     assert 20 * per_rev < t20 < 21 * per_rev
 
 
-def test_circle_converges_with_grid() -> None:
+def test_coarse_grid_does_not_overestimate() -> None:
+    # Peaks between grid points are integrated bang-bang, so a line is exact on any grid: 1 mm triangle on a
+    # 0.3 mm grid = 2 sqrt(1/1000) = 0.0632456 s, 3 mm trapezoid on 0.35 mm = 3/50 + 50/1000 = 0.11 s.
+    for length, h, expected in ((1.0, 0.3, 0.0632455532), (3.0, 0.35, 0.11)):
+        s = np.r_[np.arange(0.0, length, h), length]
+        dq = np.tile([1.0, 0.0], (s.size, 1))
+        t = lb.topp_time(s[:, None] * dq, dq, np.zeros_like(dq), s, np.full(2, 50.0), np.full(2, 1000.0))
+        assert t == pytest.approx(expected, rel=1e-6)
+    # A curve converges from below: a 0.5 mm grid on an R = 10 mm circle is within 0.1 % of a 0.01 mm one.
     radius, vmax, amax = 10.0, np.full(2, 1e4), np.full(2, 1000.0)
     coarse = lb.topp_time(*_circle(radius, 1, 0.5), vmax, amax)
     fine = lb.topp_time(*_circle(radius, 1, 0.01), vmax, amax)
-    assert coarse == pytest.approx(fine, rel=5e-3)
+    assert fine * (1 - 1e-3) < coarse <= fine
 
 
 def test_profile_respects_the_constraints() -> None:
@@ -176,7 +184,11 @@ def test_matches_toppra_on_a_spline() -> None:
         solver_wrapper="seidel",
     )
     sd = instance.compute_parameterization(0, 0)[1]
-    reference = float(np.sum(2 * np.diff(grid) / (sd[:-1] + sd[1:])))
-    ours = lb.topp_time(path(grid), path(grid, 1), path(grid, 2), grid, vmax, amax)
-    # Same discrete problem, so agreement is ~1e-9 in practice; assert 0.1 % (tighter than the 2 % asked for).
-    assert ours == pytest.approx(reference, rel=1e-3)
+    reference = float(np.sum(2 * np.diff(grid) / (sd[:-1] + sd[1:])))  # constant u per interval
+    args = (path(grid), path(grid, 1), path(grid, 2), grid, vmax, amax)
+    # Same discrete problem, so the speed profiles agree to rounding (~1e-9 in practice).
+    np.testing.assert_allclose(np.sqrt(lb.topp_profile(*args)), sd, rtol=1e-6, atol=1e-6 * sd.max())
+    # Our time integrates between-grid peaks bang-bang, so it is slightly lower (~3e-4 on this grid); the
+    # brief asked for 2 %, we assert 0.1 %.
+    ours = lb.topp_time(*args)
+    assert reference * (1 - 1e-3) < ours <= reference * (1 + 1e-9)

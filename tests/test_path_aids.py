@@ -7,6 +7,7 @@ import math
 import pytest
 
 import fagorcnc
+from fagorcnc.simulate import estimate_time
 
 A = pytest.approx
 
@@ -31,7 +32,7 @@ def test_g36_rounds_a_line_line_corner():
     assert fillet.sweep == A(90.0)
     assert l2.start == A({"X": 50.0, "Y": 10.0, "Z": 0.0}) and l2.end == A({"X": 50.0, "Y": 50.0, "Z": 0.0})
     # the path is shorter by 2*10 - the quarter circle: 100 - 20 + 5*pi at F100 -> 60 s per 100 mm
-    assert r.cycle_time == A((80 + 5 * math.pi) / 100 * 60)
+    assert estimate_time(r.machine, r.moves) == A((80 + 5 * math.pi) / 100 * 60)
 
 
 def test_g36_rounds_a_line_arc_corner():

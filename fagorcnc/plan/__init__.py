@@ -1,0 +1,6 @@
+"""Planning: motion records -> jerk-limited timed segments -> sampled trajectory."""
+
+from .planner import Planner, PlanningError, Segment, plan
+from .trajectory import Trajectory, sample
+
+__all__ = ["Planner", "PlanningError", "Segment", "Trajectory", "plan", "sample"]

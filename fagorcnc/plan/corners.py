@@ -1,0 +1,159 @@
+"""What happens where two pieces meet: stop, run through, or blend (seed 002 ch. 9, ch. 18).
+
+* G07/G60 (square corner, WAITINPOS) and G50 (semi-rounded, NULL): the
+  commanded motion reaches every block end at zero speed (seed 002 L7991-L8070,
+  link types L16730-L16751); G07 then waits the in-position time.
+* G05/G61 (controlled rounding, PRESENT): every junction that is not already
+  tangent- and curvature-continuous is replaced by a curve (not an arc,
+  L8096) whose size follows #ROUNDPAR: type 1 the smallest curve that keeps
+  F within the deviation e, type 2 the one that can be run at f % of F, type 3
+  the given distances, type 4 the deviation e (F lowered as needed); each
+  distance at most half of its block (L8133).
+* HSC (all modes): corners whose included angle is below CORNER are sharp
+  (stop, L13537); the others are blended within the tolerance, so the path
+  never leaves the programmed one by more than E.
+
+A blend is a quintic Bézier with the tangent *and curvature* of both pieces
+at its ends, so the axes' accelerations stay continuous through it.
+Rapid moves always stop at their ends.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .geometry import BlendPiece, LinePiece, Piece
+from .limits import CENTRIPETAL, CURVE_JERK
+
+#: Control-point spacing of a blend as a fraction of its length on each side.
+SHAPE = 0.375
+#: Tangent / curvature differences below these run through without a blend.
+TANGENT_EPS = 1e-10
+CURVATURE_EPS = 1e-10
+
+
+def smooth(t0: np.ndarray, k0: np.ndarray, t1: np.ndarray, k1: np.ndarray) -> bool:
+    """True when the path is tangent- and curvature-continuous at the junction."""
+    return float(np.linalg.norm(t1 - t0)) <= TANGENT_EPS and float(np.linalg.norm(k1 - k0)) <= CURVATURE_EPS
+
+
+def included_angle(t0: np.ndarray, t1: np.ndarray) -> float:
+    """Angle between the incoming and outgoing paths at a corner, degrees: 180 straight on."""
+    c = max(-1.0, min(1.0, float(np.dot(t0, t1))))
+    return 180.0 - math.degrees(math.acos(c))
+
+
+def _blend(p: Piece, q: Piece, d1: float, d2: float) -> BlendPiece:
+    p0, t0, k0 = p.frame(p.length - d1)
+    p5, t5, k5 = q.frame(d2)
+    return BlendPiece(p0, t0, k0, SHAPE * d1, p5, t5, k5, SHAPE * d2)
+
+
+def _replaced(piece: Piece, s0: float, s1: float) -> np.ndarray:
+    """Points of the programmed path between s0 and s1 (its two ends for a line)."""
+    if isinstance(piece, LinePiece):
+        return piece.start + np.outer([s0, s1], piece.u)
+    return piece.derivatives(np.linspace(s0, s1, 17))[0]
+
+
+def _deviation(blend: BlendPiece, p: Piece, q: Piece, d1: float, d2: float, corner: bool) -> float:
+    """Largest distance from the blend to the stretch of programmed path it replaces
+    (HSC), or with ``corner`` the distance from the programmed corner point to the
+    curve (#ROUNDPAR e, L8124)."""
+    pts = blend.points(33)
+    if corner:
+        return float(np.sqrt(((pts - p.end) ** 2).sum(axis=1)).min())
+    ref = np.concatenate([_replaced(p, p.length - d1, p.length), _replaced(q, 0.0, d2)[1:]])
+    a, b = ref[:-1], ref[1:]
+    ab = b - a
+    den = np.maximum((ab * ab).sum(axis=1), 1e-300)
+    rel = pts[:, None, :] - a[None, :, :]
+    t = np.clip((rel * ab[None]).sum(axis=2) / den[None], 0.0, 1.0)
+    gap = rel - t[..., None] * ab[None]
+    return float(np.sqrt((gap * gap).sum(axis=2).min(axis=1).max()))
+
+
+def _dynamic_scale(blend: BlendPiece, speed: float, acc: float, jerk: float) -> float:
+    """Factor by which the blend must grow so that ``speed`` fits its curvature limits."""
+    k = float(np.linalg.norm(blend.d2))
+    dk = float(np.linalg.norm(blend.d3))
+    need = k * speed * speed / (CENTRIPETAL * acc)
+    if jerk != math.inf:
+        need = max(need, math.sqrt(dk * speed ** 3 / (CURVE_JERK * jerk)))
+    return need
+
+
+def _line_corner(p: LinePiece, q: LinePiece, lim_p: float, lim_q: float, tolerance, speed, acc, jerk,
+                 corner: bool) -> tuple[BlendPiece, float, float] | None:
+    """Two lines: the symmetric blend is one shape scaled by its size, so its
+    curvature (1/size), curvature derivative (1/size²) and deviation (size)
+    follow from one unit curve.  None when the size needs the asymmetric case."""
+    vertex = p.end
+    unit = BlendPiece(vertex - p.u, p.u, _ZERO[:len(vertex)], SHAPE, vertex + q.u, q.u, _ZERO[:len(vertex)], SHAPE)
+    size = min(lim_p, lim_q)
+    if speed is not None:
+        need = _dynamic_scale(unit, speed, acc, jerk) * 1.02
+        size = min(size, max(need, 1e-9))
+    if tolerance is not None:
+        pts = unit.points(33)
+        if corner:
+            dev = float(np.sqrt(((pts - vertex) ** 2).sum(axis=1)).min())
+        else:   # distance to the two lines (the blend stays within the corner's angle)
+            rel = pts - vertex
+            a = rel - np.outer(np.clip(rel @ p.u, None, 0.0), p.u)
+            b = rel - np.outer(np.clip(rel @ q.u, 0.0, None), q.u)
+            dev = float(np.sqrt(np.minimum((a * a).sum(axis=1), (b * b).sum(axis=1))).max())
+        if dev > 0:
+            size = min(size, 0.95 * tolerance / dev)
+    if not size > 1e-9:
+        return None
+    unit.length   # noqa: B018 - the arc-length table, computed once and scaled
+    return unit.scaled(size, vertex), size, size
+
+
+_ZERO = np.zeros(16)
+
+
+def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: float | None,
+               speed: float | None, acc: float, jerk: float,
+               distances: tuple[float, float] | None = None,
+               corner: bool = False) -> tuple[BlendPiece, float, float] | None:
+    """The corner curve between ``p`` (incoming) and ``q`` (outgoing) and the lengths
+    ``d1``, ``d2`` it takes from their end and start, or None when none fits.
+
+    ``tolerance``: the largest deviation allowed; ``speed``: the speed the
+    curve should allow (None: as large as the tolerance allows);
+    ``distances``: fixed (a, b) of #ROUNDPAR type 3.  ``half_p``/``half_q``:
+    the most each piece may give up (half of its programmed block).
+    """
+    lim_p, lim_q = min(half_p, p.length), min(half_q, q.length)
+    if lim_p <= 1e-9 or lim_q <= 1e-9:
+        return None
+    if distances is not None:
+        d1, d2 = min(distances[0], lim_p), min(distances[1], lim_q)
+        return _blend(p, q, d1, d2), d1, d2
+    if isinstance(p, LinePiece) and isinstance(q, LinePiece):
+        made = _line_corner(p, q, lim_p, lim_q, tolerance, speed, acc, jerk, corner)
+        if made is not None:
+            return made
+    size = max(lim_p, lim_q)
+    if speed is not None:
+        size = min(lim_p, lim_q)
+        for _ in range(2):   # the curvature scales as 1/size, its derivative as 1/size²
+            trial = _blend(p, q, min(size, lim_p), min(size, lim_q))
+            size *= max(_dynamic_scale(trial, speed, acc, jerk), 1e-3) * 1.02
+            if size >= max(lim_p, lim_q):
+                size = max(lim_p, lim_q)
+                break
+    for _ in range(12):
+        d1, d2 = min(size, lim_p), min(size, lim_q)
+        blend = _blend(p, q, d1, d2)
+        if tolerance is None:
+            return blend, d1, d2
+        dev = _deviation(blend, p, q, d1, d2, corner)
+        if dev <= 0.95 * tolerance:
+            return blend, d1, d2
+        size *= max(0.1, 0.9 * tolerance / dev)
+    return None

@@ -1,0 +1,97 @@
+"""Look-ahead: junction speeds over a window of spans.
+
+Each span starts and ends with zero path acceleration; between two speeds
+``v0`` and ``v1`` it needs at least the distance of a jerk-limited S-curve
+
+    T(dv) = dv/A + A/J      if dv >= A²/J   (the acceleration reaches A)
+          = 2 sqrt(dv/J)    otherwise
+    D     = (v0 + v1) / 2 * T(|v1 - v0|)     (the speed curve is point-symmetric)
+
+The backward pass starts from a stop at the end of the window (so the tool can
+always stop within what it has seen), the forward pass from the committed
+speed; both use the closed-form inverses below (checked against ruckig in the
+tests), not a solver per segment.
+"""
+
+from __future__ import annotations
+
+import math
+
+#: Relative margin on the reachable speed change so that ruckig always finds the profile.
+MARGIN = 1e-7
+
+
+def distance(v0: float, v1: float, acc: float, jerk: float) -> float:
+    """Shortest distance to go from speed v0 to v1 (zero acceleration at both ends)."""
+    dv = abs(v1 - v0)
+    if dv == 0.0:
+        return 0.0
+    if jerk == math.inf or dv >= acc * acc / jerk:
+        t = dv / acc + (0.0 if jerk == math.inf else acc / jerk)
+    else:
+        t = 2.0 * math.sqrt(dv / jerk)
+    return 0.5 * (v0 + v1) * t
+
+
+def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
+    """Highest speed reachable from v0 (or from which v0 is reachable) within ``length``."""
+    if length <= 0.0:
+        return v0
+    if jerk == math.inf:
+        dv = 2.0 * length * acc / (v0 + math.sqrt(v0 * v0 + 2.0 * length * acc))
+        return v0 + dv * (1.0 - MARGIN)
+    dc = acc * acc / jerk
+    if length >= (2.0 * v0 + dc) * acc / jerk:
+        # (2 v0 + dv)(dv/A + A/J) = 2 L  ->  dv² + dv (A²/J + 2 v0) + 2 v0 A²/J - 2 L A = 0
+        b = dc + 2.0 * v0
+        c = 2.0 * v0 * dc - 2.0 * length * acc
+        dv = 0.5 * (-b + math.sqrt(b * b - 4.0 * c))
+    else:
+        # (2 v0 + x²) x = L sqrt(J) with x = sqrt(dv): Newton from an upper bound
+        rhs = length * math.sqrt(jerk)
+        x = min(rhs ** (1.0 / 3.0), rhs / (2.0 * v0) if v0 > 0 else math.inf)
+        for _ in range(40):
+            f = x ** 3 + 2.0 * v0 * x - rhs
+            step = f / (3.0 * x * x + 2.0 * v0)
+            x -= step
+            if abs(step) <= 1e-15 * max(x, 1e-300):
+                break
+        dv = x * x
+    return v0 + dv * (1.0 - MARGIN)
+
+
+def backward(spans, end_speed: float) -> list[float]:
+    """Highest start speed of each span so that every later limit (and ``end_speed``) holds.
+
+    ``spans[i].vc`` caps the span; the junction between i and i+1 is also capped
+    by both sides and by a stop (``stop_after``).
+    """
+    n = len(spans)
+    start = [0.0] * n
+    v = end_speed
+    for i in range(n - 1, -1, -1):
+        s = spans[i]
+        if s.stop_after:
+            v = 0.0
+        v = min(v, s.vc)
+        v = min(s.vc, reachable(v, s.length, s.acc, s.jerk))
+        if i > 0:
+            v = min(v, spans[i - 1].vc)
+        start[i] = v
+    return start
+
+
+def forward(spans, v_start: float, start_limit: list[float], end_speed: float) -> list[float]:
+    """Junction speeds: ``out[i]`` is the speed at the start of span i, ``out[n]`` at the end."""
+    n = len(spans)
+    out = [0.0] * (n + 1)
+    v = min(v_start, start_limit[0]) if n else v_start
+    out[0] = v
+    for i in range(n):
+        s = spans[i]
+        nxt = start_limit[i + 1] if i + 1 < n else end_speed
+        if s.stop_after:
+            nxt = 0.0
+        v = min(nxt, reachable(v, s.length, s.acc, s.jerk), s.vc)
+        out[i + 1] = v
+    return out

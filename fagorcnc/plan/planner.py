@@ -1,0 +1,299 @@
+"""The planner: motion records in, timed segments out (streaming).
+
+    records -> spans (pieces + limits) -> corners (stop / run through / blend)
+            -> look-ahead (junction speeds) -> ruckig profiles -> Segment stream
+
+Synchronisation points stop the motion: dwells and the auxiliary functions
+that wait for the PLC (M, S, T; seed 002 L5020-L5029).  H functions are sent
+without waiting (L5088) and D only selects an offset: they do not stop it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..machine import Machine, load_machine
+from .corners import included_angle, make_blend, smooth
+from .geometry import ArcPiece, LinePiece, Piece
+from .limits import AxisLimits
+from .lookahead import backward, reachable
+from .profile import Profile, ProfileError, Solver
+from .span import Event, Span
+
+#: Auxiliary functions that do not stop the motion.
+NO_SYNC = frozenset({"H", "D"})
+#: Pieces shorter than this (mm) are dropped: nothing moves.
+MIN_LENGTH = 1e-9
+
+
+@dataclass(slots=True)
+class Segment:
+    """A timed part of the motion.
+
+    ``kind`` is ``"motion"``, ``"dwell"`` or ``"aux"``; ``t0`` its start time (s)
+    and ``duration``; ``v0``/``v1`` the path speeds (mm/s) at its ends; ``piece``
+    the geometry (machine coordinates), ``profile`` the motion along it when the
+    planner was asked to keep profiles; ``record`` the motion record it comes
+    from (for a corner blend: the block whose end it rounds); ``blend`` is True
+    for a curve the planner inserted (G05/HSC).
+    """
+
+    kind: str
+    t0: float
+    duration: float
+    line: int
+    record: object
+    piece: Piece | None = None
+    v0: float = 0.0
+    v1: float = 0.0
+    profile: Profile | None = None
+    blend: bool = False
+
+
+class PlanningError(RuntimeError):
+    """Raised when a span cannot be planned; carries the source line."""
+
+    def __init__(self, message: str, line: int, record=None) -> None:
+        super().__init__(message)
+        self.line = line
+        self.record = record
+
+
+class Planner:
+    """Jerk-limited look-ahead planner for one channel.
+
+    ``jerk=False`` plans with unlimited jerk (trapezoidal speed, used to
+    compare against time-optimal bounds); ``keep_profiles`` keeps each
+    segment's profile for sampling.
+    """
+
+    def __init__(self, machine: Machine | dict | str | None = None, *, jerk: bool = True,
+                 keep_profiles: bool = False) -> None:
+        self.machine = m = load_machine(machine)
+        self.axes = m.axis_names
+        self.index = {a: i for i, a in enumerate(self.axes)}
+        self.jerk = jerk
+        self.keep = keep_profiles
+        self.config = m.planner
+        self.window = max(16, m.planner.lookahead)
+        self._limits: dict = {}
+        self.solver = Solver()
+
+    # ------------------------------------------------------------ records -> spans
+    def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
+        key = (dyn, rapid)
+        lim = self._limits.get(key)
+        if lim is None:
+            axes = self.machine.axes
+            linear_slope = dyn is not None and dyn.slope[0] == 0
+            vel, acc, jerk = [], [], []
+            for a in self.axes:
+                ax = axes[a]
+                v = ax.max_velocity if rapid or ax.max_feed <= 0 else min(ax.max_feed, ax.max_velocity)
+                vel.append(v / 60.0)
+                fa = dyn.acceleration_factor(a, rapid) if dyn is not None else 1.0
+                fj = dyn.jerk_factor(a, rapid) if dyn is not None else 1.0
+                acc.append(ax.max_acceleration * fa)
+                jerk.append(math.inf if (not self.jerk or linear_slope) else ax.max_jerk * fj)
+            lim = self._limits[key] = AxisLimits(tuple(vel), tuple(acc), tuple(jerk))
+        return lim
+
+    def _vector(self, pos: dict) -> np.ndarray:
+        return np.array([pos.get(a, 0.0) for a in self.axes], dtype=float)
+
+    def _span(self, rec) -> Span | None:
+        start, end = self._vector(rec.start), self._vector(rec.end)
+        if rec.kind == "arc":
+            a, o = rec.plane[0], rec.plane[1]
+            piece: Piece = ArcPiece(start, end, self.index[a], self.index[o], (rec.center[a], rec.center[o]),
+                                    math.radians(rec.sweep))
+        else:
+            piece = LinePiece(start, end)
+        if not piece.length > MIN_LENGTH:
+            return None
+        cfg = self.config
+        dyn = rec.dyn
+        rapid = rec.kind == "rapid"
+        if rapid:
+            feed = self.machine.rapid_feed / 60.0 if self.machine.rapid_feed > 0 else math.inf
+            feed *= min(cfg.rapid_override, 100.0) / 100.0 if cfg.rapid_override > 0 else 1.0
+        else:
+            feed = rec.feed / 60.0 if rec.feed else math.inf
+            if not (dyn is not None and dyn.override_locked):
+                feed *= cfg.feed_override / 100.0
+        if feed <= 0:
+            raise PlanningError("the feed override is 0 %: nothing moves", rec.src.line, rec)
+        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn,
+                    cfg.max_path_acceleration, cfg.max_path_jerk)
+
+    def _spans(self, records: Iterable) -> Iterator[Span | Event]:
+        for rec in records:
+            kind = rec.kind
+            if kind in ("linear", "rapid", "arc"):
+                span = self._span(rec)
+                if span is not None:
+                    yield span
+            elif kind == "dwell":
+                yield Event(rec, rec.seconds)
+            elif kind == "aux":
+                yield Event(rec, 0.0)
+
+    # ------------------------------------------------------------ corners
+    def _junction(self, prev: Span, nxt: Span) -> Span | None:
+        """Decide the junction prev -> nxt: sets ``prev.stop_after`` or returns a blend span."""
+        dyn = prev.dyn
+        corner = dyn.corner if dyn is not None else "G50"
+        if prev.rapid or nxt.rapid or corner in ("G07", "G50"):
+            prev.stop_after = True
+            return None
+        p, q = prev.piece, nxt.piece
+        _, t0, k0 = p.frame(p.length)
+        _, t1, k1 = q.frame(0.0)
+        if smooth(t0, k0, t1, k1):
+            return None
+        feed = min(prev.feed, nxt.feed)
+        tolerance: float | None = None
+        speed: float | None = feed
+        distances = None
+        corner_measure = False
+        if corner == "HSC":
+            hsc = dyn.hsc
+            if included_angle(t0, t1) < hsc.corner:   # L13537: sharp edge
+                prev.stop_after = True
+                return None
+            tolerance = hsc.tolerance
+            if hsc.mode == "FAST":
+                feed *= hsc.fast / 100.0
+                speed = feed
+        else:   # G05 / G61 with #ROUNDPAR
+            kind, *params = dyn.roundpar
+            corner_measure = True
+            if kind == 5:
+                prev.stop_after = True   # not modelled (INT115 was reported): a sharp corner
+                return None
+            if kind == 1:
+                tolerance = params[0]
+            elif kind == 2:
+                feed *= params[0] / 100.0
+                speed = feed
+            elif kind == 3:
+                distances, speed = (params[0], params[1]), None
+            elif kind == 4:
+                tolerance, speed = params[0], None
+        lim = prev.lim
+        acc = min(min(lim.acceleration), min(nxt.lim.acceleration))
+        jerk = min(min(lim.jerk), min(nxt.lim.jerk))
+        made = make_blend(p, q, prev.orig_length / 2.0, nxt.orig_length / 2.0, tolerance=tolerance,
+                          speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure)
+        if made is None:
+            prev.stop_after = True
+            return None
+        blend, d1, d2 = made
+        prev.piece = p.sub(0.0, p.length - d1) if p.length - d1 > MIN_LENGTH else None
+        nxt.piece = q.sub(d2, q.length)
+        nxt.refresh()
+        if prev.piece is not None:
+            prev.refresh()
+        return Span(blend, prev.record, feed, prev.lim, False, dyn, prev.path_acc, prev.path_jerk, blend=True)
+
+    def _corners(self, items: Iterable[Span | Event]) -> Iterator[Span | Event]:
+        prev: Span | None = None
+        pending: list[Event] = []        # events that do not stop the motion, after prev
+        settle = self.config.inposition_time
+        for item in items:
+            if isinstance(item, Event):
+                if item.kind == "aux" and item.record.function in NO_SYNC and prev is not None:
+                    pending.append(item)
+                    continue
+                if prev is not None:
+                    prev.stop_after = True
+                    yield from self._emit(prev, pending, settle)
+                    prev, pending = None, []
+                yield item
+                continue
+            if prev is not None:
+                blend = self._junction(prev, item)
+                if blend is not None:
+                    if prev.piece is not None:
+                        yield prev
+                    yield from pending
+                    pending = []
+                    yield blend
+                else:
+                    yield from self._emit(prev, pending, settle)
+                    pending = []
+            prev = item
+        if prev is not None:
+            prev.stop_after = True
+            yield from self._emit(prev, pending, settle)
+
+    @staticmethod
+    def _emit(span: Span, pending: list, settle: float) -> Iterator[Span | Event]:
+        if span.piece is not None:
+            yield span
+        yield from pending
+        if span.stop_after and settle > 0 and span.dyn is not None and span.dyn.corner == "G07":
+            yield Event(None, settle)   # in-position wait after a square corner (INPOSW)
+
+    # ------------------------------------------------------------ look-ahead and timing
+    def segments(self, records: Iterable) -> Iterator[Segment]:
+        """Plan ``records`` (motion records in execution order); yields timed segments."""
+        queue: list[Span] = []
+        after: dict[int, list[Event]] = {}   # events that follow queue[i] without a stop
+        clock = [0.0]
+        v = 0.0
+        for item in self._corners(self._spans(records)):
+            if isinstance(item, Event):
+                if queue and not queue[-1].stop_after:
+                    after.setdefault(id(queue[-1]), []).append(item)
+                    continue
+                v = yield from self._commit(queue, len(queue), v, clock, after)
+                yield Segment(item.kind, clock[0], item.duration, item.line, item.record)
+                clock[0] += item.duration
+                continue
+            queue.append(item)
+            if item.stop_after:
+                v = yield from self._commit(queue, len(queue), v, clock, after)
+            elif len(queue) >= self.window:
+                v = yield from self._commit(queue, self.window // 2, v, clock, after)
+        yield from self._commit(queue, len(queue), v, clock, after)
+
+    def _commit(self, queue: list[Span], k: int, v: float, clock: list, after: dict) -> Iterator[Segment]:
+        """Time the first ``k`` spans of the queue starting at speed ``v``; returns the speed after them."""
+        if not queue:
+            return v
+        limit = backward(queue, 0.0)
+        n = len(queue)
+        for i in range(k):
+            s = queue[i]
+            nxt = 0.0 if s.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
+            v1 = min(nxt, s.vc, reachable(v, s.length, s.acc, s.jerk))
+            duration, profile = self._time(s, v, v1)
+            yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1, profile, s.blend)
+            clock[0] += duration
+            for ev in after.pop(id(s), ()):
+                yield Segment(ev.kind, clock[0], ev.duration, ev.line, ev.record)
+                clock[0] += ev.duration
+            v = v1
+        del queue[:k]
+        return v
+
+    def _time(self, span: Span, v0: float, v1: float) -> tuple[float, Profile | None]:
+        for shrink in (0.0, 1e-9, 1e-6, 1e-4, 1e-2):
+            try:
+                duration, _vc, profile = self.solver.time(span, v0, v1 * (1.0 - shrink), self.keep)
+                return duration, profile
+            except ProfileError:
+                continue
+        raise PlanningError(f"no jerk-limited profile for a {span.length:.6g} mm move from {v0:.6g} to "
+                            f"{v1:.6g} mm/s", span.line, span.record)
+
+
+def plan(records: Iterable, machine: Machine | dict | str | None = None, *, jerk: bool = True,
+         keep_profiles: bool = False) -> Iterator[Segment]:
+    """Plan motion records; a generator of :class:`Segment` (see :class:`Planner`)."""
+    return Planner(machine, jerk=jerk, keep_profiles=keep_profiles).segments(records)

@@ -1,0 +1,63 @@
+"""The planner's unit of work: one piece of path with its limits, and the
+events (dwells, auxiliary functions) that synchronise with the motion."""
+
+from __future__ import annotations
+
+from .geometry import Piece
+from .limits import AxisLimits, curved_limits, piece_cap, tangential
+
+
+class Span:
+    """A piece with what the look-ahead needs: speed cap ``vc`` (mm/s),
+    tangential acceleration ``acc`` and jerk ``jerk``, and whether the motion
+    must stop at its end."""
+
+    __slots__ = ("acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "orig_length", "path_acc",
+                 "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
+
+    def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
+                 path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False) -> None:
+        self.piece = piece
+        self.record = record
+        self.line = record.src.line if record is not None else 0
+        self.feed = feed
+        self.lim = lim
+        self.rapid = rapid
+        self.dyn = dyn
+        self.path_acc = path_acc
+        self.path_jerk = path_jerk
+        self.blend = blend
+        self.orig_length = piece.length
+        self.stop_after = False
+        self.refresh()
+
+    def refresh(self) -> None:
+        """Recompute the limits from the (possibly trimmed) piece."""
+        p = self.piece
+        self.length = p.length
+        feed = self.feed / p.speed_factor()
+        d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
+        if p.curved:
+            self.vc, self.acc, self.jerk = curved_limits(d1, d2, d3, self.lim, feed, self.path_acc, self.path_jerk)
+        else:
+            self.vc = piece_cap(d1, d2, d3, self.lim, feed)
+            self.acc, self.jerk = tangential(d1, d2, d3, self.lim, self.vc, self.path_acc, self.path_jerk)
+
+    def limits_at(self, vc: float) -> tuple[float, float]:
+        """Tangential acceleration and jerk when the speed stays below ``vc`` (curved pieces gain budget)."""
+        if not self.piece.curved or vc >= self.vc:
+            return self.acc, self.jerk
+        p = self.piece
+        return tangential(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim, vc, self.path_acc, self.path_jerk)
+
+
+class Event:
+    """A dwell or an auxiliary function: the motion stops before it (a synchronisation point)."""
+
+    __slots__ = ("duration", "kind", "line", "record")
+
+    def __init__(self, record, duration: float) -> None:
+        self.record = record
+        self.kind = record.kind if record is not None else "dwell"
+        self.line = record.src.line if record is not None else 0
+        self.duration = duration
