@@ -129,6 +129,7 @@ CODES: dict[str, str] = {
     "INT110": "invalid #HSC statement",
     "INT111": "invalid #ROUNDPAR or #SLOPE statement",
     "INT112": "invalid acceleration, jerk or feed-forward percentage",
+    "INT113": "corner or override function in the wrong block",
     "INT114": "G193 needs linear acceleration",
     "INT115": "corner rounding type not modelled",
     "PLN001": "motion cannot be planned within the machine limits",

@@ -163,7 +163,7 @@ def roundpar_statement(interp, node) -> None:
     items = _items(node)
     values = []
     for item in items:
-        if isinstance(item, tuple):
+        if type(item) is tuple:
             raise InterpError("INT111", "#ROUNDPAR takes numbers separated by commas: #ROUNDPAR [1, 0.05]", node.col)
         values.append(interp.evaluator.value(item))
     if not values or whole(values[0]) not in (1, 2, 3, 4, 5):
@@ -190,7 +190,9 @@ def slope_statement(interp, node) -> None:
     """``#SLOPE [type, jerk, accel, move]``; empty fields are 0 (seed 002 L16045-L16082)."""
     st = interp.state
     out = [0, 0, 0, 0]
-    for i, a in enumerate(node.args[0].items if node.args and type(node.args[0]) is ItemList else ()):
+    first = node.args[0] if node.args else None
+    fields = first.items if type(first) is ItemList else ((first,),) if first is not None else ()
+    for i, a in enumerate(fields):
         if i >= 4:
             raise InterpError("INT111", "#SLOPE takes at most four values: [type, jerk, accel, move]", node.col)
         if not a:
@@ -234,7 +236,8 @@ def percentages(interp, gs: dict, axes: dict, bare) -> None:
             for a, (v, c) in axes.items():
                 if not 0 <= v <= 120 or abs(round(v, limit) - v) > 1e-9:
                     raise InterpError("INT112", f"G{n} {a}{v:g}: at most 120 % with {limit} decimal(s) (L4513)", c)
-            st.planner[f"G{n}"] = {a: v for a, (v, _c) in axes.items()}
+            # absolute per axis, the others keep theirs (L4526-L4546)
+            st.planner[f"G{n}"] = {**st.planner.get(f"G{n}", {}), **{a: v for a, (v, _c) in axes.items()}}
 
 
 def build(state, block_modes: dict) -> Dynamics:

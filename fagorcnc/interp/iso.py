@@ -225,9 +225,17 @@ class IsoExecutor:
             elif g.reset == "block" and g.support == "recorded":
                 block_modes[f"G{n}"] = True
         if 130 in gs or 131 in gs or 132 in gs or 133 in gs or 134 in gs or 135 in gs:
-            dynamics.percentages(self.interp, gs, bw.axes, bw.percent)
-            if 130 in gs or 132 in gs or 134 in gs or 135 in gs:
-                bw.axes.clear()   # their axis words are percentages, not targets (L4396)
+            per_axis = 130 in gs or 132 in gs or 134 in gs or 135 in gs
+            words = {**bw.axes, **bw.speeds} if per_axis else bw.axes
+            dynamics.percentages(self.interp, gs, words, bw.percent)
+            if per_axis:   # their axis and spindle words are percentages, not targets (L4385, L4396)
+                bw.axes.clear()
+                bw.speeds.clear()
+        corner = [n for n in (5, 7, 50, 60, 61) if n in gs]
+        if len(corner) > 1:
+            # L8016, L8057, L8105: G05, G07, G50, G60 and G61 are incompatible with each other
+            raise InterpError("INT113", f"G{corner[0]:02d} and G{corner[1]:02d} cannot be in the same block "
+                              "(L8016)", gs[corner[1]][0])
         if 192 in gs:  # spindle speed limit for G96 (seed 002 L5368-L5405): "G192 S<rpm>"
             if not bw.speeds:
                 raise InterpError("INT027", "G192 needs the speed limit: G192 S<rpm>", gs[192][0])
@@ -309,6 +317,11 @@ class IsoExecutor:
                         yield from interp.after_motion(src)
         elif bw.nr is not None:
             raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
+        if not moved and 74 not in gs:
+            for n, what in ((60, "G60 (square corner for this block)"), (61, "G61 (rounded corner for this block)"),
+                            (266, "G266 (override at 100 % for this block)")):
+                if n in gs:   # L8008, L8090, L4374: only in a block that moves
+                    raise InterpError("INT113", f"{what} needs a move in its block", gs[n][0])
         # 6. after the motion
         for m, col in after:
             yield from self._m_after(m, col, src)

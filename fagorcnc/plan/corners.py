@@ -92,6 +92,8 @@ def _line_corner(p: LinePiece, q: LinePiece, lim_p: float, lim_q: float, toleran
     follow from one unit curve.  None when the size needs the asymmetric case."""
     vertex = p.end
     unit = BlendPiece(vertex - p.u, p.u, _ZERO[:len(vertex)], SHAPE, vertex + q.u, q.u, _ZERO[:len(vertex)], SHAPE)
+    if not unit.valid:
+        return None
     size = min(lim_p, lim_q)
     if speed is not None:
         need = _dynamic_scale(unit, speed, acc, jerk) * 1.02
@@ -133,7 +135,8 @@ def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: f
         return None
     if distances is not None:
         d1, d2 = min(distances[0], lim_p), min(distances[1], lim_q)
-        return _blend(p, q, d1, d2), d1, d2
+        blend = _blend(p, q, d1, d2)
+        return (blend, d1, d2) if blend.valid else None
     if isinstance(p, LinePiece) and isinstance(q, LinePiece):
         made = _line_corner(p, q, lim_p, lim_q, tolerance, speed, acc, jerk, corner)
         if made is not None:
@@ -143,6 +146,8 @@ def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: f
         size = min(lim_p, lim_q)
         for _ in range(2):   # the curvature scales as 1/size, its derivative as 1/size²
             trial = _blend(p, q, min(size, lim_p), min(size, lim_q))
+            if not trial.valid:
+                return None
             size *= max(_dynamic_scale(trial, speed, acc, jerk), 1e-3) * 1.02
             if size >= max(lim_p, lim_q):
                 size = max(lim_p, lim_q)
@@ -150,6 +155,8 @@ def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: f
     for _ in range(12):
         d1, d2 = min(size, lim_p), min(size, lim_q)
         blend = _blend(p, q, d1, d2)
+        if not blend.valid:
+            return None
         if tolerance is None:
             return blend, d1, d2
         dev = _deviation(blend, p, q, d1, d2, corner)

@@ -263,7 +263,16 @@ class BlendPiece(Piece):
         dk = (dp / sig ** 2 - 2 * p * b2t / sig ** 3) / sig
         return q, t, k, dk
 
+    @property
+    def valid(self) -> bool:
+        """False for a degenerate curve (a cusp where the control polygon folds back)."""
+        return bool(np.isfinite(self.d3).all())
+
     def _bounds(self) -> None:
+        sig = np.sqrt(((np.vander(_BOUND_U, 5, increasing=True) @ self.coef[1]) ** 2).sum(axis=1))
+        if sig.min() <= 1e-6 * sig.max():
+            self.d1 = self.d2 = self.d3 = np.full(self.coef[0].shape[1], np.inf)
+            return
         _, t, k, dk = self._geometric(_BOUND_U)
         # sampled maxima with a margin: the curves are smooth polynomials of low degree
         self.d1 = np.minimum(np.abs(t).max(axis=0) * 1.02, 1.0)

@@ -50,11 +50,19 @@ def piece_cap(d1, d2, d3, lim: AxisLimits, feed: float) -> float:
 
 def tangential(d1, d2, d3, lim: AxisLimits, vc: float, path_acc: float = 0.0,
                path_jerk: float = 0.0) -> tuple[float, float]:
-    """Tangential acceleration and jerk allowed on a piece whose speed stays below ``vc``."""
+    """Tangential acceleration and jerk allowed on a piece whose speed stays below ``vc``.
+
+    On a curve the jerk left after the ``vc³ d3`` term is shared half and half
+    between the tangential jerk and the ``3 vc A_s d2`` cross term, which caps
+    the tangential acceleration: a tight curve is run at low speed *and* with
+    gentle speed changes, never at a speed that leaves no jerk at all.
+    """
     acc = path_acc if path_acc > 0 else math.inf
     for i, g in enumerate(d1):
         if g > 0:
             acc = min(acc, (lim.acceleration[i] - vc * vc * d2[i]) / g)
+        if d2[i] > 0 and vc > 0 and lim.jerk[i] != math.inf:
+            acc = min(acc, 0.5 * (lim.jerk[i] - vc ** 3 * d3[i]) / (3.0 * vc * d2[i]))
     jerk = path_jerk if path_jerk > 0 else math.inf
     for i, g in enumerate(d1):
         if g > 0 and lim.jerk[i] != math.inf:
@@ -64,13 +72,7 @@ def tangential(d1, d2, d3, lim: AxisLimits, vc: float, path_acc: float = 0.0,
 
 def curved_limits(d1, d2, d3, lim: AxisLimits, feed: float, path_acc: float = 0.0,
                   path_jerk: float = 0.0) -> tuple[float, float, float]:
-    """``(vc, A_s, J_s)`` for a curved piece: the highest cap that still leaves a useful
-    tangential jerk (at least 10 % of the straight-line value)."""
+    """``(vc, A_s, J_s)`` for a curved piece at its highest cap."""
     vc = piece_cap(d1, d2, d3, lim, feed)
-    straight = min((lim.jerk[i] / g for i, g in enumerate(d1) if g > 0), default=math.inf)
-    for _ in range(60):
-        acc, jerk = tangential(d1, d2, d3, lim, vc, path_acc, path_jerk)
-        if acc > 0 and jerk >= 0.1 * min(straight, path_jerk or math.inf):
-            return vc, acc, jerk
-        vc *= 0.9
-    return vc, *tangential(d1, d2, d3, lim, vc, path_acc, path_jerk)
+    acc, jerk = tangential(d1, d2, d3, lim, vc, path_acc, path_jerk)
+    return vc, acc, jerk

@@ -20,12 +20,14 @@ from ..machine import Machine, load_machine
 from .corners import included_angle, make_blend, smooth
 from .geometry import ArcPiece, LinePiece, Piece
 from .limits import AxisLimits
-from .lookahead import backward, reachable
+from .lookahead import backward, distance, reachable
 from .profile import Profile, ProfileError, Solver
 from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
 NO_SYNC = frozenset({"H", "D"})
+#: Corners sharper than this (included angle, degrees) are never rounded: the tool stops.
+MIN_CORNER_ANGLE = 1.0
 #: Pieces shorter than this (mm) are dropped: nothing moves.
 MIN_LENGTH = 1e-9
 
@@ -155,6 +157,9 @@ class Planner:
         _, t1, k1 = q.frame(0.0)
         if smooth(t0, k0, t1, k1):
             return None
+        if included_angle(t0, t1) < MIN_CORNER_ANGLE:
+            prev.stop_after = True   # a reversal cannot be rounded
+            return None
         feed = min(prev.feed, nxt.feed)
         tolerance: float | None = None
         speed: float | None = feed
@@ -200,6 +205,39 @@ class Planner:
             prev.refresh()
         return Span(blend, prev.record, feed, prev.lim, False, dyn, prev.path_acc, prev.path_jerk, blend=True)
 
+    def _adapt(self, prev: Span, nxt: Span) -> tuple[list[Span], list[Span], Span]:
+        """Feed adaptation at a junction without a stop (seed 002 L4193-L4270).
+
+        Returns the spans replacing ``prev``, the spans to emit before ``nxt``'s
+        last part, and that last part (which waits for its own junction).
+        Default: the junction speed is the lower feed (G108 when the feed rises,
+        G109 when it falls).  G108 in ``prev``: ``nxt`` starts at prev's F and
+        slows down at its start; G109 in ``prev``: ``prev`` speeds up to nxt's F at
+        its end; G193 in ``nxt``: nxt's feed goes linearly from prev's F to its
+        own over the block (8 steps).
+        """
+        before, head = [prev], []
+        f0, f1 = prev.feed, nxt.feed
+        adapt = prev.dyn.adaptation if prev.dyn is not None else None
+        if adapt == "G109" and f1 > f0 and prev.piece is not None:
+            ramp = min(distance(f0, f1, prev.acc, prev.jerk), prev.length)
+            cut = prev.length - ramp
+            before = ([prev.part(0.0, cut)] if cut > MIN_LENGTH else []) + [prev.part(cut, prev.length, f1)]
+        elif adapt == "G108" and f0 > f1:
+            ramp = min(distance(f1, f0, nxt.acc, nxt.jerk), nxt.length)
+            if nxt.length - ramp > MIN_LENGTH:
+                head = [nxt.part(0.0, ramp, f0)]
+                nxt = nxt.part(ramp, nxt.length)
+            else:
+                nxt = nxt.part(0.0, nxt.length, f0)
+        if nxt.dyn is not None and nxt.dyn.adaptation == "G193" and f0 != f1 and math.isfinite(f0 + f1):
+            steps = 8
+            cuts = [nxt.length * i / steps for i in range(steps + 1)]
+            parts = [nxt.part(cuts[i], cuts[i + 1], f0 + (f1 - f0) * (i + 0.5) / steps) for i in range(steps)]
+            head += parts[:-1]
+            nxt = parts[-1]
+        return before, head, nxt
+
     def _corners(self, items: Iterable[Span | Event]) -> Iterator[Span | Event]:
         prev: Span | None = None
         pending: list[Event] = []        # events that do not stop the motion, after prev
@@ -217,15 +255,18 @@ class Planner:
                 continue
             if prev is not None:
                 blend = self._junction(prev, item)
-                if blend is not None:
-                    if prev.piece is not None:
-                        yield prev
-                    yield from pending
-                    pending = []
-                    yield blend
-                else:
+                if prev.stop_after:
                     yield from self._emit(prev, pending, settle)
-                    pending = []
+                else:
+                    before, head, item = self._adapt(prev, item)
+                    for span in before:
+                        if span.piece is not None:
+                            yield span
+                    yield from pending
+                    if blend is not None:
+                        yield blend
+                    yield from head
+                pending = []
             prev = item
         if prev is not None:
             prev.stop_after = True

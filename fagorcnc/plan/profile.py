@@ -45,6 +45,24 @@ class Profile:
         return float(np.max(self.v))
 
 
+def _equal_speeds(span, v: float, keep: bool) -> tuple[float, float, Profile | None]:
+    """A micro-span between equal speeds, where ruckig's numerics give up: constant speed,
+    or from rest to rest four jerk phases of ``tau = (L / 2J)^(1/3)`` (distance 2 J tau³)."""
+    length, jerk = span.length, span.jerk
+    if v > 0:
+        duration = length / v
+        prof = Profile(np.array([0.0]), np.array([0.0]), np.array([0.0]), np.array([v]), np.array([0.0]), duration)
+        return duration, span.vc, prof if keep else None
+    jerk = min(jerk, span.acc ** 1.5 * math.sqrt(2.0 / length))   # peak acceleration J tau stays <= A
+    tau = (length / (2.0 * jerk)) ** (1.0 / 3.0)
+    t = np.arange(4) * tau
+    j = np.array([jerk, -jerk, -jerk, jerk])
+    a = np.array([0.0, jerk * tau, 0.0, -jerk * tau])
+    vel = np.array([0.0, jerk * tau ** 2 / 2, jerk * tau ** 2, jerk * tau ** 2 / 2])
+    pos = np.array([0.0, jerk * tau ** 3 / 6, jerk * tau ** 3, 11 * jerk * tau ** 3 / 6])
+    return 4 * tau, span.vc, Profile(t, j, a, vel, pos, 4 * tau) if keep else None
+
+
 class Solver:
     """A reusable ruckig 1-DOF solver."""
 
@@ -100,6 +118,8 @@ class Solver:
             d = self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
             if d < best[0]:
                 best = (d, vc)
+        if best[0] == math.inf and abs(v1 - v0) <= 1e-9 * (1.0 + v0):
+            return _equal_speeds(span, v0, keep)
         if best[0] == math.inf:
             raise ProfileError(f"no profile for a {span.length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
         if not keep:

@@ -43,6 +43,13 @@ class Span:
             self.vc = piece_cap(d1, d2, d3, self.lim, feed)
             self.acc, self.jerk = tangential(d1, d2, d3, self.lim, self.vc, self.path_acc, self.path_jerk)
 
+    def part(self, s0: float, s1: float, feed: float | None = None) -> Span:
+        """The stretch ``[s0, s1]`` of this span as a new span (optionally with another feed)."""
+        out = Span(self.piece.sub(s0, s1), self.record, self.feed if feed is None else feed, self.lim, self.rapid,
+                   self.dyn, self.path_acc, self.path_jerk, self.blend)
+        out.orig_length = self.orig_length
+        return out
+
     def limits_at(self, vc: float) -> tuple[float, float]:
         """Tangential acceleration and jerk when the speed stays below ``vc`` (curved pieces gain budget)."""
         if not self.piece.curved or vc >= self.vc:
