@@ -1,14 +1,16 @@
 """fagorcnc: interpreter and motion kernel for Fagor CNC 8060/8065 part programs.
 
-Front end available now::
+::
 
     import fagorcnc
-    program = fagorcnc.parse("G1 X10 F100\nM30\n")
-    program.ok, program.diagnostics, program.blocks
+    result = fagorcnc.simulate("G1 X10 F100\nM30\n")     # dry run: records, state, planned time
+    result.ok, result.diagnostics, result.moves, result.cycle_time, result.trajectory(0.001)
+    report = fagorcnc.run("part.nc", backend="sim")      # stream to a back-end
 """
 
 from .diagnostics import CODES, Diagnostic
 from .machine import Machine, load_machine
+from .runner import RunReport, run
 from .simulate import Result, Run, interpret, simulate
 from .syntax import Program, iter_lines, parse_file, parse_text
 
@@ -21,7 +23,6 @@ def parse(source: str, file: str = "<string>") -> Program:
 
 
 __all__ = [
-    "CODES", "Diagnostic", "Machine", "Program", "Result", "Run", "__version__", "interpret", "iter_lines",
-    "load_machine", "parse",
-    "parse_file", "parse_text", "simulate",
+    "CODES", "Diagnostic", "Machine", "Program", "Result", "Run", "RunReport", "__version__", "interpret",
+    "iter_lines", "load_machine", "parse", "parse_file", "parse_text", "run", "simulate",
 ]

@@ -1,8 +1,9 @@
 """The ``fagorcnc`` command.
 
-``fagorcnc run FILE`` interprets a program on the embedded simulator and
-prints its diagnostics and a summary (moves, final position, estimated cycle
-time).  ``fagorcnc parse FILE...`` (alias ``lint``) reads programs and prints every
+``fagorcnc run FILE`` runs a program on the embedded simulator (or, with
+``--backend interpcnc``, on an InterpCNC card) and prints its diagnostics and a
+summary (segments, last block, final position, planned cycle time).
+``fagorcnc parse FILE...`` (alias ``lint``) reads programs and prints every
 diagnostic as ``file:line:col: CODE message`` with the source line and a
 caret.  Exit status: 0 clean, 1 when any error was found, 2 on bad usage
 (unreadable file, unknown option).
@@ -43,39 +44,91 @@ def _parse_command(args: argparse.Namespace) -> int:
     return status
 
 
+class _ProgressBar:
+    """A one-line progress display on a terminal: block, line, planned time and ETA."""
+
+    def __init__(self, stream, label: str) -> None:
+        import time
+
+        self.stream, self.label, self.clock = stream, label, time.monotonic
+        self.last = 0.0
+        self.start = self.clock()
+
+    def __call__(self, seg, status, total) -> None:
+        now = self.clock()
+        if now - self.last < 0.2:
+            return
+        self.last = now
+        done = seg.t0 + seg.duration
+        if total:
+            frac = min(1.0, done / total)
+            bar = "#" * int(frac * 20)
+            eta = (now - self.start) * (1 - frac) / frac if frac > 0 else 0.0
+            text = f"[{bar:<20}] {frac:4.0%}  line {status.line:>6}  ETA {_clock(eta)}"
+        else:
+            text = f"line {status.line:>6}  planned {_clock(done)}"
+        self.stream.write(f"\r{self.label}: {text}")
+        self.stream.flush()
+
+    def close(self) -> None:
+        if self.last:
+            self.stream.write("\r\x1b[K")
+            self.stream.flush()
+
+
+def _clock(seconds: float) -> str:
+    minutes, sec = divmod(max(seconds, 0.0), 60.0)
+    hours, minutes = divmod(int(minutes), 60)
+    return f"{hours}:{minutes:02d}:{sec:04.1f}" if hours else f"{minutes}:{sec:04.1f}"
+
+
 def _run_command(args: argparse.Namespace) -> int:
+    from .backends import BackendError
     from .machine import MachineError, load_machine
-    from .simulate import simulate
+    from .runner import run
 
     try:
         machine = load_machine(args.machine)
     except MachineError as exc:
         print(f"fagorcnc: {exc}", file=sys.stderr)
         return 2
-    try:
-        result = simulate(Path(args.file), machine, block_skip=args.block_skip)
-    except OSError as exc:
-        print(f"{args.file}: cannot read the file: {exc.strerror or exc}", file=sys.stderr)
+    if not Path(args.file).is_file():
+        print(f"{args.file}: cannot read the file: no such file", file=sys.stderr)
         return 2
-    for d in result.diagnostics:
+    options = {}
+    if args.backend == "interpcnc":
+        options = {k: v for k, v in (("host", args.host), ("port", args.port), ("serial", args.serial))
+                   if v is not None}
+    if args.realtime is not None:
+        if args.backend != "sim":
+            print("fagorcnc: --realtime paces the simulator only", file=sys.stderr)
+            return 2
+        options["realtime"] = args.realtime
+    bar = _ProgressBar(sys.stderr, Path(args.file).name) if sys.stderr.isatty() and not args.verbose else None
+    try:
+        report = run(Path(args.file), machine, backend=args.backend, block_skip=args.block_skip, progress=bar,
+                     **options)
+    except BackendError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        if bar is not None:
+            bar.close()
+    for d in report.diagnostics:
         if d.severity != "info" or args.verbose:
             print(d.render())
-    moves = [m for m in result.moves if m.kind in ("rapid", "linear", "arc")]
-    if args.verbose:
-        for m in result.moves:
-            if m.kind in ("rapid", "linear", "arc"):
-                end = " ".join(f"{a}{v:.4f}" for a, v in m.end.items())
-                feed = "" if m.feed is None else f" F{m.feed:g}"
-                print(f"  line {m.line:>5}  {m.kind:<6} -> {end}{feed}")
-    pos = result.state.position("part") if result.state else {}
+    status = report.status
+    pos = report.state.position("part") if report.state is not None else status.position
     where = " ".join(f"{a}{v:.4f}" for a, v in pos.items())
-    minutes, seconds = divmod(result.cycle_time, 60.0)
-    errors = len(result.errors)
-    print(f"{args.file}: {'OK' if result.ok else 'STOPPED'} on the embedded simulator: {len(moves)} moves, "
-          f"ended by {result.ended_by or 'end of file'}, final position {where}, "
-          f"estimated cycle time {int(minutes)} min {seconds:04.1f} s (feed rates, no acceleration yet), "
-          f"{errors} errors")
-    return 1 if errors else 0
+    errors = sum(d.is_error for d in report.diagnostics)
+    target = "the embedded simulator" if args.backend == "sim" else f"back-end {args.backend}"
+    verdict = "OK" if report.ok else f"STOPPED ({report.message})"
+    print(f"{args.file}: {verdict} on {target}: {report.moves} moves, ended by {report.ended_by or 'end of file'}, "
+          f"last block executed: line {status.line}, final position {where}, cycle time "
+          f"{_clock(report.cycle_time)} (jerk-limited plan), {errors} errors")
+    if report.stopped_by == "interrupt":
+        return 130
+    return 0 if report.ok else 1
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -91,9 +144,16 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--brief", action="store_true", help="one line per diagnostic, no source excerpt")
         p.add_argument("-v", "--verbose", action="store_true", help="also print informational notes")
         p.set_defaults(func=_parse_command)
-    run = sub.add_parser("run", help="run a program on the embedded simulator and print a summary")
+    run = sub.add_parser("run", help="run a program (embedded simulator by default, or an InterpCNC card)")
     run.add_argument("file", metavar="FILE", help="part program file")
     run.add_argument("--machine", metavar="M", help="machine configuration (TOML); default: built-in machine")
+    run.add_argument("--backend", default="sim", metavar="NAME",
+                     help="where the motion goes: sim (default) or interpcnc")
+    run.add_argument("--host", help="InterpCNC card address (Modbus TCP)")
+    run.add_argument("--port", type=int, help="InterpCNC Modbus TCP port (default 502)")
+    run.add_argument("--serial", metavar="DEV", help="InterpCNC serial device (Modbus RTU, e.g. /dev/ttyACM0)")
+    run.add_argument("--realtime", type=float, nargs="?", const=1.0, metavar="FACTOR",
+                     help="pace the simulator against the clock (FACTOR 2 = twice as fast)")
     run.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
     run.set_defaults(func=_run_command)

@@ -122,6 +122,7 @@ class Machine:
     m_functions: dict[int, str] = field(default_factory=dict)  # M table: number -> "before" | "after"
     limits: Limits = field(default_factory=Limits)
     planner: PlannerConfig = field(default_factory=PlannerConfig)
+    backends: dict[str, dict] = field(default_factory=dict)   # [backends.<name>] tables, read by each back-end
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -274,7 +275,14 @@ def _build(data: dict) -> Machine:
         m_functions=_m_table(data.get("m_functions", {})),
         limits=limits,
         planner=planner,
+        backends=_backends(data.get("backends", {})),
     )
+
+
+def _backends(table: Any) -> dict[str, dict]:
+    if not isinstance(table, dict) or not all(isinstance(v, dict) for v in table.values()):
+        raise MachineError("backends: expected one table per back-end, e.g. [backends.interpcnc]")
+    return {str(k): dict(v) for k, v in table.items()}
 
 
 #: Allowed ranges of the [planner] keys: (low, high, integer?)

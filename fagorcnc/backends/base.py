@@ -1,0 +1,107 @@
+"""The one interface every back-end implements, and the registry that picks one by name.
+
+A back-end receives the planner's :class:`~fagorcnc.plan.Segment` stream in
+order.  ``send`` applies back-pressure: it blocks while the back-end cannot
+take more (a card's buffer is full) and raises :class:`BackendError` when the
+machine reports an alarm or the link fails; after that nothing more is sent
+until the operator asks (``resume`` after acknowledging, or a new ``open``).
+
+Back-ends are found by name: the built-in ``sim`` and ``interpcnc``, plus any
+package that declares an entry point in the group ``fagorcnc.backends``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from importlib.metadata import entry_points
+from typing import Protocol, runtime_checkable
+
+from ..machine import Machine
+from ..plan import Segment
+
+#: Main states of a back-end (also what the status server publishes).
+STATES = ("idle", "run", "pause", "alarm", "closed")
+
+
+@dataclass
+class Status:
+    """What a back-end reports.
+
+    ``state``: one of :data:`STATES`; ``alarm``/``alarm_message``: the alarm
+    code and its text (0 / "" when none); ``line``: source line of the last
+    segment the machine executed (0 before the first); ``executed``/``sent``:
+    segments executed and sent so far; ``position``: machine coordinates;
+    ``buffer_level``: fraction 0..1 of the back-end's buffer in use.
+    """
+
+    state: str = "idle"
+    alarm: int = 0
+    alarm_message: str = ""
+    line: int = 0
+    executed: int = 0
+    sent: int = 0
+    position: dict[str, float] = field(default_factory=dict)
+    buffer_level: float = 0.0
+    velocity: dict[str, float] = field(default_factory=dict)
+
+
+class BackendError(RuntimeError):
+    """The back-end stopped: alarm, link failure or refused command.
+
+    ``status`` is the back-end's status at that moment (its ``line`` names the
+    last block the machine executed).
+    """
+
+    def __init__(self, message: str, status: Status | None = None) -> None:
+        super().__init__(message)
+        self.status = status
+
+
+@runtime_checkable
+class Backend(Protocol):
+    """The back-end protocol (see the module docstring)."""
+
+    name: str
+
+    def open(self) -> None: ...
+
+    def send(self, segment: Segment) -> None: ...
+
+    def finish(self) -> Status: ...
+
+    def pause(self) -> None: ...
+
+    def resume(self) -> None: ...
+
+    def stop(self) -> None: ...
+
+    def status(self) -> Status: ...
+
+    def close(self) -> None: ...
+
+
+def available() -> dict[str, object]:
+    """Back-end factories by name: built-ins first, then entry points."""
+    from .sim import SimulatorBackend
+
+    found: dict[str, object] = {"sim": SimulatorBackend}
+    try:
+        from .interpcnc import InterpCncBackend
+
+        found["interpcnc"] = InterpCncBackend
+    except ImportError:   # pragma: no cover - pymodbus missing
+        pass
+    for ep in entry_points(group="fagorcnc.backends"):
+        found.setdefault(ep.name, ep)
+    return found
+
+
+def get_backend(name: str, machine: Machine, **options) -> Backend:
+    """Build the back-end called ``name`` for ``machine`` (options are back-end specific)."""
+    factories = available()
+    if name not in factories:
+        raise BackendError(f"unknown back-end {name!r} (available: {', '.join(sorted(factories))})")
+    factory = factories[name]
+    if hasattr(factory, "load"):
+        factory = factory.load()
+    return factory(machine, **options)
