@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .geometry import BlendPiece, LinePiece, Piece
+from .geometry import _BOUND_U, BlendPiece, LinePiece, Piece
 from .limits import CENTRIPETAL, CURVE_JERK
 
 #: Control-point spacing of a blend as a fraction of its length on each side.
@@ -85,34 +85,69 @@ def _dynamic_scale(blend: BlendPiece, speed: float, acc: float, jerk: float) -> 
     return need
 
 
+#: Line-line corners: unit curves (size 1) sampled in the corner's plane, per 0.25 degree of turn.
+_STEP = 0.25
+_UNIT: dict[int, tuple | None] = {}
+
+
+def _unit_2d(k: int) -> tuple | None:
+    """(tangents, curvatures, curvature derivatives, corner deviation, path deviation) of the
+    unit blend turning by ``k * _STEP`` degrees, in plane coordinates (x along the incoming line)."""
+    if k not in _UNIT:
+        turn = math.radians(k * _STEP)
+        t0, t1, z = np.array([1.0, 0.0]), np.array([math.cos(turn), math.sin(turn)]), np.zeros(2)
+        b = BlendPiece(-t0, t0, z, SHAPE, t1, t1, z, SHAPE)
+        if not b.valid:
+            _UNIT[k] = None
+        else:
+            _, t, kv, dk = b._geometric(_BOUND_U)
+            pts = b.points(65)
+            on_in = pts - np.outer(np.clip(pts @ t0, None, 0.0), t0)    # distance to the incoming ray
+            on_out = pts - np.outer(np.clip(pts @ t1, 0.0, None), t1)   # ... and to the outgoing one
+            dev_path = float(np.sqrt(np.minimum((on_in ** 2).sum(axis=1), (on_out ** 2).sum(axis=1))).max())
+            dev_corner = float(np.sqrt((pts ** 2).sum(axis=1)).min())
+            _UNIT[k] = (t, kv, dk, dev_corner, dev_path)
+    return _UNIT[k]
+
+
 def _line_corner(p: LinePiece, q: LinePiece, lim_p: float, lim_q: float, tolerance, speed, acc, jerk,
                  corner: bool) -> tuple[BlendPiece, float, float] | None:
-    """Two lines: the symmetric blend is one shape scaled by its size, so its
-    curvature (1/size), curvature derivative (1/size²) and deviation (size)
-    follow from one unit curve.  None when the size needs the asymmetric case."""
-    vertex = p.end
-    unit = BlendPiece(vertex - p.u, p.u, _ZERO[:len(vertex)], SHAPE, vertex + q.u, q.u, _ZERO[:len(vertex)], SHAPE)
-    if not unit.valid:
+    """Two lines: the symmetric blend is one plane shape scaled by its size (curvature as
+    1/size, its derivative as 1/size², deviation and length as size), so a table of unit
+    shapes by turning angle gives its bounds without sampling each corner."""
+    cos_turn = max(-1.0, min(1.0, float(p.u @ q.u)))
+    f = math.degrees(math.acos(cos_turn)) / _STEP
+    k = int(f)
+    lo, hi = _unit_2d(k), _unit_2d(k + 1)
+    if lo is None or hi is None:
         return None
+    w = f - k
+    t, kv, dk = ((1 - w) * a + w * b for a, b in zip(lo[:3], hi[:3], strict=True))
+    dev_corner, dev_path = ((1 - w) * a + w * b for a, b in zip(lo[3:5], hi[3:5], strict=True))
+    ex = p.u
+    ey = q.u - cos_turn * ex
+    norm = float(np.linalg.norm(ey))
+    ey = ey / norm if norm > 0 else np.zeros_like(ex)
+    basis = np.stack([ex, ey])                     # plane -> machine axes
+    d1 = np.minimum(np.abs(t @ basis).max(axis=0) * 1.02, 1.0)
+    d2 = np.abs(kv @ basis).max(axis=0) * 1.05
+    d3 = np.abs(dk @ basis).max(axis=0) * 1.10
     size = min(lim_p, lim_q)
     if speed is not None:
-        need = _dynamic_scale(unit, speed, acc, jerk) * 1.02
-        size = min(size, max(need, 1e-9))
+        need = float(np.linalg.norm(d2)) * speed * speed / (CENTRIPETAL * acc)
+        if jerk != math.inf:
+            need = max(need, math.sqrt(float(np.linalg.norm(d3)) * speed ** 3 / (CURVE_JERK * jerk)))
+        size = min(size, max(need * 1.02, 1e-9))
     if tolerance is not None:
-        pts = unit.points(33)
-        if corner:
-            dev = float(np.sqrt(((pts - vertex) ** 2).sum(axis=1)).min())
-        else:   # distance to the two lines (the blend stays within the corner's angle)
-            rel = pts - vertex
-            a = rel - np.outer(np.clip(rel @ p.u, None, 0.0), p.u)
-            b = rel - np.outer(np.clip(rel @ q.u, 0.0, None), q.u)
-            dev = float(np.sqrt(np.minimum((a * a).sum(axis=1), (b * b).sum(axis=1))).max())
+        dev = dev_corner if corner else dev_path
         if dev > 0:
             size = min(size, 0.95 * tolerance / dev)
     if not size > 1e-9:
         return None
-    unit.length   # noqa: B018 - the arc-length table, computed once and scaled
-    return unit.scaled(size, vertex), size, size
+    vertex = p.end
+    controls = vertex + size * np.array([-ex, -(1 - SHAPE) * ex, -(1 - 2 * SHAPE) * ex,
+                                         (1 - 2 * SHAPE) * q.u, (1 - SHAPE) * q.u, q.u])
+    return BlendPiece.from_controls(controls, d1, d2 / size, d3 / (size * size)), size, size
 
 
 _ZERO = np.zeros(16)

@@ -197,33 +197,36 @@ class BlendPiece(Piece):
         self.coef = [coef] + [coef[r:] * _PERM[r][:, None] for r in (1, 2, 3)]
         self.start, self.end = coef[0].copy(), coef.sum(axis=0)
         self._length = None
-
-    def scaled(self, factor: float, center: np.ndarray) -> BlendPiece:
-        """The same curve scaled by ``factor`` about ``center``: bounds scale exactly
-        (curvature as 1/factor, its derivative as 1/factor²)."""
-        out = BlendPiece.__new__(BlendPiece)
-        coef = self.coef[0] * factor
-        coef[0] += center * (1.0 - factor)
-        out._set(coef)
-        out.d1 = self.d1
-        out.d2 = self.d2 / factor
-        out.d3 = self.d3 / (factor * factor)
-        if self._length is not None:
-            out._length = self._length * factor
-            out.table_u, out.table_s = self.table_u, self.table_s * factor
-        return out
+        self.table_s = None
 
     @property
     def length(self) -> float:
         if self._length is None:
-            nodes = np.linspace(0.0, 1.0, 33)
-            x = (nodes[:-1, None] + _GL_X[None, :] / 32.0).ravel()
-            sig = np.sqrt((self._d(x, 1) ** 2).sum(axis=1)).reshape(32, len(_GL_X))
-            seg = (sig * _GL_W[None, :]).sum(axis=1) / 32.0
-            self.table_u = nodes
-            self.table_s = np.concatenate([[0.0], np.cumsum(seg)])
-            self._length = float(self.table_s[-1])
+            self._table()
         return self._length
+
+    def _table(self) -> None:
+        """Arc length at 33 parameters (8-point Gauss-Legendre on 32 intervals)."""
+        nodes = np.linspace(0.0, 1.0, 33)
+        x = (nodes[:-1, None] + _GL_X[None, :] / 32.0).ravel()
+        sig = np.sqrt((self._d(x, 1) ** 2).sum(axis=1)).reshape(32, len(_GL_X))
+        seg = (sig * _GL_W[None, :]).sum(axis=1) / 32.0
+        self.table_u = nodes
+        self.table_s = np.concatenate([[0.0], np.cumsum(seg)])
+        if self._length is None:
+            self._length = float(self.table_s[-1])
+
+    @classmethod
+    def from_controls(cls, controls: np.ndarray, d1: np.ndarray, d2: np.ndarray, d3: np.ndarray) -> BlendPiece:
+        """A blend whose derivative bounds are already known (scaled from a unit curve).
+
+        Its length is integrated from the curve itself: the motion along it must
+        end exactly where the curve does.
+        """
+        out = cls.__new__(cls)
+        out._set(_M5 @ controls)
+        out.d1, out.d2, out.d3 = d1, d2, d3
+        return out
 
     def _d(self, u: np.ndarray, order: int) -> np.ndarray:
         """``order``-th derivative of B at the parameters u, shape (n, D)."""
@@ -232,8 +235,9 @@ class BlendPiece(Piece):
 
     def _u_of_s(self, s: np.ndarray) -> np.ndarray:
         """Invert the arc length: Newton from the table."""
-        length = self.length
-        s = np.clip(s, 0.0, length)
+        if self.table_s is None:
+            self._table()
+        s = np.clip(s, 0.0, self.table_s[-1])
         u = np.interp(s, self.table_s, self.table_u)
         n = len(_GL_X)
         for _ in range(4):

@@ -63,8 +63,9 @@ def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
 def backward(spans, end_speed: float) -> list[float]:
     """Highest start speed of each span so that every later limit (and ``end_speed``) holds.
 
-    ``spans[i].vc`` caps the span; the junction between i and i+1 is also capped
-    by both sides and by a stop (``stop_after``).
+    ``spans[i].reach(v)`` gives the span's reachable speed within its cap; the
+    junction between i and i+1 is also capped by both sides and by a stop
+    (``stop_after``).  The forward pass runs as the spans are committed.
     """
     n = len(spans)
     start = [0.0] * n
@@ -73,25 +74,8 @@ def backward(spans, end_speed: float) -> list[float]:
         s = spans[i]
         if s.stop_after:
             v = 0.0
-        v = min(v, s.vc)
-        v = min(s.vc, reachable(v, s.length, s.acc, s.jerk))
+        v = s.reach(min(v, s.vc))
         if i > 0:
             v = min(v, spans[i - 1].vc)
         start[i] = v
     return start
-
-
-def forward(spans, v_start: float, start_limit: list[float], end_speed: float) -> list[float]:
-    """Junction speeds: ``out[i]`` is the speed at the start of span i, ``out[n]`` at the end."""
-    n = len(spans)
-    out = [0.0] * (n + 1)
-    v = min(v_start, start_limit[0]) if n else v_start
-    out[0] = v
-    for i in range(n):
-        s = spans[i]
-        nxt = start_limit[i + 1] if i + 1 < n else end_speed
-        if s.stop_after:
-            nxt = 0.0
-        v = min(nxt, reachable(v, s.length, s.acc, s.jerk), s.vc)
-        out[i + 1] = v
-    return out

@@ -20,7 +20,7 @@ from ..machine import Machine, load_machine
 from .corners import included_angle, make_blend, smooth
 from .geometry import ArcPiece, LinePiece, Piece
 from .limits import AxisLimits
-from .lookahead import backward, distance, reachable
+from .lookahead import backward, distance
 from .profile import Profile, ProfileError, Solver
 from .span import Event, Span
 
@@ -28,6 +28,8 @@ from .span import Event, Span
 NO_SYNC = frozenset({"H", "D"})
 #: Corners sharper than this (included angle, degrees) are never rounded: the tool stops.
 MIN_CORNER_ANGLE = 1.0
+#: Arcs are planned in parts of at most this sweep (radians).
+ARC_PART = math.radians(30.0)
 #: Pieces shorter than this (mm) are dropped: nothing moves.
 MIN_LENGTH = 1e-9
 
@@ -137,8 +139,16 @@ class Planner:
             kind = rec.kind
             if kind in ("linear", "rapid", "arc"):
                 span = self._span(rec)
-                if span is not None:
+                if span is None:
+                    continue
+                parts = math.ceil(abs(span.piece.w) * span.length / ARC_PART) if kind == "arc" else 1
+                if parts <= 1:
                     yield span
+                    continue
+                # long arcs in parts: each part picks its own cap (more tangential budget where slow)
+                cuts = [span.length * i / parts for i in range(parts + 1)]
+                for i in range(parts):
+                    yield span.part(cuts[i], cuts[i + 1])
             elif kind == "dwell":
                 yield Event(rec, rec.seconds)
             elif kind == "aux":
@@ -312,7 +322,7 @@ class Planner:
         for i in range(k):
             s = queue[i]
             nxt = 0.0 if s.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
-            v1 = min(nxt, s.vc, reachable(v, s.length, s.acc, s.jerk))
+            v1 = min(nxt, s.reach(v))
             duration, profile = self._time(s, v, v1)
             yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1, profile, s.blend)
             clock[0] += duration

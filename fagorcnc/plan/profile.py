@@ -45,22 +45,35 @@ class Profile:
         return float(np.max(self.v))
 
 
-def _equal_speeds(span, v: float, keep: bool) -> tuple[float, float, Profile | None]:
-    """A micro-span between equal speeds, where ruckig's numerics give up: constant speed,
-    or from rest to rest four jerk phases of ``tau = (L / 2J)^(1/3)`` (distance 2 J tau³)."""
-    length, jerk = span.length, span.jerk
-    if v > 0:
-        duration = length / v
-        prof = Profile(np.array([0.0]), np.array([0.0]), np.array([0.0]), np.array([v]), np.array([0.0]), duration)
-        return duration, span.vc, prof if keep else None
-    jerk = min(jerk, span.acc ** 1.5 * math.sqrt(2.0 / length))   # peak acceleration J tau stays <= A
-    tau = (length / (2.0 * jerk)) ** (1.0 / 3.0)
-    t = np.arange(4) * tau
-    j = np.array([jerk, -jerk, -jerk, jerk])
-    a = np.array([0.0, jerk * tau, 0.0, -jerk * tau])
-    vel = np.array([0.0, jerk * tau ** 2 / 2, jerk * tau ** 2, jerk * tau ** 2 / 2])
-    pos = np.array([0.0, jerk * tau ** 3 / 6, jerk * tau ** 3, 11 * jerk * tau ** 3 / 6])
-    return 4 * tau, span.vc, Profile(t, j, a, vel, pos, 4 * tau) if keep else None
+#: Spans shorter than this (mm) get exact closed-form profiles: ruckig's end position is only
+#: good to ~1e-9 mm there, which a servo sampling at 1 ms would see as a jerk spike.
+MICRO = 1e-3
+
+
+def micro_profile(length: float, v0: float, v1: float, acc: float, jerk: float) -> Profile | None:
+    """Exact short profile with zero acceleration at both ends, or None when it would need more
+    than ``acc`` (then ruckig plans it).
+
+    Moving (v0 + v1 > 0): two jerk phases of ``tau = L / (v0 + v1)`` with ``j = (v1 - v0) / tau²``;
+    at the speeds the look-ahead allows, ``|j|`` never exceeds J (the reachable-speed relation
+    ``L² = dv (v0 + v1)² / J``).  From rest to rest: four phases of ``tau = (L / 2J)^(1/3)``.
+    """
+    if v0 + v1 > 0 and abs(v1 - v0) <= 1e-12 * (v0 + v1):
+        v = (v0 + v1) / 2   # equal up to rounding: constant speed
+        return Profile(np.array([0.0]), np.array([0.0]), np.array([0.0]), np.array([v]), np.array([0.0]), length / v)
+    if v0 + v1 > 0:
+        tau = length / (v0 + v1)
+        j = (v1 - v0) / (tau * tau)
+        if abs(j) > jerk * (1 + 1e-6) or abs(j) * tau > acc:   # rounding of the reachable speed
+            return None
+        t = np.array([0.0, tau])
+        return Profile(t, np.array([j, -j]), np.array([0.0, j * tau]), np.array([v0, v0 + j * tau * tau / 2]),
+                       np.array([0.0, v0 * tau + j * tau ** 3 / 6]), 2 * tau)
+    j = min(jerk, acc ** 1.5 * math.sqrt(2.0 / length))   # peak acceleration J tau stays <= A
+    tau = (length / (2.0 * j)) ** (1.0 / 3.0)
+    return Profile(np.arange(4) * tau, np.array([j, -j, -j, j]), np.array([0.0, j * tau, 0.0, -j * tau]),
+                   np.array([0.0, j * tau ** 2 / 2, j * tau ** 2, j * tau ** 2 / 2]),
+                   np.array([0.0, j * tau ** 3 / 6, j * tau ** 3, 11 * j * tau ** 3 / 6]), 4 * tau)
 
 
 class Solver:
@@ -105,11 +118,16 @@ class Solver:
         Curved spans try a few lower caps: below its cap a curve leaves more of
         the axes' acceleration for speeding up and slowing down.
         """
+        if span.length < MICRO:
+            prof = micro_profile(span.length, v0, v1, span.acc, span.jerk)
+            if prof is not None:
+                return prof.duration, span.vc, prof
         top = max(v0, v1)
         caps = [span.vc]
-        if span.piece.curved and span.vc > top * 1.0001:
-            caps += [c for c in (span.vc * f for f in (0.9, 0.8, 0.65, 0.5, 0.35)) if c > top * 1.0001]
-            caps.append(top * 1.0001 if top > 0 else span.vc * 0.2)
+        if span.ladder is not None:
+            caps = [c for c, _a, _j in span.ladder if c >= top]
+            if top > 0 and top * (1 + 1e-9) < caps[-1]:
+                caps.append(top * (1 + 1e-9))
         best = (math.inf, span.vc)
         for vc in caps:
             acc, jerk = span.limits_at(vc)
@@ -118,8 +136,6 @@ class Solver:
             d = self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
             if d < best[0]:
                 best = (d, vc)
-        if best[0] == math.inf and abs(v1 - v0) <= 1e-9 * (1.0 + v0):
-            return _equal_speeds(span, v0, keep)
         if best[0] == math.inf:
             raise ProfileError(f"no profile for a {span.length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
         if not keep:

@@ -5,6 +5,10 @@ from __future__ import annotations
 
 from .geometry import Piece
 from .limits import AxisLimits, curved_limits, piece_cap, tangential
+from .lookahead import reachable
+
+#: Lower caps tried on curves (fractions of the highest cap).
+LADDER = (0.85, 0.7, 0.55, 0.4, 0.25, 0.12, 0.05)
 
 
 class Span:
@@ -12,8 +16,8 @@ class Span:
     tangential acceleration ``acc`` and jerk ``jerk``, and whether the motion
     must stop at its end."""
 
-    __slots__ = ("acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "orig_length", "path_acc",
-                 "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
+    __slots__ = ("acc", "blend", "dyn", "feed", "jerk", "ladder", "length", "lim", "line", "orig_length",
+                 "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
 
     def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
                  path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False) -> None:
@@ -39,16 +43,32 @@ class Span:
         d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
         if p.curved:
             self.vc, self.acc, self.jerk = curved_limits(d1, d2, d3, self.lim, feed, self.path_acc, self.path_jerk)
+            # below its cap a curve leaves more of the axes' acceleration and jerk for speed changes
+            self.ladder = [(self.vc, self.acc, self.jerk)]
+            for f in LADDER:
+                c = self.vc * f
+                self.ladder.append((c, *tangential(d1, d2, d3, self.lim, c, self.path_acc, self.path_jerk)))
         else:
+            self.ladder = None
             self.vc = piece_cap(d1, d2, d3, self.lim, feed)
             self.acc, self.jerk = tangential(d1, d2, d3, self.lim, self.vc, self.path_acc, self.path_jerk)
 
     def part(self, s0: float, s1: float, feed: float | None = None) -> Span:
         """The stretch ``[s0, s1]`` of this span as a new span (optionally with another feed)."""
-        out = Span(self.piece.sub(s0, s1), self.record, self.feed if feed is None else feed, self.lim, self.rapid,
-                   self.dyn, self.path_acc, self.path_jerk, self.blend)
-        out.orig_length = self.orig_length
-        return out
+        return Span(self.piece.sub(s0, s1), self.record, self.feed if feed is None else feed, self.lim, self.rapid,
+                    self.dyn, self.path_acc, self.path_jerk, self.blend)
+
+    def reach(self, v: float) -> float:
+        """Highest speed at the other end of this span from speed ``v`` at one end (either
+        direction: the profiles are symmetric), within the cap."""
+        if self.ladder is None:
+            return min(self.vc, reachable(v, self.length, self.acc, self.jerk))
+        best = 0.0
+        for c, a, j in self.ladder:
+            if c < v or a <= 0 or j <= 0:
+                break
+            best = max(best, min(c, reachable(v, self.length, a, j)))
+        return best if best > 0.0 else min(self.vc, v)
 
     def limits_at(self, vc: float) -> tuple[float, float]:
         """Tangential acceleration and jerk when the speed stays below ``vc`` (curved pieces gain budget)."""
