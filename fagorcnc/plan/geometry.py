@@ -201,20 +201,21 @@ class BlendPiece(Piece):
 
     @property
     def length(self) -> float:
-        if self._length is None:
-            self._table()
+        if self._length is None:   # 24-point Gauss-Legendre over the whole curve
+            sig = np.sqrt((self._d(_GL24_X, 1) ** 2).sum(axis=1))
+            self._length = float(sig @ _GL24_W)
         return self._length
 
     def _table(self) -> None:
-        """Arc length at 33 parameters (8-point Gauss-Legendre on 32 intervals)."""
+        """Arc length at 33 parameters (8-point Gauss-Legendre on 32 intervals), scaled so that
+        it ends exactly at :attr:`length` (the motion must end where the curve does)."""
         nodes = np.linspace(0.0, 1.0, 33)
         x = (nodes[:-1, None] + _GL_X[None, :] / 32.0).ravel()
         sig = np.sqrt((self._d(x, 1) ** 2).sum(axis=1)).reshape(32, len(_GL_X))
         seg = (sig * _GL_W[None, :]).sum(axis=1) / 32.0
+        table = np.concatenate([[0.0], np.cumsum(seg)])
         self.table_u = nodes
-        self.table_s = np.concatenate([[0.0], np.cumsum(seg)])
-        if self._length is None:
-            self._length = float(self.table_s[-1])
+        self.table_s = table * (self.length / table[-1])
 
     @classmethod
     def from_controls(cls, controls: np.ndarray, d1: np.ndarray, d2: np.ndarray, d3: np.ndarray) -> BlendPiece:
@@ -288,4 +289,6 @@ class BlendPiece(Piece):
 
 
 _BOUND_U = np.linspace(0.0, 1.0, 97)
+_GL24_X, _GL24_W = np.polynomial.legendre.leggauss(24)
+_GL24_X, _GL24_W = (_GL24_X + 1.0) / 2.0, _GL24_W / 2.0
 _PERM = {r: np.array([math.perm(k, r) for k in range(r, 6)], dtype=float) for r in (1, 2, 3)}

@@ -208,12 +208,16 @@ class Planner:
             prev.stop_after = True
             return None
         blend, d1, d2 = made
+        span = Span(blend, prev.record, feed, prev.lim, False, dyn, prev.path_acc, prev.path_jerk, blend=True)
+        if _crawls(span):
+            prev.stop_after = True   # stopping at the corner is faster than creeping round it
+            return None
         prev.piece = p.sub(0.0, p.length - d1) if p.length - d1 > MIN_LENGTH else None
         nxt.piece = q.sub(d2, q.length)
         nxt.refresh()
         if prev.piece is not None:
             prev.refresh()
-        return Span(blend, prev.record, feed, prev.lim, False, dyn, prev.path_acc, prev.path_jerk, blend=True)
+        return span
 
     def _adapt(self, prev: Span, nxt: Span) -> tuple[list[Span], list[Span], Span]:
         """Feed adaptation at a junction without a stop (seed 002 L4193-L4270).
@@ -342,6 +346,17 @@ class Planner:
                 continue
         raise PlanningError(f"no jerk-limited profile for a {span.length:.6g} mm move from {v0:.6g} to "
                             f"{v1:.6g} mm/s", span.line, span.record)
+
+
+def _crawls(span: Span) -> bool:
+    """True when running through a corner curve at its speed cap takes longer than
+    covering its length from rest to rest (a near-reversal): better stop there."""
+    at_cap = span.length / span.vc if span.vc > 0 else math.inf
+    if span.jerk == math.inf:
+        rest = 2.0 * math.sqrt(span.length / span.acc)
+    else:
+        rest = 4.0 * (span.length / (2.0 * span.jerk)) ** (1.0 / 3.0) + 2.0 * math.sqrt(span.length / span.acc)
+    return at_cap > rest
 
 
 def plan(records: Iterable, machine: Machine | dict | str | None = None, *, jerk: bool = True,

@@ -16,7 +16,7 @@ class Span:
     tangential acceleration ``acc`` and jerk ``jerk``, and whether the motion
     must stop at its end."""
 
-    __slots__ = ("acc", "blend", "dyn", "feed", "jerk", "ladder", "length", "lim", "line", "orig_length",
+    __slots__ = ("_ladder", "acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "orig_length",
                  "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
 
     def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
@@ -41,15 +41,10 @@ class Span:
         self.length = p.length
         feed = self.feed / p.speed_factor()
         d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
+        self._ladder = None
         if p.curved:
             self.vc, self.acc, self.jerk = curved_limits(d1, d2, d3, self.lim, feed, self.path_acc, self.path_jerk)
-            # below its cap a curve leaves more of the axes' acceleration and jerk for speed changes
-            self.ladder = [(self.vc, self.acc, self.jerk)]
-            for f in LADDER:
-                c = self.vc * f
-                self.ladder.append((c, *tangential(d1, d2, d3, self.lim, c, self.path_acc, self.path_jerk)))
         else:
-            self.ladder = None
             self.vc = piece_cap(d1, d2, d3, self.lim, feed)
             self.acc, self.jerk = tangential(d1, d2, d3, self.lim, self.vc, self.path_acc, self.path_jerk)
 
@@ -58,13 +53,26 @@ class Span:
         return Span(self.piece.sub(s0, s1), self.record, self.feed if feed is None else feed, self.lim, self.rapid,
                     self.dyn, self.path_acc, self.path_jerk, self.blend)
 
+    @property
+    def ladder(self) -> list[tuple[float, float, float]] | None:
+        """Curves: (cap, tangential acceleration, tangential jerk) for descending caps: below its
+        highest cap a curve leaves more of the axes' budget for speed changes.  None for lines."""
+        if self._ladder is None and self.piece.curved:
+            p = self.piece
+            d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
+            self._ladder = [(self.vc, self.acc, self.jerk)] + [
+                (self.vc * f, *tangential(d1, d2, d3, self.lim, self.vc * f, self.path_acc, self.path_jerk))
+                for f in LADDER]
+        return self._ladder
+
     def reach(self, v: float) -> float:
         """Highest speed at the other end of this span from speed ``v`` at one end (either
         direction: the profiles are symmetric), within the cap."""
-        if self.ladder is None:
+        ladder = self.ladder
+        if ladder is None:
             return min(self.vc, reachable(v, self.length, self.acc, self.jerk))
         best = 0.0
-        for c, a, j in self.ladder:
+        for c, a, j in ladder:
             if c < v or a <= 0 or j <= 0:
                 break
             best = max(best, min(c, reachable(v, self.length, a, j)))

@@ -1,0 +1,82 @@
+"""Planning speed against interpretation speed, in the same process, and memory of the full stream.
+
+Run::
+
+    python benchmarks/plan_speed.py [--segments 50000]
+
+For a 3D finishing raster (0.5 mm steps) in each corner mode it times:
+interpretation alone (records/s), then interpretation + planning streamed
+together (the dry run ``fagorcnc run`` does), and reports the planner's own
+rate.  Peak RSS of a run 4x longer shows whether memory grows with the program.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import resource
+import subprocess
+import sys
+import time
+
+
+def raster(n: int, mode: str):
+    yield "G90 G1 X0 Y0 Z2 F3000"
+    yield {"G50": "G50", "G05": "G05", "HSC": "#HSC ON [CONTERROR 0.01]"}[mode]
+    k, row = 0, 0
+    while k < n:
+        y = float(row % 400)
+        xs = [i * 0.5 for i in range(101)]
+        for x in xs[::-1] if row % 2 else xs:
+            yield f"X{x:.4f} Y{y:.4f} Z{2 * math.sin(x / 7) * math.cos(y / 9):.4f}"
+            k += 1
+        row += 1
+    yield "M30"
+
+
+def measure(n: int, mode: str) -> dict:
+    import fagorcnc
+    from fagorcnc.plan import Planner
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    t0 = time.perf_counter()
+    records = sum(1 for _ in Run(raster(n, mode), "<raster>", machine))
+    t_interp = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    segments = cycle = 0.0
+    for seg in Planner(machine).segments(Run(raster(n, mode), "<raster>", machine)):
+        segments += 1
+        cycle = seg.t0 + seg.duration
+    t_both = time.perf_counter() - t0
+    return {"mode": mode, "records": records, "segments": int(segments), "interp_s": t_interp, "both_s": t_both,
+            "cycle_s": cycle, "rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--segments", type=int, default=50_000)
+    ap.add_argument("--child", nargs=2, metavar=("N", "MODE"), help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child:
+        print(json.dumps(measure(int(args.child[0]), args.child[1])))
+        return
+    print(f"| mode | records | interpret (records/s) | interpret + plan (records/s) | planner alone (segments/s) "
+          f"| planned cycle time | peak RSS, {args.segments} / {4 * args.segments} records |")
+    print("|---|---|---|---|---|---|---|")
+    for mode in ("G50", "G05", "HSC"):
+        out = []
+        for n in (args.segments, 4 * args.segments):
+            p = subprocess.run([sys.executable, __file__, "--child", str(n), mode], capture_output=True, text=True,
+                               check=True)
+            out.append(json.loads(p.stdout))
+        r = out[0]
+        plan_only = r["both_s"] - r["interp_s"]
+        print(f"| {mode} | {r['records']} | {r['records'] / r['interp_s']:,.0f} | {r['records'] / r['both_s']:,.0f} "
+              f"| {r['segments'] / plan_only:,.0f} | {r['cycle_s']:.1f} s | {out[0]['rss_mib']:.1f} / "
+              f"{out[1]['rss_mib']:.1f} MiB |")
+
+
+if __name__ == "__main__":
+    main()
