@@ -58,7 +58,7 @@ def _replaced(piece: Piece, s0: float, s1: float) -> np.ndarray:
     return piece.derivatives(np.linspace(s0, s1, 17))[0]
 
 
-def _deviation(blend: BlendPiece, p: Piece, q: Piece, d1: float, d2: float, corner: bool) -> float:
+def deviation(blend: BlendPiece, p: Piece, q: Piece, d1: float, d2: float, corner: bool) -> float:
     """Largest distance from the blend to the stretch of programmed path it replaces
     (HSC), or with ``corner`` the distance from the programmed corner point to the
     curve (#ROUNDPAR e, L8124)."""
@@ -194,7 +194,7 @@ def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: f
             return None
         if tolerance is None:
             return blend, d1, d2
-        dev = _deviation(blend, p, q, d1, d2, corner)
+        dev = deviation(blend, p, q, d1, d2, corner)
         if dev <= 0.95 * tolerance:
             return blend, d1, d2
         size *= max(0.1, 0.9 * tolerance / dev)

@@ -182,7 +182,7 @@ class BlendPiece(Piece):
     built on first use, so trial curves stay cheap).
     """
 
-    __slots__ = ("_length", "coef", "table_s", "table_u")
+    __slots__ = ("_length", "_scale", "coef", "table_s", "table_u")
 
     curved = True
 
@@ -215,7 +215,8 @@ class BlendPiece(Piece):
         seg = (sig * _GL_W[None, :]).sum(axis=1) / 32.0
         table = np.concatenate([[0.0], np.cumsum(seg)])
         self.table_u = nodes
-        self.table_s = table * (self.length / table[-1])
+        self._scale = self.length / table[-1]
+        self.table_s = table * self._scale
 
     @classmethod
     def from_controls(cls, controls: np.ndarray, d1: np.ndarray, d2: np.ndarray, d3: np.ndarray) -> BlendPiece:
@@ -246,7 +247,7 @@ class BlendPiece(Piece):
             u0 = self.table_u[k]
             x = (u0[:, None] + (u - u0)[:, None] * _GL_X[None, :]).ravel()
             sig = np.sqrt((self._d(x, 1) ** 2).sum(axis=1)).reshape(len(u), n)
-            s_u = self.table_s[k] + (u - u0) * (sig * _GL_W[None, :]).sum(axis=1)
+            s_u = self.table_s[k] + (u - u0) * (sig * _GL_W[None, :]).sum(axis=1) * self._scale
             speed = np.sqrt((self._d(u, 1) ** 2).sum(axis=1))
             u = np.clip(u - (s_u - s) / speed, 0.0, 1.0)
         return u

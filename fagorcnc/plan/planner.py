@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..machine import Machine, load_machine
-from .corners import included_angle, make_blend, smooth
-from .geometry import ArcPiece, LinePiece, Piece
+from .corners import SHAPE, deviation, included_angle, make_blend, smooth
+from .geometry import ArcPiece, BlendPiece, LinePiece, Piece
 from .limits import AxisLimits
 from .lookahead import backward, distance
 from .profile import Profile, ProfileError, Solver
@@ -26,6 +26,9 @@ from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
 NO_SYNC = frozenset({"H", "D"})
+#: Control-point spacing of HSC spline curves: uniform (2/5 of each half), which keeps the
+#: curvature of a polyline sampled from a circle constant through the curve.
+SPLINE_SHAPE = 0.4
 #: Corners sharper than this (included angle, degrees) are never rounded: the tool stops.
 MIN_CORNER_ANGLE = 1.0
 #: Arcs are planned in parts of at most this sweep (radians).
@@ -86,6 +89,8 @@ class Planner:
         self.window = max(16, m.planner.lookahead)
         self._limits: dict = {}
         self.solver = Solver()
+        self._peek: Span | Event | None = None   # the item after the one the corner stage looks at
+        self._spline_used = False
 
     # ------------------------------------------------------------ records -> spans
     def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
@@ -184,6 +189,9 @@ class Planner:
             if hsc.mode == "FAST":
                 feed *= hsc.fast / 100.0
                 speed = feed
+            made = self._spline(prev, nxt, tolerance)
+            if made is not None:
+                return self._blend_span(prev, nxt, made, feed)
         else:   # G05 / G61 with #ROUNDPAR
             kind, *params = dyn.roundpar
             corner_measure = True
@@ -202,22 +210,84 @@ class Planner:
         lim = prev.lim
         acc = min(min(lim.acceleration), min(nxt.lim.acceleration))
         jerk = min(min(lim.jerk), min(nxt.lim.jerk))
-        made = make_blend(p, q, prev.orig_length / 2.0, nxt.orig_length / 2.0, tolerance=tolerance,
+        # a span that starts on an HSC spline keeps room for its transition back to a straight line
+        half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
+        made = make_blend(p, q, half_p, nxt.orig_length / 2.0, tolerance=tolerance,
                           speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure)
         if made is None:
             prev.stop_after = True
             return None
+        return self._blend_span(prev, nxt, made, feed)
+
+    def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float) -> Span | None:
+        """Trim both spans for the corner curve ``made`` = (piece, d1, d2); None (a stop) when
+        running through the curve would be slower than stopping."""
         blend, d1, d2 = made
-        span = Span(blend, prev.record, feed, prev.lim, False, dyn, prev.path_acc, prev.path_jerk, blend=True)
+        span = Span(blend, prev.record, feed, prev.lim, False, prev.dyn, prev.path_acc, prev.path_jerk, blend=True)
         if _crawls(span):
             prev.stop_after = True   # stopping at the corner is faster than creeping round it
+            nxt.mid_k = None
+            self._spline_used = False
             return None
+        p, q = prev.piece, nxt.piece
         prev.piece = p.sub(0.0, p.length - d1) if p.length - d1 > MIN_LENGTH else None
         nxt.piece = q.sub(d2, q.length)
         nxt.refresh()
         if prev.piece is not None:
             prev.refresh()
         return span
+
+    # ------------------------------------------------------------ HSC splines through dense polylines
+    def _spline(self, prev: Span, nxt: Span, tolerance: float) -> tuple | None:
+        """HSC corner between two lines as a curve from the middle of one to the middle of the
+        next, with the curvature the polyline suggests there (seed 002 L13486: the CNC builds
+        splines through the points).  Consecutive curves then meet with equal curvature, so a
+        dense CAM polyline becomes one smooth curve instead of a chain of corner rounds whose
+        curvature drops to zero between corners.  None when it does not fit the tolerance."""
+        self._spline_used = False
+        after = self._peek
+        p, q = prev.piece, nxt.piece
+        if not (isinstance(p, LinePiece) and isinstance(q, LinePiece)) or _adapts(prev) or _adapts(nxt):
+            return None
+        d1 = min(prev.orig_length / 2.0, p.length)
+        d2 = nxt.orig_length / 2.0
+        zero = np.zeros_like(q.u)
+        k0 = prev.mid_k if prev.mid_k is not None else zero
+        k5 = zero
+        if (isinstance(after, Span) and isinstance(after.piece, LinePiece) and not after.rapid
+                and after.dyn is not None and after.dyn.corner == "HSC" and not _adapts(after)
+                and included_angle(q.u, after.piece.u) >= max(after.dyn.hsc.corner, MIN_CORNER_ANGLE)):
+            k_in = (q.u - p.u) / ((prev.orig_length + nxt.orig_length) / 2.0)
+            k_out = (after.piece.u - q.u) / ((nxt.orig_length + after.orig_length) / 2.0)
+            k5 = (k_in + k_out) / 2.0
+            k5 = k5 - float(k5 @ q.u) * q.u
+        p0, p5 = p.end - d1 * p.u, q.start + d2 * q.u
+        blend = BlendPiece(p0, p.u, k0, SPLINE_SHAPE * d1, p5, q.u, k5, SPLINE_SHAPE * d2)
+        if not blend.valid or deviation(blend, p, q, d1, d2, False) > 0.95 * tolerance:
+            return None
+        nxt.mid_k = k5 if float(np.abs(k5).max()) > 0.0 else None
+        self._spline_used = True
+        return blend, d1, d2
+
+    def _transition(self, span: Span) -> Span | None:
+        """A span that starts on an HSC spline with curvature but does not end on one: a short
+        curve back to its straight line (curvature stays continuous), cut from its start."""
+        k, p = span.mid_k, span.piece
+        span.mid_k = None
+        if k is None or p is None or not isinstance(p, LinePiece):
+            return None
+        tol = span.dyn.hsc.tolerance if span.dyn is not None and span.dyn.hsc is not None else 0.01
+        step = min(span.orig_length / 8.0, p.length / 2.0)
+        while step > 1e-6:
+            curve = BlendPiece(p.start, p.u, k, SHAPE * step, p.start + step * p.u, p.u, np.zeros_like(k),
+                               SHAPE * step)
+            if curve.valid and deviation(curve, p, p, 0.0, step, False) <= 0.95 * tol:
+                span.piece = p.sub(step, p.length)
+                span.refresh()
+                return Span(curve, span.record, span.feed, span.lim, False, span.dyn, span.path_acc,
+                            span.path_jerk, blend=True)
+            step /= 2.0
+        return None
 
     def _adapt(self, prev: Span, nxt: Span) -> tuple[list[Span], list[Span], Span]:
         """Feed adaptation at a junction without a stop (seed 002 L4193-L4270).
@@ -256,19 +326,27 @@ class Planner:
         prev: Span | None = None
         pending: list[Event] = []        # events that do not stop the motion, after prev
         settle = self.config.inposition_time
-        for item in items:
+        source = iter(items)
+        upcoming = next(source, None)
+        while upcoming is not None:
+            item, upcoming = upcoming, next(source, None)
+            self._peek = upcoming
             if isinstance(item, Event):
                 if item.kind == "aux" and item.record.function in NO_SYNC and prev is not None:
                     pending.append(item)
                     continue
                 if prev is not None:
                     prev.stop_after = True
+                    yield from self._lead(prev)
                     yield from self._emit(prev, pending, settle)
                     prev, pending = None, []
                 yield item
                 continue
             if prev is not None:
+                self._spline_used = False
                 blend = self._junction(prev, item)
+                if not self._spline_used:
+                    yield from self._lead(prev)
                 if prev.stop_after:
                     yield from self._emit(prev, pending, settle)
                 else:
@@ -284,7 +362,14 @@ class Planner:
             prev = item
         if prev is not None:
             prev.stop_after = True
+            yield from self._lead(prev)
             yield from self._emit(prev, pending, settle)
+
+    def _lead(self, span: Span) -> Iterator[Span]:
+        """The transition curve a span needs at its start, if any (see :meth:`_transition`)."""
+        curve = self._transition(span) if span.mid_k is not None else None
+        if curve is not None:
+            yield curve
 
     @staticmethod
     def _emit(span: Span, pending: list, settle: float) -> Iterator[Span | Event]:
@@ -346,6 +431,10 @@ class Planner:
                 continue
         raise PlanningError(f"no jerk-limited profile for a {span.length:.6g} mm move from {v0:.6g} to "
                             f"{v1:.6g} mm/s", span.line, span.record)
+
+
+def _adapts(span: Span) -> bool:
+    return span.dyn is not None and span.dyn.adaptation is not None
 
 
 def _crawls(span: Span) -> bool:

@@ -16,8 +16,8 @@ class Span:
     tangential acceleration ``acc`` and jerk ``jerk``, and whether the motion
     must stop at its end."""
 
-    __slots__ = ("_ladder", "acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "orig_length",
-                 "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
+    __slots__ = ("_ladder", "acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "mid_k",
+                 "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
 
     def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
                  path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False) -> None:
@@ -33,6 +33,7 @@ class Span:
         self.blend = blend
         self.orig_length = piece.length
         self.stop_after = False
+        self.mid_k = None   # HSC spline: curvature the path has where this span now starts
         self.refresh()
 
     def refresh(self) -> None:
