@@ -21,8 +21,8 @@ from .corners import SHAPE, deviation, included_angle, make_blend, smooth
 from .geometry import ArcPiece, BlendPiece, LinePiece, Piece
 from .limits import AxisLimits
 from .lookahead import backward, distance
-from .profile import Profile, ProfileError, Solver
-from .span import Event, Span
+from .profile import Profile, ProfileError, ProfileWindow, Solver
+from .span import Event, Group, Span
 
 #: Auxiliary functions that do not stop the motion.
 NO_SYNC = frozenset({"H", "D"})
@@ -33,6 +33,10 @@ SPLINE_SHAPE = 0.4
 MIN_CORNER_ANGLE = 1.0
 #: Arcs are planned in parts of at most this sweep (radians).
 ARC_PART = math.radians(30.0)
+#: Grouping of short spans into one motion: span length, group length (mm) and members at most.
+GROUP_SPAN = 2.0
+GROUP_LENGTH = 20.0
+GROUP_MEMBERS = 64
 #: Pieces shorter than this (mm) are dropped: nothing moves.
 MIN_LENGTH = 1e-9
 
@@ -382,55 +386,115 @@ class Planner:
     # ------------------------------------------------------------ look-ahead and timing
     def segments(self, records: Iterable) -> Iterator[Segment]:
         """Plan ``records`` (motion records in execution order); yields timed segments."""
-        queue: list[Span] = []
-        after: dict[int, list[Event]] = {}   # events that follow queue[i] without a stop
+        queue: list[Group] = []
+        after: dict[int, list[Event]] = {}   # events that follow a span without a stop
         clock = [0.0]
         v = 0.0
+        group: Group | None = None
+        last: Span | None = None
         for item in self._corners(self._spans(records)):
             if isinstance(item, Event):
-                if queue and not queue[-1].stop_after:
-                    after.setdefault(id(queue[-1]), []).append(item)
+                if last is not None and not last.stop_after:
+                    after.setdefault(id(last), []).append(item)
                     continue
+                if group is not None:
+                    queue.append(group)
+                    group = None
                 v = yield from self._commit(queue, len(queue), v, clock, after)
                 yield Segment(item.kind, clock[0], item.duration, item.line, item.record)
                 clock[0] += item.duration
                 continue
-            queue.append(item)
+            last = item
+            if group is not None and _joins(group, item):
+                group.add(item)
+            else:
+                if group is not None:
+                    queue.append(group)
+                group = Group(item)
             if item.stop_after:
+                queue.append(group)
+                group = None
                 v = yield from self._commit(queue, len(queue), v, clock, after)
             elif len(queue) >= self.window:
                 v = yield from self._commit(queue, self.window // 2, v, clock, after)
+        if group is not None:
+            queue.append(group)
         yield from self._commit(queue, len(queue), v, clock, after)
 
-    def _commit(self, queue: list[Span], k: int, v: float, clock: list, after: dict) -> Iterator[Segment]:
-        """Time the first ``k`` spans of the queue starting at speed ``v``; returns the speed after them."""
+    def _commit(self, queue: list[Group], k: int, v: float, clock: list, after: dict) -> Iterator[Segment]:
+        """Time the first ``k`` groups of the queue starting at speed ``v``; returns the speed after them."""
         if not queue:
             return v
         limit = backward(queue, 0.0)
         n = len(queue)
         for i in range(k):
-            s = queue[i]
-            nxt = 0.0 if s.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
-            v1 = min(nxt, s.reach(v))
-            duration, profile = self._time(s, v, v1)
-            yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1, profile, s.blend)
-            clock[0] += duration
-            for ev in after.pop(id(s), ()):
-                yield Segment(ev.kind, clock[0], ev.duration, ev.line, ev.record)
-                clock[0] += ev.duration
+            g = queue[i]
+            nxt = 0.0 if g.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
+            v1 = min(nxt, g.reach(v))
+            duration, profile, v1 = self._time(g, v, v1, keep=self.keep or len(g.members) > 1)
+            if len(g.members) == 1:
+                s = g.members[0]
+                yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1,
+                              profile if self.keep else None, s.blend)
+                clock[0] += duration
+                yield from self._after(s, after, clock)
+            else:
+                yield from self._split(g, profile, v1, clock, after)
             v = v1
         del queue[:k]
         return v
 
-    def _time(self, span: Span, v0: float, v1: float) -> tuple[float, Profile | None]:
+    def _split(self, group: Group, profile: Profile, v1: float, clock: list, after: dict) -> Iterator[Segment]:
+        """The members' segments of a group: the times where the group profile crosses each
+        member's start (Newton from an interpolated guess)."""
+        members = group.members
+        bounds = np.cumsum([0.0] + [m.length for m in members])
+        bounds[-1] = group.length
+        grid = np.linspace(0.0, profile.duration, 16 * len(members) + 1)
+        s_grid = profile.at(grid)[0]
+        t = np.interp(bounds, s_grid, grid)
+        inner = slice(1, -1)
+        for _ in range(4):
+            s_t, v_t, _a, _j = profile.at(t[inner])
+            t[inner] -= (s_t - bounds[inner]) / np.maximum(v_t, 1e-12)
+            t[inner] = np.clip(t[inner], 0.0, profile.duration)
+        t[0], t[-1] = 0.0, profile.duration
+        speeds = profile.at(t)[1]
+        speeds[-1] = v1
+        start = clock[0]
+        for i, m in enumerate(members):
+            window = ProfileWindow(profile, float(t[i]), float(bounds[i]), float(t[i + 1] - t[i]))
+            yield Segment("motion", start + t[i], t[i + 1] - t[i], m.line, m.record, m.piece, float(speeds[i]),
+                          float(speeds[i + 1]), window if self.keep else None, m.blend)
+            clock[0] = start + t[i + 1]
+            yield from self._after(m, after, clock)
+
+    @staticmethod
+    def _after(span: Span, after: dict, clock: list) -> Iterator[Segment]:
+        for ev in after.pop(id(span), ()):
+            yield Segment(ev.kind, clock[0], ev.duration, ev.line, ev.record)
+            clock[0] += ev.duration
+
+    def _time(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None, float]:
         for shrink in (0.0, 1e-9, 1e-6, 1e-4, 1e-2):
+            target = v1 * (1.0 - shrink)
             try:
-                duration, _vc, profile = self.solver.time(span, v0, v1 * (1.0 - shrink), self.keep)
-                return duration, profile
+                duration, _vc, profile = self.solver.time(span, v0, target, keep)
+                return duration, profile, target
             except ProfileError:
                 continue
         raise PlanningError(f"no jerk-limited profile for a {span.length:.6g} mm move from {v0:.6g} to "
                             f"{v1:.6g} mm/s", span.line, span.record)
+
+
+def _joins(group: Group, span: Span) -> bool:
+    """Whether ``span`` continues ``group`` as one motion: short spans with caps within 30 %."""
+    last = group.members[-1]
+    if last.stop_after or span.length > GROUP_SPAN or len(group.members) >= GROUP_MEMBERS:
+        return False
+    if group.members[0].length > GROUP_SPAN or group.length + span.length > GROUP_LENGTH:
+        return False
+    return span.vc <= 1.3 * group.vc and span.vc * 1.3 >= max(m.vc for m in group.members[-4:])
 
 
 def _adapts(span: Span) -> bool:

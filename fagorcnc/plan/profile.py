@@ -76,6 +76,20 @@ def micro_profile(length: float, v0: float, v1: float, acc: float, jerk: float) 
                    np.array([0.0, j * tau ** 3 / 6, j * tau ** 3, 11 * j * tau ** 3 / 6]), 4 * tau)
 
 
+class ProfileWindow:
+    """The part of a profile between ``t0`` and ``t0 + duration``, positions from ``s0``:
+    a member's motion inside a group's profile (same interface as :class:`Profile`)."""
+
+    __slots__ = ("duration", "profile", "s0", "t0")
+
+    def __init__(self, profile: Profile, t0: float, s0: float, duration: float) -> None:
+        self.profile, self.t0, self.s0, self.duration = profile, t0, s0, duration
+
+    def at(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        s, v, a, j = self.profile.at(np.asarray(tau) + self.t0)
+        return s - self.s0, v, a, j
+
+
 class Solver:
     """A reusable ruckig 1-DOF solver."""
 

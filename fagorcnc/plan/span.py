@@ -97,3 +97,50 @@ class Event:
         self.kind = record.kind if record is not None else "dwell"
         self.line = record.src.line if record is not None else 0
         self.duration = duration
+
+
+class Group:
+    """Consecutive short spans planned as one motion (one ruckig profile over their total
+    length), so the speed can change across their junctions without returning to zero
+    acceleration at each one; each member keeps its own segment, cut from the profile.
+
+    Limits are the most restrictive of the members' (each member's are valid below its own
+    cap, and the group stays below the lowest cap)."""
+
+    __slots__ = ("_ladder", "acc", "jerk", "length", "line", "members", "record", "stop_after", "vc")
+
+    def __init__(self, first: Span) -> None:
+        self.members = [first]
+        self.length = first.length
+        self.vc, self.acc, self.jerk = first.vc, first.acc, first.jerk
+        self.stop_after = first.stop_after
+        self.line, self.record = first.line, first.record
+        self._ladder = None
+
+    def add(self, span: Span) -> None:
+        self.members.append(span)
+        self.length += span.length
+        self.vc = min(self.vc, span.vc)
+        self.acc = min(self.acc, span.acc)
+        self.jerk = min(self.jerk, span.jerk)
+        self.stop_after = span.stop_after
+        self._ladder = None
+
+    @property
+    def ladder(self) -> list[tuple[float, float, float]] | None:
+        if self._ladder is None and any(m.piece.curved for m in self.members):
+            rungs = [(self.vc, self.acc, self.jerk)]
+            for f in LADDER:
+                c = self.vc * f
+                limits = [m.limits_at(c) for m in self.members]
+                rungs.append((c, min(a for a, _ in limits), min(j for _, j in limits)))
+            self._ladder = rungs
+        return self._ladder
+
+    reach = Span.reach
+
+    def limits_at(self, vc: float) -> tuple[float, float]:
+        if vc >= self.vc or self.ladder is None:
+            return self.acc, self.jerk
+        limits = [m.limits_at(vc) for m in self.members]
+        return min(a for a, _ in limits), min(j for _, j in limits)

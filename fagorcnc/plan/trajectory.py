@@ -59,7 +59,9 @@ def sample(segments: Iterable[Segment], axes: list[str], period: float = 0.001,
             raise ValueError("sample() needs segments planned with keep_profiles=True")
         if k1 > k0:
             t = np.arange(k0, k1) * period
-            s, v, a, j = seg.profile.at(t - t0)
+            # times inside the segment as small exact steps plus one offset: no rounding noise
+            # from large absolute times between neighbouring samples
+            s, v, a, j = seg.profile.at(np.arange(k1 - k0) * period + (k0 * period - t0))
             q, d1, d2, d3 = seg.piece.derivatives(s)
             v, a, j = v[:, None], a[:, None], j[:, None]
             ts.append(t)
