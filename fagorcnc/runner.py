@@ -69,7 +69,7 @@ def run(source: str | Path, machine: Machine | dict | str | Path | None = None, 
         return RunReport(False, [d], Status(state="closed"), stopped_by="error", message=str(exc))
     be = backend if not isinstance(backend, str) else get_backend(backend, mach, **backend_options)
     if check_first is None:
-        check_first = be.name != "sim" or bool(backend_options.get("realtime"))
+        check_first = be.name != "sim" or bool(backend_options.get("realtime") or getattr(be, "realtime", None))
     total = None
     if check_first:
         checked = simulate(source, mach, block_skip=block_skip)

@@ -58,11 +58,14 @@ class SimulatorBackend:
             self.segments.append(segment)
         st.sent += 1
         with self._lock:
-            st.state = "run"
+            if st.state != "pause":      # a pause that came while the last segment ended stays a pause
+                st.state = "run"
         if self.realtime:
             self._pace(segment)
             if self._stopped:
-                raise BackendError("stopped by the operator", self._status)
+                with self._lock:
+                    why = f"alarm {st.alarm}: {st.alarm_message}" if st.alarm else "stopped by the operator"
+                raise BackendError(why, self.status())
         with self._lock:
             if segment.kind == "aux" and segment.record is not None:
                 rec = segment.record
@@ -75,7 +78,7 @@ class SimulatorBackend:
             st.position = self._pos_dict()
             if st.alarm:
                 st.state = "alarm"
-                raise BackendError(st.alarm_message or f"alarm {st.alarm}", st)
+                raise BackendError(st.alarm_message or f"alarm {st.alarm}", self._copy())
 
     def finish(self) -> Status:
         with self._lock:
@@ -110,14 +113,19 @@ class SimulatorBackend:
         with self._lock:
             self._status.alarm, self._status.alarm_message = code, message
             self._status.state = "alarm"
+            self._status.velocity = dict.fromkeys(self.axes, 0.0)
         self._stopped = True
         self._resume.set()
 
     def status(self) -> Status:
         with self._lock:
-            s = self._status
-            return Status(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position), 0.0,
-                          dict(s.velocity))
+            return self._copy()
+
+    def _copy(self) -> Status:
+        """A copy of the status (call with the lock held)."""
+        s = self._status
+        return Status(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position), 0.0,
+                      dict(s.velocity))
 
     def close(self) -> None:
         with self._lock:
