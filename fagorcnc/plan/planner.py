@@ -487,12 +487,18 @@ class Planner:
                             f"{v1:.6g} mm/s", span.line, span.record)
 
 
+def _short(span: Span) -> bool:
+    """A span crossed (at its cap) faster than its acceleration can rise and fall again: returning
+    to zero acceleration at both of its ends would dominate its motion."""
+    return span.length <= GROUP_SPAN and span.length < span.vc * span.acc / span.jerk
+
+
 def _joins(group: Group, span: Span) -> bool:
     """Whether ``span`` continues ``group`` as one motion: short spans with caps within 30 %."""
     last = group.members[-1]
-    if last.stop_after or span.length > GROUP_SPAN or len(group.members) >= GROUP_MEMBERS:
+    if last.stop_after or len(group.members) >= GROUP_MEMBERS or group.length + span.length > GROUP_LENGTH:
         return False
-    if group.members[0].length > GROUP_SPAN or group.length + span.length > GROUP_LENGTH:
+    if not (_short(span) and _short(group.members[0])):
         return False
     return span.vc <= 1.3 * group.vc and span.vc * 1.3 >= max(m.vc for m in group.members[-4:])
 
