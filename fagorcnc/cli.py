@@ -5,8 +5,11 @@
 summary (segments, last block, final position, planned cycle time).
 ``fagorcnc parse FILE...`` (alias ``lint``) reads programs and prints every
 diagnostic as ``file:line:col: CODE message`` with the source line and a
-caret.  Exit status: 0 clean, 1 when any error was found, 2 on bad usage
-(unreadable file, unknown option).
+caret.  ``fagorcnc check FILE...`` verifies programs for CI (see
+:mod:`fagorcnc.check`; text, JSON, SARIF or GitHub annotations) and
+``fagorcnc plot FILE -o out.png`` draws the planned tool path
+(:mod:`fagorcnc.plot`).  Exit status: 0 clean, 1 when any error was found, 2
+on bad usage (unreadable file, unknown option).
 """
 
 from __future__ import annotations
@@ -105,8 +108,15 @@ def _run_command(args: argparse.Namespace) -> int:
             return 2
         options["realtime"] = args.realtime
     bar = _ProgressBar(sys.stderr, Path(args.file).name) if sys.stderr.isatty() and not args.verbose else None
+    backend, progress, server = args.backend, bar, None
+    report = None
     try:
-        report = run(Path(args.file), machine, backend=args.backend, block_skip=args.block_skip, progress=bar,
+        if args.status_server is not None:
+            backend, server = _start_status_server(args, machine, options)
+            if server is None:
+                return 2
+            options, progress = {}, server.progress_callback(bar)
+        report = run(Path(args.file), machine, backend=backend, block_skip=args.block_skip, progress=progress,
                      **options)
     except BackendError as exc:
         print(f"fagorcnc: {exc}", file=sys.stderr)
@@ -114,6 +124,9 @@ def _run_command(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
+        if server is not None:
+            server.finished(report is not None and report.ok)
+            server.stop()
     for d in report.diagnostics:
         if d.severity != "info" or args.verbose:
             print(d.render())
@@ -129,6 +142,109 @@ def _run_command(args: argparse.Namespace) -> int:
     if report.stopped_by == "interrupt":
         return 130
     return 0 if report.ok else 1
+
+
+def _check_command(args: argparse.Namespace) -> int:
+    from .machine import MachineError, load_machine
+
+    if args.jobs is not None and args.jobs < 1:
+        print("fagorcnc: --jobs must be 1 or more", file=sys.stderr)
+        return 2
+    if args.max_cycle_time is not None and not args.max_cycle_time > 0:
+        print("fagorcnc: --max-cycle-time must be a positive number of seconds", file=sys.stderr)
+        return 2
+    try:
+        machine = load_machine(args.machine)
+    except MachineError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return 2
+    if not args.output:
+        return _check_report(args, machine, sys.stdout)
+    try:
+        with open(args.output, "w", encoding="utf-8") as out:
+            return _check_report(args, machine, out)
+    except OSError as exc:
+        print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+
+
+def _check_report(args: argparse.Namespace, machine, out) -> int:
+    from .check import check_files, dumps, exit_status, github_report, json_report, sarif_report, text_report
+
+    reports = []
+    for report in check_files(args.files, machine, jobs=args.jobs, block_skip=args.block_skip,
+                              max_cycle_time=args.max_cycle_time):
+        reports.append(report)
+        if report.usage_error:
+            print(f"{report.file}: {report.failure}", file=sys.stderr)
+        if args.format == "text":
+            print(text_report(report, fail_on=args.fail_on, brief=args.brief, verbose=args.verbose,
+                              quiet=args.quiet), file=out, flush=True)
+        elif args.format == "github":
+            print(github_report(report, fail_on=args.fail_on, verbose=args.verbose), file=out, flush=True)
+    if args.format == "json":
+        print(dumps(json_report(reports, fail_on=args.fail_on, machine=args.machine)), file=out)
+    elif args.format == "sarif":
+        print(dumps(sarif_report(reports, fail_on=args.fail_on)), file=out)
+    elif len(reports) > 1 and not args.quiet:
+        passed = sum(r.verdict(args.fail_on) == "pass" for r in reports)
+        print(f"checked {len(reports)} files: {passed} passed, {len(reports) - passed} failed", file=out)
+    return exit_status(reports, args.fail_on)
+
+
+def _plot_command(args: argparse.Namespace) -> int:
+    from .machine import MachineError
+    from .plot import MatplotlibMissingError, plot_program
+
+    if not Path(args.file).is_file():
+        print(f"{args.file}: cannot read the file: no such file", file=sys.stderr)
+        return 2
+    try:
+        info = plot_program(Path(args.file), args.output, args.machine, three_d=args.three_d, plane=args.plane,
+                            programmed=not args.no_programmed, limits=args.limits, block_skip=args.block_skip)
+    except MatplotlibMissingError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return 2
+    except (MachineError, ValueError) as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    for d in info.diagnostics:
+        if d.severity != "info":
+            print(d.render(), file=sys.stderr)
+    print(f"{args.output}: {info.segments} planned segments, cycle time {_clock(info.cycle_time)}"
+          + (", programmed contour drawn" if info.programmed else ""))
+    return 0 if info.ok else 1
+
+
+def _start_status_server(args: argparse.Namespace, machine, options: dict):
+    """Build the back-end and start the Modbus status server on it: (backend, server), server None on failure."""
+    from .backends import get_backend
+    from .status_server import PlcSignal, StatusServer, StatusServerError, parse_address
+
+    try:
+        host, port = parse_address(args.status_server)
+    except ValueError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return None, None
+    backend = get_backend(args.backend, machine, **options)
+
+    def show(signal: PlcSignal) -> None:
+        what = f"= {signal.value}" if signal.value else "cleared"
+        print(f"\nfagorcnc: PLC {signal.kind} {signal.number} (HR {signal.register}) {what}", file=sys.stderr)
+
+    server = StatusServer(backend, machine, host=host, port=port, holding_writes=args.plc_writes,
+                          program=Path(args.file), on_signal=show)
+    try:
+        server.start()
+    except StatusServerError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return backend, None
+    print(f"fagorcnc: status server (Modbus TCP) on {server.host}:{server.port}"
+          f"{', PLC writes enabled' if args.plc_writes else ''}", file=sys.stderr)
+    return backend, server
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -154,9 +270,42 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--serial", metavar="DEV", help="InterpCNC serial device (Modbus RTU, e.g. /dev/ttyACM0)")
     run.add_argument("--realtime", type=float, nargs="?", const=1.0, metavar="FACTOR",
                      help="pace the simulator against the clock (FACTOR 2 = twice as fast)")
+    run.add_argument("--status-server", metavar="[HOST:]PORT",
+                     help="serve the CNC state to a PLC over Modbus TCP while the program runs (RosettaCNC "
+                          "register table, interface level 1); HOST defaults to 127.0.0.1, e.g. 5020 or 0.0.0.0:502")
+    run.add_argument("--plc-writes", action="store_true",
+                     help="with --status-server: accept PLC writes (40001-40008 custom alarms stop the run, "
+                          "40009-40016 custom warnings are shown)")
     run.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
     run.set_defaults(func=_run_command)
+    check = sub.add_parser("check", help="verify programs offline for CI: diagnostics, limits, tools, cycle time")
+    check.add_argument("files", nargs="+", metavar="FILE", help="part program files")
+    check.add_argument("--machine", metavar="M", help="machine configuration (TOML or LinuxCNC INI)")
+    check.add_argument("--format", choices=("text", "json", "sarif", "github"), default="text",
+                       help="report format (default: text)")
+    check.add_argument("--max-cycle-time", type=float, metavar="SECONDS",
+                       help="fail a program whose planned cycle time is longer")
+    check.add_argument("--fail-on", choices=("error", "warning"), default="error",
+                       help="fail on errors only (default) or on warnings too")
+    check.add_argument("--jobs", "-j", type=int, metavar="N", help="files checked in parallel (default: CPU count)")
+    check.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
+    check.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE instead of the output")
+    check.add_argument("--brief", action="store_true", help="text: one line per diagnostic, no source excerpt")
+    check.add_argument("-q", "--quiet", action="store_true", help="text: diagnostics and verdicts only")
+    check.add_argument("-v", "--verbose", action="store_true", help="also report informational notes")
+    check.set_defaults(func=_check_command)
+    plot = sub.add_parser("plot", help="draw the planned tool path into a PNG, SVG or PDF (needs matplotlib)")
+    plot.add_argument("file", metavar="FILE", help="part program file")
+    plot.add_argument("-o", "--output", required=True, metavar="OUT", help="picture file: .png, .svg or .pdf")
+    plot.add_argument("--machine", metavar="M", help="machine configuration (TOML or LinuxCNC INI)")
+    plot.add_argument("--3d", dest="three_d", action="store_true", help="3D view of X, Y, Z")
+    plot.add_argument("--plane", default="XY", metavar="AB", help="axes of the 2D view: XY (default), XZ, YZ, ZX ...")
+    plot.add_argument("--no-programmed", action="store_true",
+                      help="do not draw the programmed contour of a compensated path")
+    plot.add_argument("--limits", action="store_true", help="draw the soft limits (2D view)")
+    plot.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
+    plot.set_defaults(func=_plot_command)
     return parser
 
 

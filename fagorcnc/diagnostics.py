@@ -133,7 +133,11 @@ CODES: dict[str, str] = {
     "INT114": "G193 needs linear acceleration",
     "INT115": "corner rounding type not modelled",
     "PLN001": "motion cannot be planned within the machine limits",
+    # fagorcnc check: verification of the planned motion
+    "PLN100": "planned path (arc or corner blend) beyond a software limit",
+    "PLN101": "planned cycle time over the limit (--max-cycle-time)",
     "CFG001": "invalid machine configuration",
+    "CFG002": "parameter file (parameter_file) cannot be read",
 }
 
 

@@ -123,6 +123,7 @@ class Machine:
     limits: Limits = field(default_factory=Limits)
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     backends: dict[str, dict] = field(default_factory=dict)   # [backends.<name>] tables, read by each back-end
+    parameter_file: Path | None = None   # global/common parameters kept between runs (fagorcnc.persist)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -276,7 +277,16 @@ def _build(data: dict) -> Machine:
         limits=limits,
         planner=planner,
         backends=_backends(data.get("backends", {})),
+        parameter_file=_parameter_file(data.get("parameter_file")),
     )
+
+
+def _parameter_file(value: Any) -> Path | None:
+    if value is None or value == "":
+        return None
+    if not isinstance(value, str | Path):
+        raise MachineError(f"parameter_file: expected a file name, got {value!r}")
+    return Path(value)
 
 
 def _backends(table: Any) -> dict[str, dict]:
@@ -328,11 +338,35 @@ def _m_table(table: dict) -> dict[int, str]:
     return out
 
 
+def _file_relative(path: Path, data: dict) -> dict:
+    """Keys of a machine file that name other files, resolved against its directory:
+    ``parameter_file`` and ``linuxcnc_ini`` (a LinuxCNC INI the file's own keys override)."""
+    base = path.resolve().parent
+    data = dict(data)
+    if isinstance(data.get("parameter_file"), str) and data["parameter_file"]:
+        data["parameter_file"] = str(base / data["parameter_file"])
+    ini = data.pop("linuxcnc_ini", None)
+    if ini is not None:
+        if not isinstance(ini, str):
+            raise MachineError(f"{path}: linuxcnc_ini: expected a file name, got {ini!r}")
+        from .linuxcnc import load_ini
+
+        ini_data = load_ini(base / ini)
+        axes = dict(ini_data.get("axes", {}))
+        for name, spec in data.get("axes", {}).items():   # an [axes.X] table overrides single keys of the INI's X
+            axes[name] = {**axes.get(name, {}), **spec} if isinstance(spec, dict) else spec
+        data = _merge(ini_data, data)
+        data["axes"] = axes
+    return data
+
+
 def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
-    """A :class:`Machine` from ``None`` (the default machine), a dict, or a TOML path.
+    """A :class:`Machine` from ``None`` (the default machine), a dict, a TOML path or a
+    LinuxCNC INI path (``*.ini``, see :mod:`fagorcnc.linuxcnc`).
 
     A dict or file is merged over the default machine; its ``axes`` table, when
-    given, replaces the default axes entirely.
+    given, replaces the default axes entirely.  In a TOML file, ``parameter_file``
+    and ``linuxcnc_ini`` are relative to the file's directory.
     """
     if isinstance(machine, Machine):
         return machine
@@ -340,13 +374,17 @@ def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
         return _build(DEFAULT_MACHINE)
     if isinstance(machine, str | Path):
         path = Path(machine)
+        if path.suffix.lower() == ".ini":   # a LinuxCNC configuration (fagorcnc.linuxcnc)
+            from .linuxcnc import load_ini
+
+            return _build(_merge(DEFAULT_MACHINE, load_ini(path)))
         try:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except OSError as exc:
             raise MachineError(f"{path}: cannot read the machine file ({exc.strerror or exc})") from None
         except tomllib.TOMLDecodeError as exc:
             raise MachineError(f"{path}: {exc}") from None
-        return _build(_merge(DEFAULT_MACHINE, data))
+        return _build(_merge(DEFAULT_MACHINE, _file_relative(path, data)))
     if isinstance(machine, dict):
         return _build(_merge(DEFAULT_MACHINE, machine))
     raise MachineError(f"machine: expected a path, a dict or a Machine, not {type(machine).__name__}")

@@ -18,6 +18,7 @@ from .interp.interpreter import Interpreter
 from .interp.records import record_time
 from .interp.state import ChannelState
 from .machine import Machine, MachineError, load_machine
+from .persist import attach_parameter_file
 from .plan import Planner, PlanningError, Segment, Trajectory, sample
 from .syntax import parse_file, parse_text
 from .syntax.ast import Program
@@ -136,6 +137,7 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
     else:
         program = parse_text(str(source))
     interp = Interpreter(program, mach, block_skip=block_skip)
+    attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
     moves = list(interp.run())
     diagnostics = [*program.diagnostics, *interp.diagnostics]
     cycle_time = 0.0
@@ -166,6 +168,7 @@ class Run:
         self.program, self._stream = stream_program(lines, file)
         self.interpreter = Interpreter(self.program, machine, block_skip=block_skip, stream=self._stream)
         self.state = FinalState(self.interpreter)
+        self._parameter_file = attach_parameter_file(self.interpreter)
 
     def __iter__(self):
         try:
@@ -173,6 +176,8 @@ class Run:
         finally:
             if self._close is not None:
                 self._close()
+            if self._parameter_file is not None:   # a real run keeps its global/common parameters
+                self._parameter_file.save()
 
     @property
     def diagnostics(self) -> list[Diagnostic]:

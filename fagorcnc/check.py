@@ -1,0 +1,699 @@
+"""``fagorcnc check``: the dry-run verifier for CI.
+
+Every program is parsed, interpreted and planned offline (:func:`fagorcnc.simulate`)
+on a machine configuration and reported on:
+
+* **diagnostics** (syntax, structure, interpreter, planner), including the
+  soft-limit check of every programmed end point (``INT100``) and an envelope
+  check of the *planned* path: an arc or a corner blend whose interior goes
+  beyond a soft limit although its end points do not is ``PLN100``;
+* **error recovery**: the control stops at the first error, so a check would
+  show one error at a time.  After an error the verifier blanks the failing
+  line(s) and runs the program again (at most :data:`MAX_RECOVERIES` times) to
+  report the errors further on; those are marked ``recovered`` (they may be
+  consequences of the skipped block).  Everything else in the report (tools,
+  boxes, cycle time) describes the program as the control would run it: up to
+  its first error;
+* **unsupported features**: the warnings that say fagorcnc does not compute
+  something (``INT011``, ``INT078``, ``INT079``, ``INT115``), grouped;
+* **tools** (T selected, loaded by M06, D offsets used) and **work offsets**
+  (G54..G59, G159=n, G92, G53 active while the moves ran);
+* the **bounding box per tool**: extent of the motion (rapids and feeds, and
+  feeds alone) while each tool was in the spindle, in machine and in part
+  coordinates (arc extremes included; T0 = no tool);
+* the **planned cycle time** and, with ``--max-cycle-time``, whether it is over
+  the limit (``PLN101``);
+* a **verdict** per file: ``pass``, ``fail`` (an error; a warning too with
+  ``--fail-on warning``), ``unreadable`` (usage error) or ``crashed`` (internal
+  error of fagorcnc).
+
+Exit status of the command: 0 all files pass, 1 some file fails (or crashed),
+2 usage error (unreadable file, bad option, bad machine file).  Files are
+checked in parallel (``--jobs``, one process each) and reported in input order.
+
+JSON report (``--format json``), schema ``fagorcnc-check/1``; keys are stable,
+new keys may be added::
+
+    {"schema": "fagorcnc-check/1", "tool": "fagorcnc", "version": "0.1.0",
+     "machine": "m.toml" | null, "fail_on": "error" | "warning",
+     "ok": true,                      # every file passed
+     "summary": {"files": 3, "passed": 2, "failed": 1, "errors": 4, "warnings": 1},
+     "files": [{
+        "file": "part.nc", "verdict": "pass" | "fail" | "unreadable" | "crashed",
+        "failure": null | "why the file could not be checked",
+        "executed": true,             # false: syntax errors, the control would not start it
+        "complete": true,             # ran to its end without error (else: stopped at its first error)
+        "ended_by": "M30" | null, "moves": 63,
+        "cycle_time": 91.777,         # s, planned (jerk-limited), up to the first error
+        "max_cycle_time": 60.0 | null, "cycle_time_exceeded": false,
+        "counts": {"error": 0, "warning": 1, "info": 0},
+        "diagnostics": [{"file": "part.nc", "line": 3, "col": 1, "code": "INT010",
+                         "severity": "error" | "warning" | "info", "message": "...",
+                         "source": "G1000", "recovered": false}],
+        "unsupported": [{"code": "INT078", "description": "...", "message": "...", "lines": [17, 40]}],
+        "tools": [{"tool": 1, "loaded": true, "offsets": [1], "lines": [8]}],
+        "offsets": [{"origin": "G54", "first_line": 11, "moves": 57}],
+        "bbox": [{"tool": 1,
+                  "machine": {"min": {"X": -60.0, ...}, "max": {...}},
+                  "part": {"min": {...}, "max": {...}},
+                  "feed": {"machine": {...}, "part": {...}} | null}]}]}
+
+SARIF 2.1.0 (``--format sarif``): one run, ``tool.driver`` = fagorcnc with one
+rule per code reported, one result per diagnostic (``ruleId``, ``ruleIndex``,
+``level`` error/warning/note, ``message.text``, a physical location with
+``startLine``/``startColumn``); files that could not be checked are
+``invocations[0].toolExecutionNotifications``; the per-file summaries (tools,
+boxes, cycle time, verdict: the JSON ``files`` entries without diagnostics)
+are in ``runs[0].properties.files``.  GitHub Actions (``--format github``):
+one workflow command per diagnostic (``::error file=F,line=L,col=C,title=CODE::message``,
+``::warning``, ``::notice`` for notes with ``-v``) then one summary line per file.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Iterable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+from urllib.parse import quote
+
+import numpy as np
+
+from .diagnostics import CODES, Diagnostic
+from .machine import Machine, MachineError, load_machine
+
+#: Codes of the warnings that say fagorcnc does not model something.
+UNSUPPORTED = ("INT011", "INT078", "INT079", "INT115")
+#: Re-runs after an error to find the errors further on.
+MAX_RECOVERIES = 25
+#: Tolerance of the envelope check (mm, degrees).
+ENVELOPE_TOLERANCE = 1e-6
+SCHEMA = "fagorcnc-check/1"
+SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
+
+
+# ----------------------------------------------------------------------------- report data
+@dataclass
+class Box:
+    """An axis-aligned box: ``lo``/``hi`` per axis (mm, degrees)."""
+
+    lo: dict[str, float] = field(default_factory=dict)
+    hi: dict[str, float] = field(default_factory=dict)
+
+    def add(self, point: dict[str, float]) -> None:
+        for axis, v in point.items():
+            if axis not in self.lo:
+                self.lo[axis] = self.hi[axis] = v
+            elif v < self.lo[axis]:
+                self.lo[axis] = v
+            elif v > self.hi[axis]:
+                self.hi[axis] = v
+
+    def __bool__(self) -> bool:
+        return bool(self.lo)
+
+    def to_dict(self) -> dict[str, dict[str, float]]:
+        return {"min": {a: _round(v) for a, v in self.lo.items()}, "max": {a: _round(v) for a, v in self.hi.items()}}
+
+    def text(self) -> str:
+        return "  ".join(f"{a} {_num(self.lo[a])}..{_num(self.hi[a])}" for a in self.lo)
+
+
+@dataclass
+class ToolUse:
+    """A tool the program selected (T), whether M06 loaded it, the offsets D used with it."""
+
+    tool: int
+    loaded: bool = False
+    offsets: list[int] = field(default_factory=list)
+    lines: list[int] = field(default_factory=list)
+
+
+@dataclass
+class OriginUse:
+    """An absolute origin active while moves ran: ``"G54"``, ``"G159=7"``, ``"G92"``, ``"G53"``."""
+
+    origin: str
+    first_line: int
+    moves: int = 0
+
+
+@dataclass
+class ToolBox:
+    """Extent of the motion while ``tool`` was in the spindle (all moves, and feeds alone)."""
+
+    tool: int
+    machine: Box = field(default_factory=Box)
+    part: Box = field(default_factory=Box)
+    feed_machine: Box = field(default_factory=Box)
+    feed_part: Box = field(default_factory=Box)
+
+    def to_dict(self) -> dict[str, Any]:
+        feed = {"machine": self.feed_machine.to_dict(), "part": self.feed_part.to_dict()} if self.feed_machine \
+            else None
+        return {"tool": self.tool, "machine": self.machine.to_dict(), "part": self.part.to_dict(), "feed": feed}
+
+
+@dataclass
+class FileReport:
+    """The verification of one program (see the module docstring for the meaning of each part)."""
+
+    file: str
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    recovered: list[bool] = field(default_factory=list)     # parallel to diagnostics
+    tools: list[ToolUse] = field(default_factory=list)
+    origins: list[OriginUse] = field(default_factory=list)
+    boxes: list[ToolBox] = field(default_factory=list)
+    cycle_time: float = 0.0
+    max_cycle_time: float | None = None
+    moves: int = 0
+    ended_by: str | None = None
+    executed: bool = False
+    complete: bool = False          # ran to its end without error (cycle time of the whole program)
+    failure: str | None = None      # the file could not be checked
+    usage_error: bool = False       # ... because it cannot be read (exit status 2)
+
+    def count(self, severity: str) -> int:
+        return sum(d.severity == severity for d in self.diagnostics)
+
+    @property
+    def cycle_time_exceeded(self) -> bool:
+        return self.max_cycle_time is not None and self.cycle_time > self.max_cycle_time
+
+    def verdict(self, fail_on: str = "error") -> str:
+        """``"pass"``, ``"fail"``, ``"unreadable"`` or ``"crashed"``."""
+        if self.failure is not None:
+            return "unreadable" if self.usage_error else "crashed"
+        bad = ("error", "warning") if fail_on == "warning" else ("error",)
+        return "fail" if any(d.severity in bad for d in self.diagnostics) else "pass"
+
+    def unsupported(self) -> list[dict[str, Any]]:
+        """The unsupported-feature warnings grouped by code and message."""
+        groups: dict[tuple[str, str], list[int]] = {}
+        for d in self.diagnostics:
+            if d.code in UNSUPPORTED:
+                groups.setdefault((d.code, d.message), []).append(d.line)
+        return [{"code": c, "description": CODES.get(c, ""), "message": m, "lines": sorted(set(lines))}
+                for (c, m), lines in groups.items()]
+
+    def to_dict(self, fail_on: str = "error", diagnostics: bool = True) -> dict[str, Any]:
+        """The JSON form (schema ``fagorcnc-check/1``)."""
+        out: dict[str, Any] = {
+            "file": self.file, "verdict": self.verdict(fail_on), "failure": self.failure,
+            "executed": self.executed, "complete": self.complete, "ended_by": self.ended_by, "moves": self.moves,
+            "cycle_time": round(self.cycle_time, 3), "max_cycle_time": self.max_cycle_time,
+            "cycle_time_exceeded": self.cycle_time_exceeded,
+            "counts": {s: self.count(s) for s in ("error", "warning", "info")},
+        }
+        if diagnostics:
+            out["diagnostics"] = [_diagnostic_dict(d, r) for d, r in zip(self.diagnostics, self.recovered,
+                                                                          strict=True)]
+        out["unsupported"] = self.unsupported()
+        out["tools"] = [{"tool": t.tool, "loaded": t.loaded, "offsets": t.offsets, "lines": t.lines}
+                        for t in self.tools]
+        out["offsets"] = [{"origin": o.origin, "first_line": o.first_line, "moves": o.moves} for o in self.origins]
+        out["bbox"] = [b.to_dict() for b in self.boxes]
+        return out
+
+
+def _diagnostic_dict(d: Diagnostic, recovered: bool) -> dict[str, Any]:
+    return {"file": d.file, "line": d.line, "col": d.col, "code": d.code, "severity": d.severity,
+            "message": d.message, "source": d.source.rstrip("\r\n"), "recovered": recovered}
+
+
+def _round(v: float) -> float:
+    return round(v, 6) + 0.0   # + 0.0 turns -0.0 into 0.0
+
+
+def _num(v: float) -> str:
+    text = f"{_round(v):.4f}".rstrip("0").rstrip(".")
+    return "0" if text == "-0" else text
+
+
+# ----------------------------------------------------------------------------- checking one file
+def check_file(path: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
+               max_cycle_time: float | None = None, recover: bool = True) -> FileReport:
+    """Verify one program file; never raises (problems are in the report).
+
+    ``machine`` as for :func:`fagorcnc.load_machine`; ``max_cycle_time`` in
+    seconds; ``recover`` re-runs after an error to report the errors further on.
+    """
+    report = FileReport(str(path), max_cycle_time=max_cycle_time)
+    try:
+        with open(path, "rb"):
+            pass
+    except OSError as exc:
+        report.failure, report.usage_error = f"cannot read the file: {exc.strerror or exc}", True
+        return report
+    try:
+        mach = load_machine(machine)
+    except MachineError as exc:
+        report.failure, report.usage_error = f"bad machine configuration: {exc}", True
+        return report
+    try:
+        _check(report, Path(path), mach, block_skip, recover)
+    except Exception as exc:   # a bug in fagorcnc must not hide the other files' results
+        report.failure = f"internal error of fagorcnc: {type(exc).__name__}: {exc}"
+    return report
+
+
+def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool) -> None:
+    from .simulate import simulate
+
+    result = simulate(path, machine, block_skip=block_skip)
+    found: list[tuple[Diagnostic, bool]] = [(d, False) for d in result.diagnostics]
+    report.executed = result.program is not None and result.program.ok
+    report.complete = result.ok
+    report.cycle_time = result.cycle_time
+    report.moves = sum(m.kind not in ("aux", "dwell") for m in result.moves)
+    report.ended_by = result.ended_by
+    if recover and not result.ok:
+        found += [(d, True) for d in _recover(path, machine, block_skip, result.diagnostics)]
+    if result.moves:
+        found += [(d, False) for d in _envelope(result, machine)]
+        origins = _observe_origins(result, machine, block_skip)
+        report.tools, report.origins, report.boxes = _summarise(result.moves, origins)
+    if report.cycle_time_exceeded:
+        found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
+                                 f"planned cycle time {_clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
+                                 f"the limit of {report.max_cycle_time:g} s (--max-cycle-time)"), False))
+    found.sort(key=lambda x: (x[0].file != str(path), x[0].file, x[0].line, x[0].col))
+    report.diagnostics = [d for d, _ in found]
+    report.recovered = [r for _, r in found]
+
+
+def _interpreter(program, machine: Machine, block_skip: bool):
+    from .interp.interpreter import Interpreter
+    from .persist import attach_parameter_file
+
+    interp = Interpreter(program, machine, block_skip=block_skip)
+    attach_parameter_file(interp)   # the same starting parameters as simulate(); never saved
+    return interp
+
+
+def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnostic]) -> list[Diagnostic]:
+    """Errors beyond the first: blank the failing lines and run again (interpreter only)."""
+    from .syntax import parse_text, read_source
+
+    text = read_source(path).replace("\r\n", "\n").replace("\r", "\n")
+    lines = text.split("\n")
+    name = str(path)
+    seen = {(d.file, d.line, d.code, d.message) for d in first}
+    blanked = {d.line for d in first if d.is_error and d.file == name}
+    out: list[Diagnostic] = []
+    for _ in range(MAX_RECOVERIES):
+        if not blanked:
+            break
+        program = parse_text("\n".join("" if i in blanked else s for i, s in enumerate(lines, start=1)), name)
+        if not program.ok:   # blanking broke the structure ($IF without $ENDIF ...): stop here
+            break
+        interp = _interpreter(program, machine, block_skip)
+        for _record in interp.run():
+            pass
+        for d in interp.diagnostics:
+            key = (d.file, d.line, d.code, d.message)
+            if key not in seen:
+                seen.add(key)
+                out.append(d)
+        more = {d.line for d in interp.diagnostics if d.is_error and d.file == name} - blanked
+        if not more or any(d.is_error and d.file != name for d in interp.diagnostics):
+            break   # clean, or an error in another file (a global subroutine) we cannot skip
+        blanked |= more
+    return out
+
+
+def _envelope(result, machine: Machine) -> list[Diagnostic]:
+    """PLN100: arcs and corner blends of the planned path whose interior leaves the soft limits."""
+    from .plan import PlanningError
+
+    axes = machine.axis_names
+    lo = np.array([machine.axes[a].min_limit for a in axes])
+    hi = np.array([machine.axes[a].max_limit for a in axes])
+    worst: dict[tuple[int, bool, str, str], tuple[float, float, object]] = {}   # farthest point per block/axis
+    tol = ENVELOPE_TOLERANCE
+    try:
+        for seg in result.segments(keep_profiles=False):
+            piece = seg.piece
+            if piece is None or not getattr(piece, "curved", False):
+                continue   # straight pieces: their end points are the interpreter's INT100 check
+            pmin, pmax = piece_extent(piece)
+            # only what goes beyond the block's own end points (those are the interpreter's check, which
+            # lets an axis already beyond its limit move back); a blend joins two blocks inside them
+            rec = seg.record
+            if not seg.blend and hasattr(rec, "start") and hasattr(rec, "end"):
+                ends = np.array([[rec.start.get(a, 0.0) for a in axes], [rec.end.get(a, 0.0) for a in axes]])
+            else:
+                ends = np.vstack([piece.start, piece.end])
+            ends_lo, ends_hi = ends.min(axis=0), ends.max(axis=0)
+            for i, axis in enumerate(axes):
+                if pmax[i] > hi[i] + tol and pmax[i] > ends_hi[i] + tol:
+                    key = (seg.line, seg.blend, axis, "upper")
+                    if key not in worst or pmax[i] > worst[key][0]:
+                        worst[key] = (pmax[i], hi[i], rec)
+                if pmin[i] < lo[i] - tol and pmin[i] < ends_lo[i] - tol:
+                    key = (seg.line, seg.blend, axis, "lower")
+                    if key not in worst or pmin[i] < worst[key][0]:
+                        worst[key] = (pmin[i], lo[i], rec)
+    except PlanningError:
+        pass   # already reported by simulate() as PLN001
+    out = []
+    for (line, blend, axis, bound), (value, limit, rec) in worst.items():
+        src = getattr(rec, "src", None)
+        what = "the corner blend after this block" if blend else "the arc of this block"
+        out.append(Diagnostic(src.file if src else str(result.program.file), line, 1, "PLN100", "error",
+                              f"{what} reaches {axis} {value:.4f} (machine), beyond its {bound} soft limit "
+                              f"{limit:g}", src.text if src else ""))
+    return out
+
+
+def piece_extent(piece) -> tuple[np.ndarray, np.ndarray]:
+    """Per-axis min and max of a planned piece (machine coordinates).
+
+    Arcs (helices, spirals) are exact: their planar extremes lie where the
+    angle crosses a quarter turn.  Other curves are sampled (65 points).
+    """
+    length = piece.length
+    if hasattr(piece, "theta0") and hasattr(piece, "w") and piece.w != 0.0:
+        th0, th1 = piece.theta0, piece.theta0 + piece.w * length
+        k0, k1 = math.ceil(min(th0, th1) / (math.pi / 2)), math.floor(max(th0, th1) / (math.pi / 2))
+        ks = range(k0, min(k1, k0 + 4000) + 1)
+        s = np.clip(np.array([0.0, length, *((k * math.pi / 2 - th0) / piece.w for k in ks)]), 0.0, length)
+        q = piece.derivatives(s)[0]
+    elif hasattr(piece, "points"):
+        q = piece.points(65)
+    else:
+        q = piece.derivatives(np.linspace(0.0, length, 65))[0]
+    q = np.vstack([q, piece.start, piece.end])
+    return q.min(axis=0), q.max(axis=0)
+
+
+def _observe_origins(result, machine: Machine, block_skip: bool) -> list[str] | None:
+    """The absolute origin in force at each record, from a second (interpreter-only) run."""
+    if result.program is None or not result.program.ok:
+        return None
+    interp = _interpreter(result.program, machine, block_skip)
+    labels = []
+    for _record in interp.run():
+        labels.append(getattr(interp.state, "origin_source", "?"))
+    return labels if len(labels) == len(result.moves) else None
+
+
+def _summarise(moves: list, origins: list[str] | None) -> tuple[list[ToolUse], list[OriginUse], list[ToolBox]]:
+    """Tools, origins and per-tool boxes from the motion records."""
+    tools: dict[int, ToolUse] = {}
+    used: dict[str, OriginUse] = {}
+    boxes: dict[int, ToolBox] = {}
+    tool = next_tool = 0
+    part_here: dict[str, float] | None = None
+    for i, rec in enumerate(moves):
+        kind = rec.kind
+        if kind == "aux":
+            f, value = rec.function, int(rec.value)
+            if f == "T":
+                next_tool = value
+                use = tools.setdefault(value, ToolUse(value))
+                if rec.line not in use.lines:
+                    use.lines.append(rec.line)
+            elif f == "M" and value == 6:   # the preselected tool goes to the spindle (seed 002 L4700)
+                tool = next_tool
+                tools.setdefault(tool, ToolUse(tool)).loaded = True
+            elif f == "D":
+                use = tools.setdefault(tool, ToolUse(tool))
+                if value not in use.offsets:
+                    use.offsets.append(value)
+            continue
+        end_part = getattr(rec, "end_part", None)
+        if kind == "dwell" or end_part is None:
+            continue
+        label = origins[i] if origins is not None else "?"
+        if label not in used:
+            used[label] = OriginUse(label, rec.line)
+        used[label].moves += 1
+        start_part = part_here if part_here is not None else \
+            {a: rec.start.get(a, 0.0) - (rec.end.get(a, 0.0) - end_part[a]) for a in end_part}
+        machine_pts = [rec.start, rec.end]
+        part_pts = [start_part, end_part]
+        if kind == "arc":
+            machine_pts += arc_points(rec.start, rec.end, rec.center, rec.plane, rec.sweep)
+            part_pts += arc_points(start_part, end_part, getattr(rec, "center_part", None) or {}, rec.plane,
+                                   rec.sweep * _orientation(rec, start_part, end_part))
+        box = boxes.setdefault(tool, ToolBox(tool))
+        for p in machine_pts:
+            box.machine.add(p)
+        for p in part_pts:
+            box.part.add(p)
+        if kind != "rapid":
+            for p in machine_pts:
+                box.feed_machine.add(p)
+            for p in part_pts:
+                box.feed_part.add(p)
+        part_here = end_part
+    return list(tools.values()), list(used.values()), [boxes[t] for t in sorted(boxes)]
+
+
+def arc_points(start: dict, end: dict, center: dict, plane: tuple, sweep: float) -> list[dict]:
+    """Points of an arc (helix) where its angle crosses a quarter turn: with the end
+    points they give its exact bounding box.  ``sweep`` in degrees, signed (negative
+    clockwise), full turns included; ``center`` holds the plane axes."""
+    a, o = plane[0], plane[1]
+    if a not in center or o not in center or sweep == 0.0:
+        return []
+    ca, co = center[a], center[o]
+    th0 = math.atan2(start[o] - co, start[a] - ca)
+    r0 = math.hypot(start[a] - ca, start[o] - co)
+    r1 = math.hypot(end[a] - ca, end[o] - co)
+    sw = math.radians(sweep)
+    quarter = math.pi / 2
+    k0 = math.ceil(min(th0, th0 + sw) / quarter)
+    k1 = math.floor(max(th0, th0 + sw) / quarter)
+    out = []
+    for k in range(k0, min(k1, k0 + 4000) + 1):
+        th = k * quarter
+        t = (th - th0) / sw
+        r = r0 + (r1 - r0) * t
+        p = {x: start[x] + (end[x] - start[x]) * t for x in end if x in start}
+        p[a], p[o] = ca + r * math.cos(th), co + r * math.sin(th)
+        out.append(p)
+    return out
+
+
+def _orientation(rec, start_part: dict, end_part: dict) -> float:
+    """-1 when the part frame is a mirror image of the machine frame in the arc's plane
+    (the arc turns the other way in part coordinates), else 1."""
+    a, o = rec.plane[0], rec.plane[1]
+    cm, cp = rec.center, getattr(rec, "center_part", None) or {}
+
+    def cross(s, e, c) -> tuple[float, float]:
+        u = (s[a] - c[a], s[o] - c[o])
+        v = (e[a] - c[a], e[o] - c[o])
+        return u[0] * v[1] - u[1] * v[0], (u[0] ** 2 + u[1] ** 2)
+
+    try:
+        xm, rm = cross(rec.start, rec.end, cm)
+        xp, rp = cross(start_part, end_part, cp)
+    except KeyError:
+        return 1.0
+    if abs(xm) > 1e-6 * rm and abs(xp) > 1e-6 * rp and (xm > 0) != (xp > 0):
+        return -1.0
+    return 1.0
+
+
+def _clock(seconds: float) -> str:
+    minutes, sec = divmod(max(seconds, 0.0), 60.0)
+    hours, minutes = divmod(int(minutes), 60)
+    return f"{hours}:{minutes:02d}:{sec:04.1f}" if hours else f"{minutes}:{sec:04.1f}"
+
+
+# ----------------------------------------------------------------------------- many files
+_WORKER: dict[str, Any] = {}
+
+
+def _init_worker(machine: Machine, options: dict) -> None:
+    _WORKER["machine"], _WORKER["options"] = machine, options
+
+
+def _work(path: str) -> FileReport:
+    return check_file(path, _WORKER["machine"], **_WORKER["options"])
+
+
+def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Path | None = None, *,
+                jobs: int | None = None, block_skip: bool = False, max_cycle_time: float | None = None,
+                recover: bool = True) -> Iterator[FileReport]:
+    """Verify many files, ``jobs`` processes at a time (default: one per CPU);
+    yields the reports in input order as they become available.
+
+    Raises :class:`~fagorcnc.machine.MachineError` for a bad machine configuration.
+    """
+    mach = load_machine(machine)
+    options = {"block_skip": block_skip, "max_cycle_time": max_cycle_time, "recover": recover}
+    names = [str(p) for p in paths]
+    jobs = min(jobs or os.cpu_count() or 1, len(names))
+    if jobs <= 1:
+        for name in names:
+            yield check_file(name, mach, **options)
+        return
+    with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker, initargs=(mach, options)) as pool:
+        yield from pool.map(_work, names)
+
+
+# ----------------------------------------------------------------------------- output formats
+def exit_status(reports: Iterable[FileReport], fail_on: str = "error") -> int:
+    """0 all pass, 1 some file fails or crashed, 2 some file could not be read."""
+    status = 0
+    for r in reports:
+        v = r.verdict(fail_on)
+        if v == "unreadable":
+            status = 2
+        elif v in ("fail", "crashed"):
+            status = max(status, 1)
+    return status
+
+
+def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = False, verbose: bool = False,
+                quiet: bool = False) -> str:
+    """Human-readable report of one file: diagnostics, then a summary."""
+    lines = []
+    for d in report.diagnostics:
+        if d.severity == "info" and not verbose:
+            continue
+        lines.append(str(d) if brief else d.render())
+    verdict = report.verdict(fail_on)
+    if report.failure is not None:
+        lines.append(f"{report.file}: {verdict.upper()}: {report.failure}")
+        return "\n".join(lines)
+    errors, warnings = report.count("error"), report.count("warning")
+    time = f"cycle time {_clock(report.cycle_time)} (planned"
+    time += ")" if report.complete else ", up to the first error)"
+    if report.cycle_time_exceeded:
+        time += f" OVER the limit of {report.max_cycle_time:g} s"
+    run = f"{report.moves} moves, ended by {report.ended_by or 'end of file'}" if report.executed else \
+        "not executed (syntax errors)"
+    lines.append(f"{report.file}: {verdict.upper()}: {errors} errors, {warnings} warnings; {time}; {run}")
+    if quiet:
+        return "\n".join(lines)
+    if any(report.recovered):
+        lines.append("  note: the control stops at the first error; the diagnostics after it were found by "
+                     "skipping the failing blocks and may be consequences of them")
+    if report.tools:
+        lines.append("  tools: " + ", ".join(
+            f"T{t.tool}" + (f" D{'/D'.join(map(str, t.offsets))}" if t.offsets else "")
+            + ("" if t.loaded or t.tool == 0 else " (selected, not loaded)")
+            + (f" line {', '.join(map(str, t.lines))}" if t.lines else "") for t in report.tools))
+    if report.origins:
+        lines.append("  work offsets: " + ", ".join(f"{o.origin} (from line {o.first_line}, {o.moves} moves)"
+                                                   for o in report.origins))
+    for b in report.boxes:
+        lines.append(f"  T{b.tool} machine: {b.machine.text()}")
+        lines.append(f"  T{b.tool} part:    {b.part.text()}")
+        if b.feed_part:
+            lines.append(f"  T{b.tool} feeds (part): {b.feed_part.text()}")
+    for u in report.unsupported():
+        where = ", ".join(map(str, u["lines"]))
+        lines.append(f"  unsupported: {u['code']} {u['message']} (line{'s' if len(u['lines']) > 1 else ''} {where})")
+    return "\n".join(lines)
+
+
+def json_report(reports: Sequence[FileReport], *, fail_on: str = "error", machine: str | None = None) -> dict:
+    """The JSON document (schema ``fagorcnc-check/1``) of a set of reports."""
+    from . import __version__
+
+    files = [r.to_dict(fail_on) for r in reports]
+    verdicts = [f["verdict"] for f in files]
+    return {
+        "schema": SCHEMA, "tool": "fagorcnc", "version": __version__, "machine": machine, "fail_on": fail_on,
+        "ok": all(v == "pass" for v in verdicts),
+        "summary": {"files": len(files), "passed": verdicts.count("pass"),
+                    "failed": len(files) - verdicts.count("pass"),
+                    "errors": sum(f["counts"]["error"] for f in files),
+                    "warnings": sum(f["counts"]["warning"] for f in files)},
+        "files": files,
+    }
+
+
+_SARIF_LEVEL = {"error": "error", "warning": "warning", "info": "note"}
+
+
+def _uri(file: str) -> str:
+    path = Path(file)
+    if path.is_absolute():
+        return path.as_uri()
+    return quote(path.as_posix(), safe="/")
+
+
+def sarif_report(reports: Sequence[FileReport], *, fail_on: str = "error") -> dict:
+    """A SARIF 2.1.0 log of a set of reports."""
+    from . import __version__
+
+    rules: list[dict] = []
+    index: dict[str, int] = {}
+    results = []
+    notifications = []
+    for r in reports:
+        if r.failure is not None:
+            notifications.append({
+                "level": "error", "message": {"text": f"{r.file}: {r.failure}"},
+                "locations": [{"physicalLocation": {"artifactLocation": {"uri": _uri(r.file)}}}]})
+        for d, recovered in zip(r.diagnostics, r.recovered, strict=True):
+            if d.code not in index:
+                index[d.code] = len(rules)
+                rules.append({"id": d.code, "name": d.code,
+                              "shortDescription": {"text": CODES.get(d.code, d.code)},
+                              "defaultConfiguration": {"level": _SARIF_LEVEL.get(d.severity, "warning")}})
+            result: dict[str, Any] = {
+                "ruleId": d.code, "ruleIndex": index[d.code], "level": _SARIF_LEVEL.get(d.severity, "warning"),
+                "message": {"text": d.message},
+                "locations": [{"physicalLocation": {
+                    "artifactLocation": {"uri": _uri(d.file)},
+                    "region": {"startLine": max(1, d.line), "startColumn": max(1, d.col)}}}]}
+            if d.source:
+                result["locations"][0]["physicalLocation"]["region"]["snippet"] = {"text": d.source.rstrip("\r\n")}
+            if recovered:
+                result["properties"] = {"recovered": True}
+            results.append(result)
+    return {
+        "version": "2.1.0",
+        "$schema": SARIF_SCHEMA,
+        "runs": [{
+            "tool": {"driver": {"name": "fagorcnc", "version": __version__, "rules": rules}},
+            "invocations": [{"executionSuccessful": not notifications,
+                             "toolExecutionNotifications": notifications}],
+            "results": results,
+            "properties": {"files": [r.to_dict(fail_on, diagnostics=False) for r in reports]},
+        }],
+    }
+
+
+def _escape_data(text: str) -> str:
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _escape_property(text: str) -> str:
+    return _escape_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+_GITHUB_COMMAND = {"error": "error", "warning": "warning", "info": "notice"}
+
+
+def github_report(report: FileReport, *, fail_on: str = "error", verbose: bool = False) -> str:
+    """GitHub Actions workflow commands (annotations) for one file, then a summary line."""
+    lines = []
+    for d in report.diagnostics:
+        if d.severity == "info" and not verbose:
+            continue
+        props = ",".join(f"{k}={_escape_property(str(v))}" for k, v in
+                         (("file", d.file), ("line", d.line), ("col", d.col), ("title", d.code)))
+        lines.append(f"::{_GITHUB_COMMAND.get(d.severity, 'warning')} {props}::{_escape_data(d.message)}")
+    if report.failure is not None:
+        props = f"file={_escape_property(report.file)},title=fagorcnc check"
+        lines.append(f"::error {props}::{_escape_data(report.failure)}")
+    lines.append(text_report(report, fail_on=fail_on, quiet=True).splitlines()[-1])
+    return "\n".join(lines)
+
+
+def dumps(document: dict) -> str:
+    """JSON text of a report document (stable key order, 2-space indent)."""
+    return json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False)

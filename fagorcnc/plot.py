@@ -1,0 +1,227 @@
+"""``fagorcnc plot``: a picture of the tool path (matplotlib, optional).
+
+The path drawn is the **planned** motion in machine coordinates: every planned
+piece is sampled, so arcs, helices and the corner blends of G05/HSC are
+smooth curves; rapids are dashed, feeds solid, one colour per tool.  The moves
+are the tool-centre path (radius compensation applied); when the program
+compensates, the programmed contour (the same program run with every tool
+radius set to 0) is drawn thin and black under it.  ``XY`` view by default,
+``XZ``/``YZ`` on request, or a 3D view.  The title names the file and the
+planned cycle time.
+
+matplotlib is an optional dependency (``pip install 'fagorcnc[plot]'``);
+:func:`plot_program` raises :class:`MatplotlibMissingError` without it.  Only the
+object-oriented API with the Agg/SVG canvases is used: no GUI, no global
+pyplot state.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .machine import Machine, load_machine
+
+#: Output formats by file suffix.
+FORMATS = (".png", ".svg", ".pdf")
+#: Chord length of the sampling of curved pieces (mm) and the bounds of points per piece.
+SAMPLE_STEP = 0.5
+MIN_POINTS, MAX_POINTS = 8, 200
+_RAPID_STYLE = {"linestyle": (0, (4, 3)), "linewidth": 0.8, "alpha": 0.7}
+_FEED_STYLE = {"linestyle": "solid", "linewidth": 1.3}
+
+
+class MatplotlibMissingError(RuntimeError):
+    """matplotlib is not installed."""
+
+
+@dataclass
+class PlotInfo:
+    """What :func:`plot_program` drew."""
+
+    output: Path
+    ok: bool                  # the program had no error
+    diagnostics: list
+    cycle_time: float         # s, planned
+    segments: int             # planned motion segments drawn
+    programmed: bool          # the programmed contour was drawn too
+
+
+def _matplotlib():
+    try:
+        import matplotlib
+        from matplotlib.figure import Figure
+    except ImportError as exc:
+        raise MatplotlibMissingError("fagorcnc plot needs matplotlib: pip install 'fagorcnc[plot]' "
+                              "(or pip install matplotlib)") from exc
+    return matplotlib, Figure
+
+
+def _piece_points(piece) -> np.ndarray:
+    """Points along a planned piece (machine coordinates, shape (n, axes))."""
+    if not getattr(piece, "curved", False):
+        return np.vstack([piece.start, piece.end])
+    n = int(min(MAX_POINTS, max(MIN_POINTS, math.ceil(piece.length / SAMPLE_STEP) + 1)))
+    if hasattr(piece, "points"):
+        return piece.points(n)
+    return piece.derivatives(np.linspace(0.0, piece.length, n))[0]
+
+
+def _record_points(rec, axes: list[str]) -> np.ndarray:
+    """Points along a motion record (for the programmed contour)."""
+    start = np.array([rec.start.get(a, 0.0) for a in axes])
+    end = np.array([rec.end.get(a, 0.0) for a in axes])
+    if rec.kind != "arc":
+        return np.vstack([start, end])
+    a, o = rec.plane[0], rec.plane[1]
+    ia, io = axes.index(a), axes.index(o)
+    ca, co = rec.center[a], rec.center[o]
+    th0 = math.atan2(start[io] - co, start[ia] - ca)
+    r0 = math.hypot(start[ia] - ca, start[io] - co)
+    r1 = math.hypot(end[ia] - ca, end[io] - co)
+    sweep = math.radians(rec.sweep)
+    n = int(min(MAX_POINTS, max(MIN_POINTS, math.ceil(abs(sweep) * max(r0, r1) / SAMPLE_STEP) + 1)))
+    t = np.linspace(0.0, 1.0, n)
+    pts = start + np.outer(t, end - start)
+    r = r0 + (r1 - r0) * t
+    pts[:, ia] = ca + r * np.cos(th0 + sweep * t)
+    pts[:, io] = co + r * np.sin(th0 + sweep * t)
+    return pts
+
+
+def _zero_radius(machine: Machine) -> Machine:
+    """The machine with every tool radius (and radius wear) 0: the programmed contour."""
+    out = copy.copy(machine)
+    out.tools = {t: {d: dataclasses.replace(off, radius=0.0, radius_wear=0.0) for d, off in offsets.items()}
+                 for t, offsets in machine.tools.items()}
+    return out
+
+
+def plot_program(source: str | Path, output: str | Path, machine: Machine | dict | str | Path | None = None, *,
+                 three_d: bool = False, plane: str = "XY", programmed: bool = True, limits: bool = False,
+                 block_skip: bool = False, title: str | None = None, dpi: int = 150) -> PlotInfo:
+    """Draw the planned tool path of a program into ``output`` (``.png``, ``.svg`` or ``.pdf``).
+
+    ``plane`` names the two axes of the 2D view (``"XY"``, ``"XZ"``, ``"ZX"``...);
+    ``three_d`` draws X, Y, Z in 3D instead; ``programmed`` adds the programmed
+    contour when the program uses radius compensation; ``limits`` draws the
+    soft limits.  Raises :class:`MatplotlibMissingError` without matplotlib,
+    :class:`ValueError` for a bad output suffix or plane,
+    :class:`~fagorcnc.machine.MachineError` for a bad machine.
+    """
+    from .simulate import simulate
+
+    output = Path(output)
+    if output.suffix.lower() not in FORMATS:
+        raise ValueError(f"{output}: the picture must be {', '.join(FORMATS)}")
+    _, figure_class = _matplotlib()
+    mach = load_machine(machine)
+    axes_names = mach.axis_names
+    view = ("X", "Y", "Z") if three_d else tuple(plane.upper())
+    if len(view) != (3 if three_d else 2) or len(set(view)) != len(view) or any(a not in axes_names for a in view):
+        raise ValueError(f"plane {plane!r}: name {'three' if three_d else 'two'} different axes of the machine "
+                         f"({' '.join(axes_names)})")
+    idx = [axes_names.index(a) for a in view]
+
+    result = simulate(source, mach, block_skip=block_skip)
+    polylines: list[tuple[np.ndarray, bool, int]] = []   # points, rapid?, tool
+    tool = next_tool = 0
+    by_record = {}
+    for rec in result.moves:   # the tool in the spindle for each record (M06 loads the preselected T)
+        if rec.kind == "aux" and rec.function == "T":
+            next_tool = int(rec.value)
+        elif rec.kind == "aux" and rec.function == "M" and int(rec.value) == 6:
+            tool = next_tool
+        by_record[id(rec)] = tool
+    count = 0
+    tool = 0
+    if result.moves:
+        from .plan import PlanningError
+
+        try:
+            for seg in result.segments(keep_profiles=False):
+                if seg.piece is None:
+                    continue
+                tool = by_record.get(id(seg.record), tool)
+                rapid = getattr(seg.record, "kind", "") == "rapid" and not seg.blend
+                pts = _piece_points(seg.piece)[:, idx]
+                if polylines and polylines[-1][1] == rapid and polylines[-1][2] == tool \
+                        and np.allclose(polylines[-1][0][-1], pts[0]):
+                    polylines[-1] = (np.vstack([polylines[-1][0], pts[1:]]), rapid, tool)
+                else:
+                    polylines.append((pts, rapid, tool))
+                count += 1
+        except PlanningError:
+            pass   # reported in result.diagnostics; draw what was planned
+
+    contour: list[np.ndarray] = []
+    compensated = any(getattr(r, "comp", None) and r.comp[1] for r in result.moves)
+    if programmed and compensated:
+        zero = simulate(source, _zero_radius(mach), block_skip=block_skip)
+        contour = [_record_points(r, axes_names)[:, idx] for r in zero.moves if r.kind in ("linear", "arc")]
+
+    fig = figure_class(figsize=(8, 6.5) if not three_d else (8, 7))
+    ax = fig.add_subplot(projection="3d") if three_d else fig.add_subplot()
+    colours = [f"C{i}" for i in range(10)]
+    tools_seen: list[int] = []
+    labelled: set[tuple[int, bool]] = set()
+    for pts, rapid, t in polylines:
+        if t not in tools_seen:
+            tools_seen.append(t)
+        colour = colours[tools_seen.index(t) % len(colours)]
+        key = (t, rapid)
+        label = None
+        if key not in labelled:
+            labelled.add(key)
+            label = f"T{t} {'rapid' if rapid else 'feed'}"
+        style = _RAPID_STYLE if rapid else _FEED_STYLE
+        ax.plot(*pts.T, color=colour, label=label, **style)
+    for i, pts in enumerate(contour):
+        ax.plot(*pts.T, color="black", linewidth=0.5, label="programmed contour" if i == 0 else None)
+    if polylines:
+        start = polylines[0][0][0]
+        ax.plot(*([v] for v in start), marker="o", color="green", markersize=4, linestyle="none", label="start")
+    if limits and not three_d:
+        lo = [mach.axes[a].min_limit for a in view]
+        hi = [mach.axes[a].max_limit for a in view]
+        ax.plot([lo[0], hi[0], hi[0], lo[0], lo[0]], [lo[1], lo[1], hi[1], hi[1], lo[1]], color="red",
+                linewidth=0.8, linestyle=":", label="soft limits")
+
+    ax.set_xlabel(f"{view[0]} (machine, mm)")
+    ax.set_ylabel(f"{view[1]} (machine, mm)")
+    if three_d:
+        ax.set_zlabel(f"{view[2]} (machine, mm)")
+        _equal_3d(ax, [p for p, _, _ in polylines] + contour)
+    else:
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(True, linewidth=0.3, alpha=0.5)
+    name = Path(str(source)).name if "\n" not in str(source) else "<program>"
+    heading = title or f"{name} — cycle time {_clock(result.cycle_time)} (planned)"
+    if not result.ok:
+        heading += f" — {sum(d.is_error for d in result.diagnostics)} error(s)"
+    ax.set_title(heading, fontsize=10)
+    if polylines or contour:
+        ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    fig.savefig(output, dpi=dpi)
+    return PlotInfo(output, result.ok, result.diagnostics, result.cycle_time, count, bool(contour))
+
+
+def _equal_3d(ax, arrays: list[np.ndarray]) -> None:
+    if not arrays:
+        return
+    pts = np.vstack(arrays)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    span = np.maximum(hi - lo, 1e-9)
+    ax.set_box_aspect(tuple(np.maximum(span / span.max(), 0.05)))
+
+
+def _clock(seconds: float) -> str:
+    minutes, sec = divmod(max(seconds, 0.0), 60.0)
+    hours, minutes = divmod(int(minutes), 60)
+    return f"{hours}:{minutes:02d}:{sec:04.1f}" if hours else f"{minutes}:{sec:04.1f}"
