@@ -182,7 +182,7 @@ class BlendPiece(Piece):
     built on first use, so trial curves stay cheap).
     """
 
-    __slots__ = ("_length", "_scale", "coef", "table_s", "table_u")
+    __slots__ = ("_length", "coef", "table_s", "table_u")
 
     curved = True
 
@@ -201,22 +201,21 @@ class BlendPiece(Piece):
 
     @property
     def length(self) -> float:
-        if self._length is None:   # 24-point Gauss-Legendre over the whole curve
-            sig = np.sqrt((self._d(_GL24_X, 1) ** 2).sum(axis=1))
-            self._length = float(sig @ _GL24_W)
+        if self._length is None:
+            self._table()
         return self._length
 
     def _table(self) -> None:
-        """Arc length at 33 parameters (8-point Gauss-Legendre on 32 intervals), scaled so that
-        it ends exactly at :attr:`length` (the motion must end where the curve does)."""
+        """Arc length at 33 parameters (8-point Gauss-Legendre on 32 intervals).  The same
+        integral gives the length and the parameter of every point: a single coarser rule for
+        the length was off by 3e-5 on sharp asymmetric curves, which sampling at 1 ms sees."""
         nodes = np.linspace(0.0, 1.0, 33)
         x = (nodes[:-1, None] + _GL_X[None, :] / 32.0).ravel()
         sig = np.sqrt((self._d(x, 1) ** 2).sum(axis=1)).reshape(32, len(_GL_X))
         seg = (sig * _GL_W[None, :]).sum(axis=1) / 32.0
-        table = np.concatenate([[0.0], np.cumsum(seg)])
         self.table_u = nodes
-        self._scale = self.length / table[-1]
-        self.table_s = table * self._scale
+        self.table_s = np.concatenate([[0.0], np.cumsum(seg)])
+        self._length = float(self.table_s[-1])
 
     @classmethod
     def from_controls(cls, controls: np.ndarray, d1: np.ndarray, d2: np.ndarray, d3: np.ndarray) -> BlendPiece:
@@ -247,7 +246,7 @@ class BlendPiece(Piece):
             u0 = self.table_u[k]
             x = (u0[:, None] + (u - u0)[:, None] * _GL_X[None, :]).ravel()
             sig = np.sqrt((self._d(x, 1) ** 2).sum(axis=1)).reshape(len(u), n)
-            s_u = self.table_s[k] + (u - u0) * (sig * _GL_W[None, :]).sum(axis=1) * self._scale
+            s_u = self.table_s[k] + (u - u0) * (sig * _GL_W[None, :]).sum(axis=1)
             speed = np.sqrt((self._d(u, 1) ** 2).sum(axis=1))
             u = np.clip(u - (s_u - s) / speed, 0.0, 1.0)
         return u
@@ -290,6 +289,4 @@ class BlendPiece(Piece):
 
 
 _BOUND_U = np.linspace(0.0, 1.0, 97)
-_GL24_X, _GL24_W = np.polynomial.legendre.leggauss(24)
-_GL24_X, _GL24_W = (_GL24_X + 1.0) / 2.0, _GL24_W / 2.0
 _PERM = {r: np.array([math.perm(k, r) for k in range(r, 6)], dtype=float) for r in (1, 2, 3)}
