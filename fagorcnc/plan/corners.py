@@ -62,7 +62,7 @@ def deviation(blend: BlendPiece, p: Piece, q: Piece, d1: float, d2: float, corne
     """Largest distance from the blend to the stretch of programmed path it replaces
     (HSC), or with ``corner`` the distance from the programmed corner point to the
     curve (#ROUNDPAR e, L8124)."""
-    pts = blend.points(33)
+    pts = blend.points(97)
     if corner:
         return float(np.sqrt(((pts - p.end) ** 2).sum(axis=1)).min())
     ref = np.concatenate([_replaced(p, p.length - d1, p.length), _replaced(q, 0.0, d2)[1:]])

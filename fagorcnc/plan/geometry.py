@@ -182,7 +182,7 @@ class BlendPiece(Piece):
     built on first use, so trial curves stay cheap).
     """
 
-    __slots__ = ("_length", "coef", "table_s", "table_u")
+    __slots__ = ("_length", "coef", "samples", "table_s", "table_u")
 
     curved = True
 
@@ -209,11 +209,9 @@ class BlendPiece(Piece):
         """Arc length at 33 parameters (8-point Gauss-Legendre on 32 intervals).  The same
         integral gives the length and the parameter of every point: a single coarser rule for
         the length was off by 3e-5 on sharp asymmetric curves, which sampling at 1 ms sees."""
-        nodes = np.linspace(0.0, 1.0, 33)
-        x = (nodes[:-1, None] + _GL_X[None, :] / 32.0).ravel()
-        sig = np.sqrt((self._d(x, 1) ** 2).sum(axis=1)).reshape(32, len(_GL_X))
+        sig = np.sqrt(((_TABLE_V @ self.coef[1]) ** 2).sum(axis=1)).reshape(32, len(_GL_X))
         seg = (sig * _GL_W[None, :]).sum(axis=1) / 32.0
-        self.table_u = nodes
+        self.table_u = _TABLE_NODES
         self.table_s = np.concatenate([[0.0], np.cumsum(seg)])
         self._length = float(self.table_s[-1])
 
@@ -254,8 +252,9 @@ class BlendPiece(Piece):
     def derivatives(self, s):
         return self._geometric(self._u_of_s(np.asarray(s, dtype=float)))
 
-    def _geometric(self, u: np.ndarray):
-        v = np.vander(u, 6, increasing=True)
+    def _geometric(self, u: np.ndarray, v: np.ndarray | None = None):
+        if v is None:
+            v = np.vander(u, 6, increasing=True)
         q = v @ self.coef[0]
         b1, b2, b3 = v[:, :5] @ self.coef[1], v[:, :4] @ self.coef[2], v[:, :3] @ self.coef[3]
         sig = np.sqrt((b1 * b1).sum(axis=1))[:, None]
@@ -274,19 +273,26 @@ class BlendPiece(Piece):
         return bool(np.isfinite(self.d3).all())
 
     def _bounds(self) -> None:
-        sig = np.sqrt(((np.vander(_BOUND_U, 5, increasing=True) @ self.coef[1]) ** 2).sum(axis=1))
+        sig = np.sqrt(((_BOUND_V[:, :5] @ self.coef[1]) ** 2).sum(axis=1))
         if sig.min() <= 1e-6 * sig.max():
             self.d1 = self.d2 = self.d3 = np.full(self.coef[0].shape[1], np.inf)
+            self.samples = None
             return
-        _, t, k, dk = self._geometric(_BOUND_U)
+        self.samples, t, k, dk = self._geometric(_BOUND_U, _BOUND_V)
         # sampled maxima with a margin: the curves are smooth polynomials of low degree
         self.d1 = np.minimum(np.abs(t).max(axis=0) * 1.02, 1.0)
         self.d2 = np.abs(k).max(axis=0) * 1.05
         self.d3 = np.abs(dk).max(axis=0) * 1.10
 
     def points(self, n: int = 33) -> np.ndarray:
+        """``n`` points evenly spaced in the curve's parameter (97: the ones its bounds were sampled at)."""
+        if n == len(_BOUND_U) and getattr(self, "samples", None) is not None:
+            return self.samples
         return np.vander(np.linspace(0.0, 1.0, n), 6, increasing=True) @ self.coef[0]
 
 
 _BOUND_U = np.linspace(0.0, 1.0, 97)
+_BOUND_V = np.vander(_BOUND_U, 6, increasing=True)
+_TABLE_NODES = np.linspace(0.0, 1.0, 33)
+_TABLE_V = np.vander((_TABLE_NODES[:-1, None] + _GL_X[None, :] / 32.0).ravel(), 5, increasing=True)
 _PERM = {r: np.array([math.perm(k, r) for k in range(r, 6)], dtype=float) for r in (1, 2, 3)}

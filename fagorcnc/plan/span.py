@@ -3,6 +3,8 @@ events (dwells, auxiliary functions) that synchronise with the motion."""
 
 from __future__ import annotations
 
+import numpy as np
+
 from .geometry import Piece
 from .limits import AxisLimits, curved_limits, piece_cap, tangential
 from .lookahead import reachable
@@ -131,16 +133,30 @@ class Group:
         if self._ladder is None and any(m.piece.curved for m in self.members):
             rungs = [(self.vc, self.acc, self.jerk)]
             for f in LADDER:
-                c = self.vc * f
-                limits = [m.limits_at(c) for m in self.members]
-                rungs.append((c, min(a for a, _ in limits), min(j for _, j in limits)))
+                rungs.append((self.vc * f, *self.limits_at(self.vc * f, force=True)))
             self._ladder = rungs
         return self._ladder
 
     reach = Span.reach
 
-    def limits_at(self, vc: float) -> tuple[float, float]:
-        if vc >= self.vc or self.ladder is None:
+    def limits_at(self, vc: float, force: bool = False) -> tuple[float, float]:
+        """The members' tangential limits below the cap ``vc`` (the formulas of
+        :func:`~fagorcnc.plan.limits.tangential`, over all members and axes at once)."""
+        if vc >= self.vc or (not force and self.ladder is None):
             return self.acc, self.jerk
-        limits = [m.limits_at(vc) for m in self.members]
-        return min(a for a, _ in limits), min(j for _, j in limits)
+        d1 = np.array([m.piece.d1 for m in self.members])
+        d2 = np.array([m.piece.d2 for m in self.members])
+        d3 = np.array([m.piece.d3 for m in self.members])
+        lim = self.members[0].lim
+        a_max = np.asarray(lim.acceleration)
+        j_max = np.asarray(lim.jerk)
+        path_acc = self.members[0].path_acc or np.inf
+        path_jerk = self.members[0].path_jerk or np.inf
+        with np.errstate(divide="ignore", invalid="ignore"):
+            acc = np.where(d1 > 0, (a_max - vc * vc * d2) / d1, np.inf)
+            finite = np.isfinite(j_max)
+            cross = np.where((d2 > 0) & finite, 0.5 * (j_max - vc ** 3 * d3) / (3.0 * vc * d2), np.inf)
+            acc = min(float(np.min(acc)), float(np.min(cross)), path_acc)
+            jerk = np.where((d1 > 0) & finite, (j_max - 3.0 * vc * acc * d2 - vc ** 3 * d3) / d1, np.inf)
+            jerk = min(float(np.min(jerk)), path_jerk)
+        return acc, jerk
