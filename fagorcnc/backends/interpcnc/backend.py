@@ -1,0 +1,631 @@
+"""The ``interpcnc`` back-end: streams planner segments to a SOPROLEC InterpCNC V3 over Modbus.
+
+Translation (see :mod:`.translate`): rapids and lines -> 1002 (1001 before
+a feed change), XY arcs -> 1003, other arcs, helices and corner blends ->
+1002 chords, dwells -> 1011, auxiliary functions -> 1010 actions from the
+``outputs`` table (see :mod:`.options`).  An auxiliary function with no
+mapping is never dropped silently: it is listed in :attr:`warnings` (or
+refused with ``strict_outputs``), and :meth:`InterpCncBackend.check` lists
+them before streaming.
+
+**Flow control.**  A command is written only when it fits the free space of
+the CNC Modbus buffer (input register 3000).  The free space is read
+(registers 3000-3004 in one request, with the status and alarm words) and
+then decremented locally for every command written: the card only ever
+frees space, so the local figure is a safe lower bound and no write can
+overflow.  When it runs out, the back-end refills in batches of a quarter
+of the buffer, or as soon as anything fits when the planner holds fewer
+than ``low_water`` entries.  The status is re-read at least every
+``poll_interval`` seconds while streaming, so an alarm stops the stream
+within one interval.
+
+**Sequence markers.**  Every segment gets a sequence number n (1, 2, ...)
+and a synchronised action 1010 type 3 writing ``n mod 65536`` into the user
+RAM holding register M = ``marker_register`` (3000 by default; L463,
+L967-L971).  The card runs synchronised actions just before the next move
+(L941), so:
+
+* motion and dwell segments: the marker is sent *before* their commands -
+  M = n means segment n has **started** (segments before n are complete);
+* auxiliary segments: the marker is sent *after* their actions - M = n
+  means the actions of segment n have **run**;
+* a motion segment sent as several moves (an arc over 180 degrees, chords)
+  also writes the index j of each move into M+1 before it (the first index
+  before M itself, so M is never read beside a stale index), so a resume
+  knows which move was under way (a full circle ends where it starts: the
+  position alone cannot tell).
+
+The back-end assumes it is the only client commanding the card (another
+master acknowledging an alarm behind its back would make a purged segment
+look complete).
+
+16 bits are enough: the unacknowledged window is bounded by the buffer
+(4096 registers, at least 4 per segment), far below 65536, so the value is
+unwrapped unambiguously against the last one read.  ``status().line`` is
+the source line of the last segment started; ``executed`` counts segments
+complete.
+
+**Faults.**  On an alarm (IR 3003 bit 0 or IR 3004 != 0), a lost link, a
+timeout or a Modbus exception reply, the back-end stops sending at once and
+raises :class:`InterpCncError` with the alarm in words and the last block
+known started.  pymodbus never retries (a retried write could run twice).
+Segments given to :meth:`~InterpCncBackend.send` after that are kept, not
+sent.  Recovery is the operator's: :meth:`~InterpCncBackend.resume`
+(acknowledges an alarm) or :meth:`~InterpCncBackend.reconnect_and_continue`;
+both resynchronise as described there.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...machine import Machine
+from ...plan import Segment
+from ..base import BackendError, Status
+from . import protocol as proto
+from . import registers as regs
+from .link import Link, LinkError
+from .options import Options, OutputAction, parse_options
+from .outputs import OutputTable
+from .translate import Encoder, Move, TranslationError, remaining_moves, segment_moves
+
+
+class InterpCncError(BackendError):
+    """The InterpCNC back-end stopped.
+
+    ``alarm``: the card's alarm code (0 for a link failure); ``line``: source
+    line of the last segment known started; ``accepted``: whether the segment
+    given to the failing ``send`` was kept (True: recovery will deliver it,
+    do not send it again).
+    """
+
+    def __init__(self, message: str, status: Status | None = None, *, alarm: int = 0, line: int = 0,
+                 accepted: bool = True) -> None:
+        super().__init__(message, status)
+        self.alarm = alarm
+        self.line = line
+        self.accepted = accepted
+
+
+@dataclass
+class _Sent:
+    """A segment with its sequence number, its moves (motion) and whether all its commands went out."""
+
+    seq: int
+    segment: Segment
+    moves: list[Move] = field(default_factory=list)
+    transmitted: bool = False
+
+
+class InterpCncBackend:
+    """Back-end ``interpcnc`` (options: see :mod:`.options`)."""
+
+    name = "interpcnc"
+
+    def __init__(self, machine: Machine, **options) -> None:
+        self.machine = machine
+        self.options: Options = parse_options(machine, options)
+        opt = self.options
+        self.axes = list(machine.axis_names)
+        self.card_axes = [opt.axis_map[a] for a in self.axes]
+        self.xy = ((self.card_axes.index("X"), self.card_axes.index("Y"))
+                   if "X" in self.card_axes and "Y" in self.card_axes else None)
+        self.encoder = Encoder(self.axes, opt.axis_map)
+        self.outputs = OutputTable(opt)
+        self.link = Link(host=opt.host, port=opt.port, serial=opt.serial, baudrate=opt.baudrate, unit=opt.unit,
+                         timeout=opt.timeout)
+        self.warnings: list[str] = []
+        self.stats = {"polls": 0, "commands": 0, "registers": 0, "waits": 0, "low_water": 0, "resyncs": 0}
+        self._lock = threading.Lock()
+        self._status = Status(state="closed")
+        self._window: deque[_Sent] = deque()        # sent, not known complete (seq order)
+        self._pending: deque[Segment] = deque()     # accepted, not yet sent (after a fault)
+        self._lines: dict[int, int] = {}             # seq -> source line, from the oldest unconfirmed
+        self._seq = 0                                # last sequence number given
+        self._marker = 0                             # last marker read, unwrapped
+        self._sub = 0                                # last move index read (register M+1)
+        self._free = 0                               # free registers in the card buffer (lower bound)
+        self._planner_free = 0
+        self._card_status = 0
+        self._alarm_code = 0
+        self._buffer_size = 4096
+        self._planner_size = 35
+        self._last_poll = -math.inf
+        self._last_status = -math.inf                # last refresh by status()
+        self._fault: str | None = None               # "alarm" or "link" while stopped by a fault
+        self._stopped = False
+
+    # ------------------------------------------------------------ protocol
+    def open(self) -> None:
+        """Connect, check the card is idle, clear the marker registers."""
+        try:
+            self.link.connect()
+            sizes = self.link.read_input(regs.IR_CNC_BUFFER_SIZE, 3, "reading the buffer sizes")
+            self._buffer_size = sizes[0] or self._buffer_size
+            self._planner_size = sizes[2] or self._planner_size
+            self._reset_stream()
+            self._read_card()
+            if not self._card_alarm() and not self._card_idle():
+                self.link.close()
+                raise BackendError(f"the InterpCNC at {self.link.where} is busy "
+                                   f"({', '.join(proto.decode_status(self._card_status)) or 'buffer not empty'}): "
+                                   "stop it before streaming")
+            self.link.write(self.options.marker_register, [0, 0], "clearing the sequence registers")
+        except LinkError as exc:
+            self._set(state="closed")
+            raise BackendError(str(exc), self._snapshot()) from exc
+        if self._card_alarm():
+            self._fault = "alarm"
+            self._set(state="alarm", alarm=self._alarm_code, alarm_message=proto.alarm_message(self._alarm_code))
+        else:
+            self._set(state="idle", alarm=0, alarm_message="")
+
+    def send(self, segment: Segment) -> None:
+        """Queue ``segment`` on the card; blocks while its buffer is full (see the module docstring)."""
+        if self._status.state == "closed":
+            raise InterpCncError("the InterpCNC back-end is not open: segment refused", self._snapshot(),
+                                 accepted=False)
+        if self._stopped:
+            raise InterpCncError("stopped by the operator: segment refused", self._snapshot(), accepted=False)
+        if segment.kind == "aux" and self.options.strict_outputs:    # refused before it is accepted
+            rec = segment.record
+            if self.outputs.unmapped(rec.function, rec.value):
+                raise InterpCncError(self.outputs.unmapped_message(segment.line, rec.function, rec.value),
+                                     self._snapshot(), accepted=False)
+        self._pending.append(segment)
+        if self._fault:
+            raise self._fault_error("segment kept, not sent")
+        self._flush()
+
+    def finish(self) -> Status:
+        """Block until everything sent has executed; returns the status (raises on an alarm or link loss)."""
+        if self._status.state == "closed":
+            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
+        while True:
+            if self._fault:
+                raise self._fault_error("cannot finish")
+            if self._pending:
+                self._flush()
+            if self._stopped:
+                break
+            self._io(self._poll)
+            if self._card_idle() and self._marker == self._seq:
+                break
+            time.sleep(self.options.poll_interval)
+        self._set(state="idle")
+        return self.status()
+
+    def pause(self) -> None:
+        """Feed hold (1200/130; the card also stops the spindle, buffers kept)."""
+        self._immediate(proto.encode_pause(), "pause")
+        if self._status.state in ("run", "idle"):
+            self._set(state="pause")
+
+    def resume(self) -> None:
+        """Continue: after a pause 1200/129; after an alarm acknowledge (1200/88) and resynchronise
+        (see :meth:`reconnect_and_continue`); after a link loss, reconnect first."""
+        if self._fault:
+            self._recover(acknowledge=True)
+            return
+        self._immediate(proto.encode_resume(), "resume")
+        if self._status.state == "pause":
+            self._set(state="run")
+
+    def stop(self) -> None:
+        """Immediate stop with deceleration; the card purges its buffers (1200/255).  Nothing more is sent."""
+        self._last_status = -math.inf
+        with self.link.lock:
+            self._stopped = True
+            if not self.link.failed:
+                try:
+                    self.link.command(proto.encode_stop(), "stop")
+                except LinkError as exc:
+                    self._fault = "link"
+                    self._set(state="alarm", alarm_message=f"link lost: {exc}")
+            self._pending.clear()
+            self._window.clear()
+        if self._status.state in ("run", "pause"):
+            self._set(state="idle")
+
+    def status(self) -> Status:
+        """The card's status, read again when older than ``poll_interval`` (so that calling it after every
+        segment costs nothing); the last known one when the link is down.  The position needs ``resolution``."""
+        now = time.monotonic()
+        if self._status.state != "closed" and not self.link.failed and now - self._last_status >= \
+                self.options.poll_interval:
+            self._last_status = now
+            try:
+                self._read_poll()
+                position = self._position()
+                if position:
+                    self._set(position=position)
+            except (LinkError, InterpCncError):
+                pass
+        return self._snapshot()
+
+    def close(self) -> None:
+        self.link.close()
+        self._set(state="closed")
+
+    # ------------------------------------------------------------ extras
+    def check(self, items: Iterable) -> list[str]:
+        """Messages for the auxiliary functions of ``items`` (segments or interpreter records) that the
+        ``outputs`` table does not map; run it before streaming."""
+        out = []
+        for it in items:
+            rec = it.record if hasattr(getattr(it, "record", None), "function") else it
+            if getattr(rec, "function", None) is None:
+                continue
+            if self.outputs.unmapped(rec.function, rec.value):
+                out.append(self.outputs.unmapped_message(rec.line, rec.function, rec.value))
+        return out
+
+    def set_override(self, feed: int, rapid: int = 100) -> None:
+        """Feed and rapid overrides in % (holding 2430/2431, L455-L456; avoids the 1100/1005 ambiguity)."""
+        for name, v in (("feed", feed), ("rapid", rapid)):
+            if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v <= 0xFFFF:
+                raise BackendError(f"{name} override must be an integer percentage, got {v!r}")
+        self._io(lambda: self.link.write(regs.HR_FEED_OVERRIDE, [feed, rapid], "override"))
+
+    def home(self, axis: int | str = 0) -> None:
+        """Homing sequence (1110): 0 = all per the card's parameters, or one axis (card index 1-6 or name)."""
+        if isinstance(axis, str):
+            if axis not in self.options.axis_map:
+                raise BackendError(f"home: the machine has no axis {axis}")
+            axis = regs.CARD_AXES.index(self.options.axis_map[axis]) + 1
+        self._immediate(proto.encode_home(axis), "home")
+
+    def jog(self, targets: dict[str, float], speed: float, *, relative: bool = True) -> None:
+        """Jog machine axes by (or to) ``targets`` mm at ``speed`` mm/min (sent in m/min, L1195)."""
+        unknown = [a for a in targets if a not in self.options.axis_map]
+        if unknown:
+            raise BackendError(f"jog: the machine has no axis {unknown[0]}")
+        words = proto.encode_jog({self.options.axis_map[a]: v for a, v in targets.items()}, speed, relative=relative)
+        self._immediate(words, "jog")
+
+    def stop_jog(self) -> None:
+        self._immediate(proto.encode_direct(regs.DIRECT_STOP_JOG), "stop jog")
+
+    def reconnect_and_continue(self) -> None:
+        """Operator-initiated recovery after a link failure, a timeout or an exception reply.
+
+        Reconnects, then resynchronises:
+
+        1. if the card is in alarm, raise (acknowledging is the operator's call: :meth:`resume`);
+        2. 1200/255: stop and purge the card's buffers - whatever was still
+           queued there is discarded, so nothing sent twice can run twice;
+        3. wait until the card is idle, read the sequence registers (segment n,
+           move j) and the position;
+        4. segments before n are complete and are never sent again.  Segment n:
+           an auxiliary one has run (its marker follows its actions); a motion
+           one resumes from the current position: move j is completed as a
+           line to the same end, or an XY arc about the same centre with I/J
+           recomputed from the current position - or skipped when the position
+           is at its end (within 1.5 pulses) - then its later moves follow; a
+           dwell is repeated in full (the card cannot tell how much of it ran;
+           dwelling longer is safe);
+        5. every later segment is sent again, in order, with its own sequence
+           number, then those ``send`` kept meanwhile.
+
+        Guarantee: every move and every synchronised action of the stream runs
+        exactly once, except a dwell under way at the fault, which runs again
+        in full.  Resuming a move needs ``resolution`` for every axis; if the
+        machine is not on the interrupted move's path (it was jogged), this
+        raises and sends nothing.
+        """
+        self._recover(acknowledge=False)
+
+    # ------------------------------------------------------------ streaming
+    def _reset_stream(self) -> None:
+        self._window.clear()
+        self._pending.clear()
+        self._lines.clear()
+        self._seq = self._marker = self._sub = 0
+        self._fault = None
+        self._stopped = False
+        self.encoder.reset()
+        self._set(line=0, executed=0, sent=0, alarm=0, alarm_message="")
+
+    def _flush(self) -> None:
+        while self._pending:
+            segment = self._pending[0]
+            entry = _Sent(self._seq + 1, segment)
+            try:
+                words = self._prepare(entry)
+            except TranslationError as exc:
+                self._pending.popleft()
+                raise InterpCncError(str(exc), self._snapshot(), accepted=False) from exc
+            with self.link.lock:
+                self._pending.popleft()
+                self._seq = entry.seq
+                self._window.append(entry)
+                self._lines[entry.seq] = segment.line
+            self._transmit(entry, words)
+
+    def _prepare(self, entry: _Sent, moves: list[Move] | None = None, first: int = 0) -> list[proto.Words]:
+        """The commands of a segment with its markers (order: see the module docstring).
+
+        ``moves``/``first``: for a resumed segment, the moves left and the index of the first one.
+        """
+        seg = entry.segment
+        reg = self.options.marker_register
+        marker = proto.encode_register_write(reg, entry.seq & 0xFFFF)
+        if seg.kind == "motion":
+            if moves is None:
+                entry.moves = moves = segment_moves(seg, self.xy, self.options.chordal_tolerance)
+            if len(entry.moves) == 1:
+                return [marker, *self.encoder.encode(moves)]
+            out = []
+            for j, m in enumerate(moves, start=first):
+                out.append(proto.encode_register_write(reg + 1, j))
+                if j == first:                   # the move index first: never read beside a stale one
+                    out.append(marker)
+                out += self.encoder.encode([m])
+            return out
+        if seg.kind == "dwell":
+            return [marker, *proto.encode_dwell(float(getattr(seg.record, "seconds", seg.duration)))]
+        if seg.kind == "aux":
+            return [*self._aux_words(seg), marker]
+        return [marker]
+
+    def _transmit(self, entry: _Sent, commands: list[proto.Words]) -> None:
+        try:
+            for words in commands:
+                self._room(len(words))
+                with self.link.lock:             # a poll from another thread sees the write and the count
+                    if self._stopped:
+                        raise InterpCncError("stopped by the operator", self._snapshot())
+                    self.link.command(words)
+                    self._free -= len(words)
+                self.stats["commands"] += 1
+                self.stats["registers"] += len(words)
+        except LinkError as exc:
+            raise self._link_lost(exc) from exc
+        entry.transmitted = True
+        with self._lock:
+            self._status.sent += 1
+            if self._status.state == "idle":
+                self._status.state = "run"
+
+    def _room(self, size: int) -> None:
+        """Wait until ``size`` registers fit the card's buffer; polls the status every poll_interval.
+
+        Once the local estimate runs out, the buffer is refilled in batches:
+        the back-end waits for a quarter of it to be free (fewer polls) unless
+        the planner holds fewer than ``low_water`` entries, when any room will do.
+        """
+        opt = self.options
+        if size > self._buffer_size:
+            raise InterpCncError(f"a command of {size} registers cannot fit the card's "
+                                 f"{self._buffer_size}-register buffer", self._snapshot())
+        batch = max(size, self._buffer_size // 4)
+        while True:
+            if self._free >= size and time.monotonic() - self._last_poll < opt.poll_interval:
+                return
+            self._poll()
+            low = self._planner_size - self._planner_free < opt.low_water
+            if self._free >= (size if low else batch):
+                return
+            if self._stopped:
+                raise InterpCncError("stopped by the operator", self._snapshot())
+            self.stats["waits"] += 1
+            if low:
+                self.stats["low_water"] += 1
+                time.sleep(0.001)
+            else:
+                time.sleep(opt.poll_interval)
+
+    # ------------------------------------------------------------ polling
+    def _read_card(self) -> None:
+        """IR 3000-3004 in one request: free registers, Grbl free, planner free, status, alarm."""
+        with self.link.lock:
+            free, _grbl, pfree, status, alarm = self.link.read_input(regs.POLL_FIRST, regs.POLL_COUNT, "status poll")
+            self._free, self._planner_free, self._card_status, self._alarm_code = free, pfree, status, alarm
+            self._last_poll = time.monotonic()
+            self.stats["polls"] += 1
+
+    def _read_poll(self, *, purged: bool = False) -> None:
+        """The card's status words and the marker registers; updates the window and the status.
+
+        An idle card with empty buffers has run everything sent - unless it purged them (an alarm, a
+        stop): ``purged`` (or an alarm, a fault, a stop) forbids that inference, the segment whose
+        marker was read last is then only known to have started.
+        """
+        with self.link.lock:                     # one consistent view, whichever thread polls
+            self._read_poll_locked(purged)
+
+    def _read_poll_locked(self, purged: bool) -> None:
+        self._read_card()
+        raw, self._sub = self.link.read_holding(self.options.marker_register, 2, "reading the sequence registers")
+        marker = self._marker + ((raw - self._marker) & 0xFFFF)
+        if marker > self._seq:
+            self._fault = "alarm"
+            msg = (f"the sequence register {self.options.marker_register} holds {raw}, which this stream never "
+                   "sent: another client wrote it or the card was reset")
+            self._set(state="alarm", alarm_message=msg)
+            raise InterpCncError(msg, self._snapshot())
+        for seq in range(self._marker, marker):
+            self._lines.pop(seq, None)
+        self._marker = marker
+        purged = purged or self._card_alarm() or self._fault is not None or self._stopped
+        complete = not purged and self._card_idle() and all(e.transmitted for e in self._window)
+        while self._window and (self._window[0].seq < marker or (complete and self._window[0].seq <= marker)):
+            self._window.popleft()
+        done = marker if complete else max(marker - 1, 0)
+        line = self._lines.get(marker, self._status.line) if marker else 0
+        level = max(1.0 - self._free / self._buffer_size, 1.0 - self._planner_free / self._planner_size)
+        self._set(executed=done, line=line, buffer_level=level)
+
+    def _poll(self) -> None:
+        self._read_poll()
+        if self._card_alarm():
+            self._fault = "alarm"
+            code = self._alarm_code
+            self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
+            raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: stopped sending; "
+                                 f"{self._where_text()}", self._snapshot(), alarm=code, line=self._status.line)
+
+    def _card_alarm(self) -> bool:
+        return bool(self._card_status & regs.STATUS_ALARM or self._alarm_code)
+
+    def _card_idle(self) -> bool:
+        return (self._free >= self._buffer_size and self._planner_free >= self._planner_size
+                and not self._card_status & regs.STATUS_CYCLE)
+
+    def _where_text(self) -> str:
+        s = self._status
+        if not s.line:
+            return "no block had started"
+        return f"last block started: line {s.line} ({s.executed} segments complete)"
+
+    def _position(self) -> dict[str, float]:
+        res = self.options.resolution
+        if not res:
+            return {}
+        pulses = proto.decode_i32_list(self.link.read_input(regs.IR_AXIS_POSITION, 12, "reading the position"))
+        return {a: pulses[regs.CARD_AXES.index(c)] / res[a] for a, c in zip(self.axes, self.card_axes, strict=True)
+                if a in res}
+
+    # ------------------------------------------------------------ faults and recovery
+    def _link_lost(self, exc: LinkError) -> InterpCncError:
+        self._fault = "link"
+        self._set(state="alarm", alarm=0, alarm_message=f"link lost: {exc}")
+        return InterpCncError(f"{exc}; stopped sending. {self._where_text()} (as last read). "
+                              "Call reconnect_and_continue() when the link is back.", self._snapshot(),
+                              line=self._status.line)
+
+    def _fault_error(self, what: str) -> InterpCncError:
+        s = self._status
+        how = "resume() to acknowledge the alarm" if self._fault == "alarm" else "reconnect_and_continue()"
+        return InterpCncError(f"the InterpCNC back-end is stopped ({s.alarm_message}): {what}; call {how} first",
+                              self._snapshot(), alarm=s.alarm, line=s.line)
+
+    def _immediate(self, words: list[int], what: str) -> None:
+        self._io(lambda: self.link.command(words, what))
+
+    def _io(self, fn) -> None:
+        self._last_status = -math.inf            # the next status() reads the card again
+        try:
+            fn()
+        except LinkError as exc:
+            raise self._link_lost(exc) from exc
+
+    def _recover(self, *, acknowledge: bool) -> None:
+        """Reconnect if needed, acknowledge an alarm if allowed, then resynchronise."""
+        self._last_status = -math.inf
+        if self._status.state == "closed":
+            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
+        try:
+            if self.link.failed:
+                self.link.connect()
+            self._read_poll(purged=True)
+            if self._card_alarm():
+                if not acknowledge:
+                    self._raise_alarm_state("acknowledge it with resume()")
+                self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
+                self._read_poll(purged=True)
+                if self._card_alarm():
+                    self._raise_alarm_state("still active after the acknowledge (emergency stop still engaged?)")
+            self._resync()
+        except LinkError as exc:
+            raise self._link_lost(exc) from exc
+
+    def _raise_alarm_state(self, advice: str) -> None:
+        code = self._alarm_code
+        self._fault = "alarm"
+        self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
+        raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: {advice}", self._snapshot(), alarm=code,
+                             line=self._status.line)
+
+    def _resync(self) -> None:
+        self.link.command(proto.encode_stop(), "stop and purge before resuming")
+        deadline = time.monotonic() + max(10.0, 20 * self.options.timeout)
+        while True:
+            self._read_poll(purged=True)
+            if self._card_idle():
+                break
+            if time.monotonic() > deadline:
+                raise InterpCncError("the InterpCNC did not come to rest after stop (1200/255)", self._snapshot())
+            time.sleep(self.options.poll_interval)
+        marker = self._marker
+        redo = [e for e in self._window if e.seq >= marker]
+        plans: list[tuple[_Sent, list[proto.Words]]] = []
+        self.encoder.reset()
+        for e in redo:
+            fresh = _Sent(e.seq, e.segment, e.moves)
+            words = self._resume_words(fresh) if e.seq == marker else self._prepare(fresh)
+            if words is not None:
+                plans.append((fresh, words))
+        self._fault = None
+        self.stats["resyncs"] += 1
+        with self.link.lock:
+            self._window.clear()
+        self._set(state="run", alarm=0, alarm_message="")
+        sent = self._status.sent
+        for fresh, words in plans:
+            with self.link.lock:
+                self._window.append(fresh)
+            self._transmit(fresh, words)
+        with self._lock:
+            self._status.sent = sent        # segments sent again were counted the first time
+        self._flush()
+
+    def _resume_words(self, entry: _Sent) -> list[proto.Words] | None:
+        """Commands finishing the segment that had started (marker = its number); None when nothing is left."""
+        kind = entry.segment.kind
+        if kind == "aux":
+            return None                                   # its actions ran before its marker
+        if kind != "motion" or not entry.moves:
+            return self._prepare(entry)                   # a dwell runs again in full
+        res = self.options.resolution
+        missing = [a for a in self.axes if a not in res]
+        if missing:
+            raise InterpCncError(f"cannot resume line {entry.segment.line}: the position of axis {missing[0]} "
+                                 "cannot be read back without 'resolution' (pulses per mm)", self._snapshot())
+        position = self._position()
+        pos = np.array([position[a] for a in self.axes])
+        j = self._sub if len(entry.moves) > 1 else 0
+        if not 0 <= j < len(entry.moves):
+            raise InterpCncError(f"cannot resume line {entry.segment.line}: move register holds {j}, the block has "
+                                 f"{len(entry.moves)} moves", self._snapshot())
+        end_tol = np.array([1.5 / res[a] for a in self.axes])
+        path_tol = max(3.0 / min(res.values()), self.options.chordal_tolerance)
+        rest = remaining_moves(entry.moves[j:], pos, end_tol, path_tol)
+        if rest is None:
+            raise InterpCncError(f"cannot resume line {entry.segment.line}: the machine is not on the path of the "
+                                 "interrupted move (was it moved?); nothing was sent", self._snapshot())
+        if not rest:
+            return None
+        return self._prepare(entry, rest, first=len(entry.moves) - len(rest))
+
+    # ------------------------------------------------------------ auxiliary functions
+    def actions_for(self, function: str, value: float) -> tuple[OutputAction, ...] | None:
+        """The ``outputs`` entry for an auxiliary function (``M3`` first, then ``M``); None when unmapped."""
+        return self.outputs.actions(function, value)
+
+    def _aux_words(self, seg: Segment) -> list[proto.Words]:
+        rec = seg.record
+        tr = self.outputs.translate(seg.line, rec.function, rec.value)
+        if not tr.mapped and self.options.strict_outputs:
+            raise InterpCncError(tr.warnings[0], self._snapshot(), accepted=False)
+        self.warnings += tr.warnings
+        return tr.commands
+
+    def _set(self, **fields) -> None:
+        with self._lock:
+            for k, v in fields.items():
+                setattr(self._status, k, v)
+
+    def _snapshot(self) -> Status:
+        with self._lock:
+            s = self._status
+            return Status(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position),
+                          s.buffer_level, dict(s.velocity))
+
