@@ -306,11 +306,18 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("--limits", action="store_true", help="draw the soft limits (2D view)")
     plot.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     plot.set_defaults(func=_plot_command)
+    sub.add_parser("emulate", help="serve an emulated InterpCNC card (Modbus TCP) for tests and dry runs; "
+                   "see fagorcnc emulate --help")
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``fagorcnc`` console script; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["emulate"]:   # its own options: fagorcnc emulate --help
+        from .backends.interpcnc.emulator import main as emulate
+
+        return emulate(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):

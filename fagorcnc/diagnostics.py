@@ -137,6 +137,7 @@ CODES: dict[str, str] = {
     "PLN100": "planned path (arc or corner blend) beyond a software limit",
     "PLN101": "planned cycle time over the limit (--max-cycle-time)",
     "CFG001": "invalid machine configuration",
+    "CFG003": "auxiliary function the back-end has no output for",
     "CFG002": "parameter file (parameter_file) cannot be read",
 }
 

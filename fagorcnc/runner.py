@@ -48,6 +48,19 @@ class RunReport:
     state: FinalState | None = field(default=None, repr=False)   # the interpreter's final state
 
 
+def _unmapped(be, checked) -> list[Diagnostic]:
+    """Auxiliary functions the back-end cannot execute (e.g. M8 with no InterpCNC output mapped):
+    reported before anything is sent, never silently dropped."""
+    if not hasattr(be, "check"):
+        return []
+    out = []
+    for rec in checked.moves:
+        if rec.kind == "aux":
+            for message in be.check([rec]):
+                out.append(Diagnostic(rec.src.file, rec.line, 1, "CFG003", "warning", message))
+    return out
+
+
 Progress = Callable[[Segment, Status, float | None], None]
 
 
@@ -77,6 +90,10 @@ def run(source: str | Path, machine: Machine | dict | str | Path | None = None, 
             return RunReport(False, checked.diagnostics, be.status(), stopped_by="error",
                              message="the program has errors: nothing was sent", backend=be)
         total = checked.cycle_time
+        unmapped = _unmapped(be, checked)
+        if unmapped and getattr(getattr(be, "options", None), "strict_outputs", False):
+            return RunReport(False, [*checked.diagnostics, *unmapped], be.status(), stopped_by="error",
+                             message="auxiliary functions without an output mapping: nothing was sent", backend=be)
     stream = interpret(source, mach, block_skip=block_skip)
     pacing = be.name == "sim" and bool(getattr(be, "realtime", None))
     planner = Planner(mach, keep_profiles=keep_profiles or pacing)
@@ -108,6 +125,8 @@ def run(source: str | Path, machine: Machine | dict | str | Path | None = None, 
         status = be.status()
     finally:
         be.close()
+    if check_first:
+        extra += unmapped
     diagnostics = sorted([*stream.diagnostics, *extra], key=lambda d: (d.file, d.line, d.col))
     if stopped_by is None and any(d.is_error for d in diagnostics):
         stopped_by, message = "error", "the program stopped at an error"

@@ -1,0 +1,51 @@
+"""`fagorcnc run --backend interpcnc` end to end against the emulator, and `fagorcnc emulate`."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from fagorcnc.backends.interpcnc.emulator import Emulator
+from fagorcnc.cli import main
+
+DEMO = Path(__file__).resolve().parents[1] / "programs" / "demo.nc"
+
+
+def test_run_demo_on_the_emulated_card(tmp_path, capsys):
+    machine = tmp_path / "m.toml"
+    machine.write_text('[backends.interpcnc]\nresolution = { X = 1000, Y = 1000, Z = 1000 }\n'
+                       'outputs = { M3 = { type = 1, output = 0, value = 1 }, '
+                       'M5 = { type = 1, output = 0, value = 0 } }\n')
+    with Emulator(port=0, speed=200.0, resolution=1000) as emu:
+        code = main(["run", "--machine", str(machine), "--backend", "interpcnc", "--port", str(emu.port), str(DEMO)])
+        out = capsys.readouterr().out
+        executed = emu.executed()
+    assert code == 0, out
+    assert "OK on back-end interpcnc" in out and "ended by M30" in out
+    moves = [e for e in executed if e.kind in ("line", "arc", "rapid")]
+    assert len(moves) > 20
+
+
+def test_run_refuses_to_start_on_a_program_with_errors(tmp_path, capsys):
+    bad = tmp_path / "bad.nc"
+    bad.write_text("G1 X10 F100\nP1 = 1/0\nM30\n")
+    with Emulator(port=0, speed=50.0) as emu:
+        code = main(["run", "--backend", "interpcnc", "--port", str(emu.port), str(bad)])
+        out = capsys.readouterr().out
+        executed, requests = emu.executed(), emu.requests
+    assert code == 1 and "INT033" in out and "nothing was sent" in out
+    assert executed == [] and requests == 0
+
+
+def test_emulate_command_serves_until_interrupted():
+    proc = subprocess.Popen([sys.executable, "-m", "fagorcnc.cli", "emulate", "--port", "0"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        assert "InterpCNC emulator listening on 127.0.0.1:" in line
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+    time.sleep(0.1)
