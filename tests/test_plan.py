@@ -163,6 +163,14 @@ def test_g05_does_not_stop_at_the_corners():
     assert r5.cycle_time < 0.95 * r7.cycle_time
 
 
+def test_an_arc_is_not_stopped_inside_its_block():
+    # a full circle is planned in 30-degree parts; in G50 only the block ends are stops
+    segs, _ = motions("G50 G90 G1 X10 Y0 F3000\nG2 X10 Y0 I-10 J0\nG1 X20\nM30\n")
+    arc = [s for s in segs if s.line == 2]
+    assert len(arc) == 12 and arc[0].v0 == 0 and arc[-1].v1 == 0
+    assert all(s.v1 > 0 for s in arc[:-1])
+
+
 def test_g60_stops_only_its_own_block():
     segs, _ = motions("G05\nG90 G1 X0 Y0 F6000\nG60 X50\nY50\nX0\nM30\n")
     ends = {s.line: s.v1 for s in segs if not s.blend}

@@ -168,6 +168,8 @@ class Planner:
         """Decide the junction prev -> nxt: sets ``prev.stop_after`` or returns a blend span."""
         dyn = prev.dyn
         corner = dyn.corner if dyn is not None else "G50"
+        if prev.record is nxt.record:
+            return None   # parts of one block (a long arc, a feed ramp): no corner between them
         if prev.rapid or nxt.rapid or corner in ("G07", "G50"):
             prev.stop_after = True
             return None
