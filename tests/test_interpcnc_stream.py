@@ -8,8 +8,6 @@ from __future__ import annotations
 import threading
 import time
 
-import pytest
-
 import fagorcnc
 from fagorcnc.backends import get_backend
 from fagorcnc.backends.interpcnc import InterpCncBackend
@@ -81,9 +79,27 @@ def test_ten_thousand_segments_execute_exactly_as_planned_without_underrun():
     assert len(segments) >= 10_000
     # Underrun-free streaming is a claim about rates: the card must consume segments slower than the
     # back-end can send them.  Run the emulated card at 1/2.5 of the rate measured now on this machine (a real
-    # card at real time consumes these 0.3 mm moves at 167/s, several times slower than the link).
+    # card at real time consumes these 0.3 mm moves at 167/s, several times slower than the link).  If this
+    # machine then slows down so much that the back-end, sending flat out, falls behind the card, the run is
+    # repeated once with a card three times slower: the claim is checked, never skipped.
     rate = streaming_rate(machine, segments[100:700])
     speed = min(5.0, max(1.0, rate * SEGMENT_TIME / 2.5))
+    for attempt in range(2):
+        card, status, backend, sends, elapsed = stream_all(machine, segments, speed)
+        shortfall = host_shortfall(sends, speed / SEGMENT_TIME) if card.underruns else None
+        if not shortfall or attempt == 1:
+            break
+        speed /= 3.0
+    assert status.state == "idle" and status.executed == status.sent == len(segments)
+    assert status.line == segments[-1].line
+    assert backend.warnings == []
+    assert backend.stats["polls"] < len(segments) / 5          # polled far less than once per segment
+    assert card.underruns == 0, (f"{card.underruns} planner underruns at speed x{speed:.1f} in {elapsed:.1f} s "
+                                 f"(calibrated {rate:.0f} segments/s; {shortfall or 'the host kept up'})")
+
+
+def stream_all(machine, segments, speed: float):
+    """Stream every segment to an emulated card at ``speed``; check the executed log against the plan."""
     with Emulator(port=0, speed=speed, resolution=1000) as emu:
         backend = get_backend("interpcnc", machine, port=emu.port, outputs=OUTPUTS, resolution=1000)
         assert isinstance(backend, InterpCncBackend)
@@ -108,17 +124,7 @@ def test_ten_thousand_segments_execute_exactly_as_planned_without_underrun():
         outs = [e for e in expected if e[0] == "out"]
         assert outs[:3] == [("out", 2, 0, 2000), ("out", 1, 0, 1), ("out", 1, 2, 1)]    # S2000, M3, M8
         assert ("out", 1, 2, 0) in outs[3:-2]                                           # M9 mid-program
-    assert status.state == "idle" and status.executed == status.sent == len(segments)
-    assert status.line == segments[-1].line
-    assert backend.warnings == []
-    assert backend.stats["polls"] < len(segments) / 5          # polled far less than once per segment
-    if card.underruns:
-        shortfall = host_shortfall(sends, speed / SEGMENT_TIME)
-        if shortfall:
-            pytest.skip(f"{card.underruns} underruns because this machine slowed down mid-run ({shortfall}, "
-                        f"calibrated {rate:.0f}/s before): the no-underrun claim needs a link faster than the card")
-    assert card.underruns == 0, (f"{card.underruns} planner underruns at speed x{speed:.1f} in {elapsed:.1f} s "
-                                 f"(calibrated {rate:.0f} segments/s)")
+    return card, status, backend, sends, elapsed
 
 
 def test_back_pressure_never_overflows_the_card_buffer():
