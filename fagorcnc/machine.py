@@ -360,6 +360,12 @@ def _file_relative(path: Path, data: dict) -> dict:
     return data
 
 
+def _in_file(path: Path, exc: MachineError) -> str:
+    """The error message with the file named in front (once)."""
+    text = str(exc)
+    return text if text.startswith(str(path)) else f"{path}: {text}"
+
+
 def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
     """A :class:`Machine` from ``None`` (the default machine), a dict, a TOML path or a
     LinuxCNC INI path (``*.ini``, see :mod:`fagorcnc.linuxcnc`).
@@ -377,14 +383,20 @@ def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
         if path.suffix.lower() == ".ini":   # a LinuxCNC configuration (fagorcnc.linuxcnc)
             from .linuxcnc import load_ini
 
-            return _build(_merge(DEFAULT_MACHINE, load_ini(path)))
+            try:
+                return _build(_merge(DEFAULT_MACHINE, load_ini(path)))
+            except MachineError as exc:
+                raise MachineError(_in_file(path, exc)) from None
         try:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except OSError as exc:
             raise MachineError(f"{path}: cannot read the machine file ({exc.strerror or exc})") from None
         except tomllib.TOMLDecodeError as exc:
             raise MachineError(f"{path}: {exc}") from None
-        return _build(_merge(DEFAULT_MACHINE, _file_relative(path, data)))
+        try:
+            return _build(_merge(DEFAULT_MACHINE, _file_relative(path, data)))
+        except MachineError as exc:
+            raise MachineError(_in_file(path, exc)) from None
     if isinstance(machine, dict):
         return _build(_merge(DEFAULT_MACHINE, machine))
     raise MachineError(f"machine: expected a path, a dict or a Machine, not {type(machine).__name__}")
