@@ -296,3 +296,67 @@ _BOUND_V = np.vander(_BOUND_U, 6, increasing=True)
 _TABLE_NODES = np.linspace(0.0, 1.0, 33)
 _TABLE_V = np.vander((_TABLE_NODES[:-1, None] + _GL_X[None, :] / 32.0).ravel(), 5, increasing=True)
 _PERM = {r: np.array([math.perm(k, r) for k in range(r, 6)], dtype=float) for r in (1, 2, 3)}
+
+
+def blends(p0: np.ndarray, t0: np.ndarray, k0: np.ndarray, a: np.ndarray, p5: np.ndarray, t5: np.ndarray,
+           k5: np.ndarray, b: np.ndarray) -> list[BlendPiece]:
+    """Many :class:`BlendPiece` at once (rows of the arrays): the same curves, bounds and
+    arc-length tables as one by one, computed with array operations over all of them."""
+    a2, b2 = a[:, None], b[:, None]
+    c = np.stack([p0, p0 + a2 * t0, p0 + 2 * a2 * t0 + 1.25 * a2 * a2 * k0,
+                  p5 - 2 * b2 * t5 + 1.25 * b2 * b2 * k5, p5 - b2 * t5, p5], axis=1)      # (n, 6, D)
+    coef = _M5 @ c
+    c1, c2, c3 = (coef[:, r:] * _PERM[r][None, :, None] for r in (1, 2, 3))
+    # bounds at the 97 parameters (the formulas of BlendPiece._geometric, batched)
+    q = _BOUND_V @ coef
+    d1 = _BOUND_V[:, :5] @ c1
+    d2 = _BOUND_V[:, :4] @ c2
+    d3 = _BOUND_V[:, :3] @ c3
+    sig = np.sqrt((d1 * d1).sum(axis=2))[..., None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = d1 / sig
+        b2t = (d2 * t).sum(axis=2)[..., None]
+        pv = d2 - b2t * t
+        k = pv / sig ** 2
+        t_u = pv / sig
+        dp = d3 - ((d3 * t).sum(axis=2)[..., None] + (d2 * t_u).sum(axis=2)[..., None]) * t - b2t * t_u
+        dk = (dp / sig ** 2 - 2 * pv * b2t / sig ** 3) / sig
+    degenerate = sig[..., 0].min(axis=1) <= 1e-6 * sig[..., 0].max(axis=1)
+    # arc-length tables
+    tsig = np.sqrt(((_TABLE_V @ c1) ** 2).sum(axis=2)).reshape(len(a), 32, len(_GL_X))
+    seg = (tsig * _GL_W[None, None, :]).sum(axis=2) / 32.0
+    tables = np.concatenate([np.zeros((len(a), 1)), np.cumsum(seg, axis=1)], axis=1)
+    b_d1 = np.minimum(np.abs(t).max(axis=1) * 1.02, 1.0)
+    b_d2 = np.abs(k).max(axis=1) * 1.05
+    b_d3 = np.abs(dk).max(axis=1) * 1.10
+    ends = coef.sum(axis=1)
+    lengths = tables[:, -1].tolist()
+    out = []
+    for i in range(len(a)):
+        bp = BlendPiece.__new__(BlendPiece)
+        bp.coef = [coef[i], c1[i], c2[i], c3[i]]
+        bp.start, bp.end = coef[i, 0].copy(), ends[i]
+        if degenerate[i]:
+            bp.d1 = bp.d2 = bp.d3 = np.full(coef.shape[2], np.inf)
+            bp.samples = None
+        else:
+            bp.d1, bp.d2, bp.d3 = b_d1[i], b_d2[i], b_d3[i]
+            bp.samples = q[i]
+        bp.table_u = _TABLE_NODES
+        bp.table_s = tables[i]
+        bp._length = lengths[i]
+        out.append(bp)
+    return out
+
+
+def corner_deviations(samples: np.ndarray, start: np.ndarray, vertex: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """Largest distance from each row's curve points ``samples`` (n, m, D) to the two segments
+    ``start``-``vertex`` and ``vertex``-``end`` (n, D) it replaces."""
+    def to_segment(a, b):
+        ab = (b - a)[:, None, :]
+        rel = samples - a[:, None, :]
+        den = np.maximum((ab * ab).sum(axis=2), 1e-300)
+        s = np.clip((rel * ab).sum(axis=2) / den, 0.0, 1.0)
+        gap = rel - s[..., None] * ab
+        return (gap * gap).sum(axis=2)
+    return np.sqrt(np.minimum(to_segment(start, vertex), to_segment(vertex, end)).max(axis=1))

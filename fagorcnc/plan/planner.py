@@ -11,6 +11,7 @@ without waiting (L5088) and D only selects an offset: they do not stop it.
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
@@ -18,7 +19,7 @@ import numpy as np
 
 from ..machine import Machine, load_machine
 from .corners import SHAPE, deviation, included_angle, make_blend, smooth
-from .geometry import ArcPiece, BlendPiece, LinePiece, Piece
+from .geometry import _BOUND_U, ArcPiece, BlendPiece, LinePiece, Piece, blends, corner_deviations
 from .limits import AxisLimits
 from .lookahead import backward, distance
 from .profile import Profile, ProfileError, ProfileWindow, Solver
@@ -33,6 +34,8 @@ SPLINE_SHAPE = 0.4
 MIN_CORNER_ANGLE = 1.0
 #: Arcs are planned in parts of at most this sweep (radians).
 ARC_PART = math.radians(30.0)
+#: Items the corner stage looks ahead (and HSC spline curves computed in one batch).
+LOOK = 64
 #: Grouping of short spans into one motion: span length, group length (mm) and members at most.
 GROUP_SPAN = 2.0
 GROUP_LENGTH = 20.0
@@ -94,6 +97,8 @@ class Planner:
         self._limits: dict = {}
         self.solver = Solver()
         self._peek: Span | Event | None = None   # the item after the one the corner stage looks at
+        self._ahead: deque = deque()             # the corner stage's look-ahead
+        self._candidates: dict[int, tuple] = {}  # batched HSC spline curves by the id of their second line
         self._spline_used = False
 
     # ------------------------------------------------------------ records -> spans
@@ -256,6 +261,18 @@ class Planner:
         if not (isinstance(p, LinePiece) and isinstance(q, LinePiece)) or _adapts(prev) or _adapts(nxt):
             return None
         d1 = min(prev.orig_length / 2.0, p.length)
+        cached = self._candidates.pop(id(nxt), None)
+        if not _fits(cached, prev, d1):
+            self._candidates.clear()
+            self._batch(prev, nxt, tolerance)
+            cached = self._candidates.pop(id(nxt), None)
+        if _fits(cached, prev, d1):
+            _, _, _, blend, d2, k5, dev = cached
+            if not blend.valid or dev > 0.95 * tolerance:
+                return None
+            nxt.mid_k = k5
+            self._spline_used = True
+            return blend, d1, d2
         d2 = nxt.orig_length / 2.0
         zero = np.zeros_like(q.u)
         k0 = prev.mid_k if prev.mid_k is not None else zero
@@ -274,6 +291,56 @@ class Planner:
         nxt.mid_k = k5 if float(np.abs(k5).max()) > 0.0 else None
         self._spline_used = True
         return blend, d1, d2
+
+    def _batch(self, prev: Span, nxt: Span, tolerance: float) -> None:
+        """Spline candidates for the run of HSC lines starting at ``prev``, ``nxt`` and going on
+        through the look-ahead, all computed at once (:func:`~fagorcnc.plan.geometry.blends`); each
+        assumes the previous one is taken (its end curvature is the next one's start)."""
+        chain = [prev, nxt]
+        ahead = self._ahead
+        for j, x in enumerate(ahead):
+            if not (isinstance(x, Span) and isinstance(x.piece, LinePiece) and _spline_line(x)):
+                break
+            if j == len(ahead) - 1 or len(chain) >= LOOK:
+                break   # keep the item after the chain known: it decides the last line's curvature
+            chain.append(x)
+        follow = self._ahead[len(chain) - 2] if len(self._ahead) > len(chain) - 2 else None
+        n = len(chain) - 1                       # corners chain[i] -> chain[i + 1]
+        u = np.array([s.piece.u for s in chain])
+        orig = np.array([s.orig_length for s in chain])
+        vertex = np.array([s.piece.start for s in chain[1:]])
+        dim = u.shape[1]
+        # curvature at the middle of each line: the mean of its two corners', normal to the line
+        kmid = np.zeros((len(chain), dim))
+        for i in range(1, len(chain)):
+            after = chain[i + 1] if i + 1 < len(chain) else follow
+            if not (isinstance(after, Span) and isinstance(after.piece, LinePiece) and not after.rapid
+                    and _spline_line(after)
+                    and included_angle(chain[i].piece.u, after.piece.u) >= max(after.dyn.hsc.corner,
+                                                                                 MIN_CORNER_ANGLE)):
+                continue
+            k_in = (u[i] - u[i - 1]) / ((orig[i - 1] + orig[i]) / 2.0)
+            k_out = (after.piece.u - u[i]) / ((orig[i] + after.orig_length) / 2.0)
+            k = (k_in + k_out) / 2.0
+            kmid[i] = k - float(k @ u[i]) * u[i]
+        if prev.mid_k is not None:
+            kmid[0] = prev.mid_k
+        d1 = orig[:n] / 2.0
+        d1[0] = min(prev.orig_length / 2.0, prev.piece.length)
+        d2 = orig[1:] / 2.0
+        p0 = vertex - d1[:, None] * u[:-1]
+        p5 = vertex + d2[:, None] * u[1:]
+        curves = blends(p0, u[:-1], kmid[:-1], SPLINE_SHAPE * d1, p5, u[1:], kmid[1:], SPLINE_SHAPE * d2)
+        ok = np.array([c.samples is not None for c in curves])
+        samples = np.stack([c.samples if c.samples is not None else np.zeros((len(_BOUND_U), dim)) for c in curves])
+        devs = corner_deviations(samples, p0, vertex, p5)
+        devs[~ok] = np.inf
+        previous_k = prev.mid_k
+        for i in range(n):
+            k5 = kmid[i + 1] if float(np.abs(kmid[i + 1]).max()) > 0.0 else None
+            self._candidates[id(chain[i + 1])] = (chain[i], previous_k, float(d1[i]), curves[i], float(d2[i]), k5,
+                                                  float(devs[i]))
+            previous_k = k5
 
     def _transition(self, span: Span) -> Span | None:
         """A span that starts on an HSC spline with curvature but does not end on one: a short
@@ -333,10 +400,19 @@ class Planner:
         pending: list[Event] = []        # events that do not stop the motion, after prev
         settle = self.config.inposition_time
         source = iter(items)
-        upcoming = next(source, None)
-        while upcoming is not None:
-            item, upcoming = upcoming, next(source, None)
-            self._peek = upcoming
+        ahead = self._ahead = deque()
+        for x in source:
+            ahead.append(x)
+            if len(ahead) >= LOOK:
+                break
+        while ahead:
+            item = ahead.popleft()
+            if len(ahead) < LOOK // 2:
+                for x in source:
+                    ahead.append(x)
+                    if len(ahead) >= LOOK:
+                        break
+            self._peek = ahead[0] if ahead else None
             if isinstance(item, Event):
                 if item.kind == "aux" and item.record.function in NO_SYNC and prev is not None:
                     pending.append(item)
@@ -503,6 +579,18 @@ def _joins(group: Group, span: Span) -> bool:
     if not (_short(span) and _short(group.members[0])):
         return False
     return span.vc <= 1.3 * group.vc and span.vc * 1.3 >= max(m.vc for m in group.members[-4:])
+
+
+def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
+    """Whether a batched spline candidate was made for this corner as it now stands."""
+    return (cached is not None and cached[0] is prev and cached[1] is prev.mid_k
+            and abs(cached[2] - d1) <= 1e-9 * max(d1, 1e-9))
+
+
+def _spline_line(span: Span) -> bool:
+    """A line that can carry an HSC spline through its middle."""
+    dyn = span.dyn
+    return dyn is not None and dyn.corner == "HSC" and dyn.adaptation is None and not span.rapid
 
 
 def _adapts(span: Span) -> bool:
