@@ -310,19 +310,21 @@ class Planner:
         orig = np.array([s.orig_length for s in chain])
         vertex = np.array([s.piece.start for s in chain[1:]])
         dim = u.shape[1]
-        # curvature at the middle of each line: the mean of its two corners', normal to the line
+        # curvature at the middle of each line: the mean of its two corners', normal to the line,
+        # where the corner after it is rounded by a spline too (an HSC line beyond, angle >= CORNER)
         kmid = np.zeros((len(chain), dim))
-        for i in range(1, len(chain)):
-            after = chain[i + 1] if i + 1 < len(chain) else follow
-            if not (isinstance(after, Span) and isinstance(after.piece, LinePiece) and not after.rapid
-                    and _spline_line(after)
-                    and included_angle(chain[i].piece.u, after.piece.u) >= max(after.dyn.hsc.corner,
-                                                                                 MIN_CORNER_ANGLE)):
-                continue
-            k_in = (u[i] - u[i - 1]) / ((orig[i - 1] + orig[i]) / 2.0)
-            k_out = (after.piece.u - u[i]) / ((orig[i] + after.orig_length) / 2.0)
-            k = (k_in + k_out) / 2.0
-            kmid[i] = k - float(k @ u[i]) * u[i]
+        after_ok = isinstance(follow, Span) and isinstance(follow.piece, LinePiece) and _spline_line(follow)
+        u_next = np.vstack([u[2:], follow.piece.u[None, :] if after_ok else np.zeros((1, dim))])
+        len_next = np.append(orig[2:], follow.orig_length if after_ok else 1.0)
+        corner = np.array([x.dyn.hsc.corner for x in chain[2:]] + [follow.dyn.hsc.corner if after_ok else 180.0])
+        cosine = np.clip((u[1:] * u_next).sum(axis=1), -1.0, 1.0)
+        angle_ok = 180.0 - np.degrees(np.arccos(cosine)) >= np.maximum(corner, MIN_CORNER_ANGLE)
+        angle_ok[-1] &= after_ok
+        k_in = (u[1:] - u[:-1]) / ((orig[:-1] + orig[1:]) / 2.0)[:, None]
+        k_out = (u_next - u[1:]) / ((orig[1:] + len_next) / 2.0)[:, None]
+        k = (k_in + k_out) / 2.0
+        k -= (k * u[1:]).sum(axis=1)[:, None] * u[1:]
+        kmid[1:] = np.where(angle_ok[:, None], k, 0.0)
         if prev.mid_k is not None:
             kmid[0] = prev.mid_k
         d1 = orig[:n] / 2.0

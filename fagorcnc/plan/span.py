@@ -109,7 +109,7 @@ class Group:
     Limits are the most restrictive of the members' (each member's are valid below its own
     cap, and the group stays below the lowest cap)."""
 
-    __slots__ = ("_ladder", "acc", "jerk", "length", "line", "members", "record", "stop_after", "vc")
+    __slots__ = ("_bounds", "_ladder", "acc", "jerk", "length", "line", "members", "record", "stop_after", "vc")
 
     def __init__(self, first: Span) -> None:
         self.members = [first]
@@ -118,6 +118,7 @@ class Group:
         self.stop_after = first.stop_after
         self.line, self.record = first.line, first.record
         self._ladder = None
+        self._bounds = None
 
     def add(self, span: Span) -> None:
         self.members.append(span)
@@ -127,6 +128,7 @@ class Group:
         self.jerk = min(self.jerk, span.jerk)
         self.stop_after = span.stop_after
         self._ladder = None
+        self._bounds = None
 
     @property
     def ladder(self) -> list[tuple[float, float, float]] | None:
@@ -144,9 +146,10 @@ class Group:
         :func:`~fagorcnc.plan.limits.tangential`, over all members and axes at once)."""
         if vc >= self.vc or (not force and self.ladder is None):
             return self.acc, self.jerk
-        d1 = np.array([m.piece.d1 for m in self.members])
-        d2 = np.array([m.piece.d2 for m in self.members])
-        d3 = np.array([m.piece.d3 for m in self.members])
+        if self._bounds is None:
+            self._bounds = tuple(np.array([getattr(m.piece, name) for m in self.members])
+                                 for name in ("d1", "d2", "d3"))
+        d1, d2, d3 = self._bounds
         lim = self.members[0].lim
         a_max = np.asarray(lim.acceleration)
         j_max = np.asarray(lim.jerk)
