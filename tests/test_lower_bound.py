@@ -164,9 +164,8 @@ def test_sweep_matches_plain_recursion(pieces: int) -> None:
 
 def test_matches_toppra_on_a_spline() -> None:
     # toppra (TOPP-RA reference implementation) with the same collocation discretisation on the same grid.
-    toppra = pytest.importorskip("toppra")
-    constraint = pytest.importorskip("toppra.constraint")
-    algorithm = pytest.importorskip("toppra.algorithm")
+    import toppra
+    from toppra import algorithm, constraint
     waypoints = np.array([[0, 0, 0], [30, 10, 0], [50, 40, 5], [20, 60, 10], [-10, 40, 5]], dtype=float)
     knots = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(waypoints, axis=0), axis=1))]
     path = toppra.SplineInterpolator(knots, waypoints)
