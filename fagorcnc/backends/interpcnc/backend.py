@@ -308,7 +308,7 @@ class InterpCncBackend:
            one resumes from the current position: move j is completed as a
            line to the same end, or an XY arc about the same centre with I/J
            recomputed from the current position - or skipped when the position
-           is at its end (within 1.5 pulses) - then its later moves follow; a
+           is at its end (its position counters read it) - then its later moves follow; a
            dwell is repeated in full (the card cannot tell how much of it ran;
            dwelling longer is safe);
         5. every later segment is sent again, in order, with its own sequence
@@ -595,7 +595,8 @@ class InterpCncBackend:
         if not 0 <= j < len(entry.moves):
             raise InterpCncError(f"cannot resume line {entry.segment.line}: move register holds {j}, the block has "
                                  f"{len(entry.moves)} moves", self._snapshot())
-        end_tol = np.array([1.5 / res[a] for a in self.axes])
+        # at its end = the position counters read its end (the card then counts it as done)
+        end_tol = np.array([0.5 / res[a] for a in self.axes])
         path_tol = max(3.0 / min(res.values()), self.options.chordal_tolerance)
         rest = remaining_moves(entry.moves[j:], pos, end_tol, path_tol)
         if rest is None:

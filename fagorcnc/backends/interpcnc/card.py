@@ -373,6 +373,9 @@ class Card:
     def _abort(self) -> None:
         for e in [*(list(self.planner)[:1]), self.jog]:
             if e is not None and e.started:
+                if e is not self.jog and e.end and self._counts(e.end) == self._counts(self.position):
+                    self._complete(e)   # stopped where its position counters already read its end: done
+                    continue
                 self.aborted.append(Executed(e.cmd.cid, e.kind, tuple(self.position), dict(e.cmd.args),
                                              self.hr[self.watch], self.time))
         self.queue.clear()
@@ -510,7 +513,11 @@ class Card:
         return w
 
     def pulses(self) -> list[int]:
-        return [round(p * r) for p, r in zip(self.position, self.resolution, strict=True)]
+        return self._counts(self.position)
+
+    def _counts(self, position) -> list[int]:
+        """Position counters (pulses) of a position."""
+        return [round(p * r) for p, r in zip(position, self.resolution, strict=True)]
 
     def refresh(self) -> None:
         """Write the live values into the register images (input and holding)."""
