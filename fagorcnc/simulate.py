@@ -140,13 +140,18 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
     attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
     moves = list(interp.run())
     diagnostics = [*program.diagnostics, *interp.diagnostics]
-    cycle_time = 0.0
+    # the dry run executes the plan on the embedded simulator back-end (segments not kept)
+    from .backends.sim import SimulatorBackend
+
+    sim = SimulatorBackend(mach, keep_segments=False)
+    sim.open()
     try:
         for seg in Planner(mach).segments(moves):
-            cycle_time += seg.duration
+            sim.send(seg)
     except PlanningError as exc:
         file = exc.record.src.file if exc.record is not None else program.file
         diagnostics.append(Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc)))
+    cycle_time = sim.cycle_time
     diagnostics.sort(key=lambda d: (d.file, d.line, d.col))
     ok = not any(d.is_error for d in diagnostics)
     return Result(ok, diagnostics, moves, FinalState(interp), cycle_time, program, interp.ended, mach)
