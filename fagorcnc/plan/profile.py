@@ -137,23 +137,23 @@ class Solver:
             if prof is not None:
                 return prof.duration, span.vc, prof
         top = max(v0, v1)
-        caps = [span.vc]
+        rungs = [(span.vc, span.acc, span.jerk)]
         if span.ladder is not None:
-            caps = [c for c, _a, _j in span.ladder if c >= top]
-            if top > 0 and top * (1 + 1e-9) < caps[-1]:
-                caps.append(top * (1 + 1e-9))
-        best = (math.inf, span.vc)
-        for vc in caps:
-            acc, jerk = span.limits_at(vc)
+            rungs = [r for r in span.ladder if r[0] >= top]
+            if top > 0 and top * (1 + 1e-9) < rungs[-1][0]:
+                cap = top * (1 + 1e-9)
+                rungs.append((cap, *span.limits_at(cap)))
+        best = (math.inf, span.vc, 0.0, 0.0)
+        for vc, acc, jerk in rungs:
             if acc <= 0 or jerk <= 0:
                 continue
             d = self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
             if d < best[0]:
-                best = (d, vc)
+                best = (d, vc, acc, jerk)
         if best[0] == math.inf:
             raise ProfileError(f"no profile for a {span.length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
         if not keep:
             return best[0], best[1], None
-        acc, jerk = span.limits_at(best[1])   # solve the best again so that the trajectory holds it
-        self.duration(span.length, min(v0, best[1]), min(v1, best[1]), best[1], acc, jerk)
+        _d, vc, acc, jerk = best   # solve the best again so that the trajectory holds it
+        self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
         return best[0], best[1], self.profile()

@@ -133,19 +133,24 @@ class Group:
     @property
     def ladder(self) -> list[tuple[float, float, float]] | None:
         if self._ladder is None and any(m.piece.curved for m in self.members):
-            rungs = [(self.vc, self.acc, self.jerk)]
-            for f in LADDER:
-                rungs.append((self.vc * f, *self.limits_at(self.vc * f, force=True)))
-            self._ladder = rungs
+            caps = self.vc * np.array(LADDER)
+            acc, jerk = self._limits(caps)
+            self._ladder = [(self.vc, self.acc, self.jerk), *zip(caps.tolist(), acc.tolist(), jerk.tolist(),
+                                                                 strict=True)]
         return self._ladder
 
     reach = Span.reach
 
-    def limits_at(self, vc: float, force: bool = False) -> tuple[float, float]:
-        """The members' tangential limits below the cap ``vc`` (the formulas of
-        :func:`~fagorcnc.plan.limits.tangential`, over all members and axes at once)."""
-        if vc >= self.vc or (not force and self.ladder is None):
+    def limits_at(self, vc: float) -> tuple[float, float]:
+        """The members' tangential limits below the cap ``vc``."""
+        if vc >= self.vc or self.ladder is None:
             return self.acc, self.jerk
+        acc, jerk = self._limits(np.array([vc]))
+        return float(acc[0]), float(jerk[0])
+
+    def _limits(self, caps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Tangential acceleration and jerk for each cap in ``caps``: the formulas of
+        :func:`~fagorcnc.plan.limits.tangential` over all members, axes and caps at once."""
         if self._bounds is None:
             self._bounds = tuple(np.array([getattr(m.piece, name) for m in self.members])
                                  for name in ("d1", "d2", "d3"))
@@ -155,11 +160,13 @@ class Group:
         j_max = np.asarray(lim.jerk)
         path_acc = self.members[0].path_acc or np.inf
         path_jerk = self.members[0].path_jerk or np.inf
+        vc = caps[:, None, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             acc = np.where(d1 > 0, (a_max - vc * vc * d2) / d1, np.inf)
             finite = np.isfinite(j_max)
             cross = np.where((d2 > 0) & finite, 0.5 * (j_max - vc ** 3 * d3) / (3.0 * vc * d2), np.inf)
-            acc = min(float(np.min(acc)), float(np.min(cross)), path_acc)
-            jerk = np.where((d1 > 0) & finite, (j_max - 3.0 * vc * acc * d2 - vc ** 3 * d3) / d1, np.inf)
-            jerk = min(float(np.min(jerk)), path_jerk)
+            acc = np.minimum(np.minimum(acc.min(axis=(1, 2)), cross.min(axis=(1, 2))), path_acc)
+            a3 = acc[:, None, None]
+            jerk = np.where((d1 > 0) & finite, (j_max - 3.0 * vc * a3 * d2 - vc ** 3 * d3) / d1, np.inf)
+            jerk = np.minimum(jerk.min(axis=(1, 2)), path_jerk)
         return acc, jerk
