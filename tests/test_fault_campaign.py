@@ -10,7 +10,7 @@ accepted anything between an alarm and ``resume()``.  The engine is :func:`run_c
 ``benchmarks/robustness.py`` (which also prints the README's figures).
 
 Budget: up to 100 faults, 20 of them (spread over the stream) always injected, the others only while the faults
-so far have added less than their share of 12 s to the stream (each costs from a few ms - a dropped connection - to
+so far have added less than their share of 18 s to the stream (each costs from a few ms - a dropped connection - to
 half a second - a reply past the timeout): about 25 s here, under a minute on a loaded 2-core machine.
 ``FAGORCNC_FAULTS=100`` injects exactly that many (no budget); ``FAGORCNC_FAULT_BUDGET`` (s) and
 ``FAGORCNC_FAULT_SEED`` change the budget and the seed.
@@ -95,7 +95,7 @@ def stream(backend, segments, recover) -> list[InterpCncError]:
 def test_link_fault_campaign_loses_nothing_duplicates_nothing_and_reports_every_fault():
     env = os.environ.get("FAGORCNC_FAULTS")
     faults = int(env) if env else 100
-    budget = None if env else float(os.environ.get("FAGORCNC_FAULT_BUDGET", "12"))
+    budget = None if env else float(os.environ.get("FAGORCNC_FAULT_BUDGET", "18"))
     seed = int(os.environ.get("FAGORCNC_FAULT_SEED", "8060"))
     r = rb.run_campaign(moves=10_000, faults=faults, seed=seed, budget=budget, deadline=max(300.0, 6.0 * faults))
     print("\n".join(rb.campaign_summary(r)))
