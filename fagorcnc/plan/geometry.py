@@ -19,6 +19,7 @@ within a fraction of a percent of 1 and its bounds computed exactly.
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 
 import numpy as np
 
@@ -32,7 +33,7 @@ _M5 = np.array([[(-1) ** (k - i) * math.comb(5, k) * math.comb(k, i) if k >= i e
                 for k in range(6)], dtype=float)
 
 
-class Piece:
+class Piece(ABC):
     """Base class: a curve over ``s`` in ``[0, length]`` with derivative bounds."""
 
     __slots__ = ("__dict__", "d1", "d2", "d3", "end", "start")
@@ -46,9 +47,10 @@ class Piece:
 
     curved = False
 
+    @abstractmethod
     def derivatives(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``q, q', q'', q'''`` at the parameters ``s`` (arrays of shape (n, axes))."""
-        raise NotImplementedError
+
 
     def frame(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Point, unit tangent and curvature vector (geometric, any parameterisation) at ``s``."""
