@@ -103,12 +103,6 @@ OUTPUTS = {
 KINDS = ("drop", "exception", "delay", "alarm", "estop", "hold")
 MOTION = (regs.CMD_FEED, regs.CMD_LINE, regs.CMD_ARC_XY)
 
-#: Known back-end bug (see tests/test_fault_campaign.py, the strict xfail tests): after a fault that finds the card
-#: idle, a dwell or an M function's synchronised actions that had already run are sent and run again.  While True,
-#: the campaign tolerates exactly that pattern (an output action or dwell run again right after its own first run,
-#: with no move between) and reports it as ``rerun``; anything else out of order or missing still fails.
-KNOWN_RERUN_BUG = True
-
 
 def campaign_program(moves: int = 10_000, seed: int = 8060) -> str:
     """``moves`` short G1 moves (a random walk in a 40 mm square), an XY arc every 500, M8/M9 every 300, M3/M5
@@ -208,8 +202,7 @@ class Comparison:
     executed: int
     lost: int                          # planned events never executed
     duplicated: int                    # events executed more often than planned
-    rerun: list[tuple] = field(default_factory=list)   # duplicates of the known-bug pattern (see KNOWN_RERUN_BUG)
-    ordered: bool = True               # same order once the reruns are left out
+    ordered: bool = True               # the same events in the same order
     difference: str | None = None
 
 
@@ -257,31 +250,18 @@ class CampaignResult:
 
 
 def compare(expected: list[tuple], executed: list[tuple]) -> Comparison:
-    """Counts lost and duplicated events and checks the order, leaving out the known-bug reruns (an output action
-    or a dwell executed again right after its own first run, no move between; see ``KNOWN_RERUN_BUG``)."""
+    """Counts lost and duplicated events and checks the order."""
     missing = Counter(expected) - Counter(executed)
     extra = Counter(executed) - Counter(expected)
-    rerun: list[tuple] = []
-    i = j = group = 0                  # group: index of the first expected event after the last move
-    while j < len(executed):
-        if i < len(expected) and executed[j] == expected[i]:
-            if expected[i][0] == "move":
-                group = i + 1
-            i += 1
-            j += 1
-        elif executed[j][0] in ("out", "dwell") and executed[j] in expected[group:i]:
-            rerun.append((j, executed[j]))
-            j += 1
-        else:
-            break
-    ordered = i == len(expected) and j == len(executed)
+    k = next((k for k, (a, b) in enumerate(zip(expected, executed, strict=False)) if a != b),
+             min(len(expected), len(executed)))
+    ordered = k == len(expected) == len(executed)
     difference = None
     if not ordered:
-        difference = (f"planned event {i} {expected[i] if i < len(expected) else 'none'}, executed event {j} "
-                      f"{executed[j] if j < len(executed) else 'none'}; missing {list(missing.elements())[:3]}, "
+        difference = (f"planned event {k} {expected[k] if k < len(expected) else 'none'}, executed event {k} "
+                      f"{executed[k] if k < len(executed) else 'none'}; missing {list(missing.elements())[:3]}, "
                       f"extra {list(extra.elements())[:3]}")
-    return Comparison(len(expected), len(executed), sum(missing.values()), sum(extra.values()), rerun, ordered,
-                      difference)
+    return Comparison(len(expected), len(executed), sum(missing.values()), sum(extra.values()), ordered, difference)
 
 
 def _expect(fault: Fault, err: InterpCncError, first: bool, line_now: int) -> list[str]:
@@ -584,9 +564,6 @@ def campaign_summary(r: CampaignResult) -> list[str]:
         f"sent after the alarm was reported: {r.sent_after_report}; commands written between an alarm and the next "
         f"status poll (discarded by the card, re-sent after `resume()`): {r.discarded}",
     ]
-    if c.rerun:
-        lines.append(f"- of the duplicates, {len(c.rerun)} are the known bug (an M function's output action or a "
-                     "dwell that had run just before the fault, on an idle card, runs again after the recovery)")
     if r.aborted:
         lines.append(f"- ABORTED: {r.aborted}")
     return lines
@@ -875,8 +852,7 @@ def main(argv: list[str] | None = None) -> int:
     print(markdown(args, fuzz, runaway, campaign, safety, total))
     bad = (any(f.failed for f in fuzz or ()) or any(r.codes == [] for r in runaway or ())
            or (campaign is not None and (campaign.violations or campaign.comparison.lost or campaign.aborted
-                                         or not campaign.comparison.ordered
-                                         or campaign.comparison.duplicated != len(campaign.comparison.rerun)))
+                                         or not campaign.comparison.ordered or campaign.comparison.duplicated))
            or (safety is not None and safety[1]))
     return 1 if bad else 0
 

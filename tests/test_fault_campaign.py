@@ -15,7 +15,8 @@ half a second - a reply past the timeout): about 25 s here, under a minute on a 
 ``FAGORCNC_FAULTS=100`` injects exactly that many (no budget); ``FAGORCNC_FAULT_BUDGET`` (s) and
 ``FAGORCNC_FAULT_SEED`` change the budget and the seed.
 
-The strict xfail tests below pin down the bugs the campaign found (see their reasons).
+The tests after it pin down the cases the campaign found, each fixed: a move an alarm stops at its very end, a
+dwell or an output that had run just before a fault (they now run behind a gate, see ``interpcnc.backend``).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ import pytest
 
 import fagorcnc
 from fagorcnc.backends.interpcnc import InterpCncBackend, InterpCncError
+from fagorcnc.backends.interpcnc import backend as backend_module
 from fagorcnc.backends.interpcnc import registers as regs
 from fagorcnc.backends.interpcnc.emulator import Emulator
 from fagorcnc.backends.interpcnc.verify import executed_events, expected_events, first_difference
@@ -39,19 +41,10 @@ if str(_BENCH) not in sys.path:
     sys.path.insert(0, str(_BENCH))
 rb = importlib.import_module("robustness")
 
-RERUN_BUG = ("bug: reconnect_and_continue()/resume() after a fault that finds the card idle re-sends the segment "
-             "whose sequence marker the card holds although it had completed: a dwell (G4) runs twice; an M function "
-             "whose output actions ran but whose marker write failed runs its actions twice")
-
-
-class RanTwiceError(AssertionError):
-    """The executed log differs from the plan (the bug the strict xfail tests pin down)."""
-
 
 def assert_exactly_once(segments, backend, log) -> None:
     difference = first_difference(expected_events(segments, backend), executed_events(log))
-    if difference is not None:
-        raise RanTwiceError(difference)
+    assert difference is None, difference
 
 
 def plan(text: str):
@@ -121,9 +114,7 @@ def test_link_fault_campaign_loses_nothing_duplicates_nothing_and_reports_every_
     # 0 lost, 0 duplicated, in order (moves stopped within 2 pulses of their end count as done: rb.stopped_at_end)
     c = r.comparison
     assert c.lost == 0 and c.ordered, c.difference
-    assert c.duplicated == len(c.rerun), c
-    if not rb.KNOWN_RERUN_BUG:
-        assert c.rerun == []
+    assert c.duplicated == 0, c
     # nothing accepted (or even sent) between an alarm and resume(); each resume() acknowledged once
     assert r.motion_after_alarm == 0 and r.sent_after_report == 0 and r.executed_in_alarm == 0
     assert r.resumes == sum(1 for f in r.faults for a in f.alarms if a) and r.acks == r.resumes
@@ -136,18 +127,15 @@ def test_the_comparison_counts_lost_duplicated_and_reordered_events():
     m = [("move", k, (float(k), 0.0)) for k in range(1, 6)]
     out, dwell = ("out", 1, 2, 1), ("dwell", 50)
     plan_ = [m[0], out, m[1], dwell, m[2], m[3], m[4]]
-    assert rb.compare(plan_, list(plan_)) == rb.Comparison(7, 7, 0, 0, [], True, None)
+    assert rb.compare(plan_, list(plan_)) == rb.Comparison(7, 7, 0, 0, True, None)
     lost = rb.compare(plan_, [e for e in plan_ if e != m[2]])
     assert (lost.lost, lost.duplicated, lost.ordered) == (1, 0, False) and "('move', 3" in lost.difference
     twice = rb.compare(plan_, [*plan_[:5], m[2], *plan_[5:]])
-    assert (twice.lost, twice.duplicated, twice.ordered, twice.rerun) == (0, 1, False, [])
+    assert (twice.lost, twice.duplicated, twice.ordered) == (0, 1, False)
     swapped = rb.compare(plan_, [m[0], out, m[1], dwell, m[3], m[2], m[4]])
     assert (swapped.lost, swapped.duplicated, swapped.ordered) == (0, 0, False)
-    # the known-bug pattern: an output or a dwell again right after itself, no move between
-    rerun = rb.compare(plan_, [m[0], out, out, m[1], dwell, dwell, m[2], m[3], m[4]])
-    assert (rerun.lost, rerun.duplicated, rerun.ordered, len(rerun.rerun)) == (0, 2, True, 2)
-    late = rb.compare(plan_, [m[0], out, m[1], out, dwell, m[2], m[3], m[4]])   # after a move: not that pattern
-    assert not late.ordered and late.rerun == []
+    again = rb.compare(plan_, [m[0], out, out, m[1], dwell, dwell, m[2], m[3], m[4]])  # an output, a dwell twice
+    assert (again.lost, again.duplicated, again.ordered) == (0, 2, False) and "event 2" in again.difference
 
 
 def test_the_alarm_discipline_flags_commands_between_an_alarm_and_resume():
@@ -220,8 +208,7 @@ def test_a_move_an_alarm_stops_at_its_very_end_runs_exactly_once(stop_at, resent
     assert first_difference(expected_events(segments, backend), executed_events(log)) is None
 
 
-# ---------------------------------------------------------------- the bugs found (strict xfail)
-@pytest.mark.xfail(strict=True, raises=RanTwiceError, reason=RERUN_BUG)
+# ---------------------------------------------------------------- dwells and outputs that ran before a fault
 @pytest.mark.parametrize("fault", ["link", "alarm"])
 def test_a_dwell_completed_before_a_fault_runs_once(fault):
     machine, segments = plan("G90 G1 X1 F3000\nG4 K0.05\nG1 X2\nG1 X3\nM30\n")
@@ -240,10 +227,9 @@ def test_a_dwell_completed_before_a_fault_runs_once(fault):
         assert len(errors) == 1
         log = emu.executed()
         backend.close()
-    assert_exactly_once(segments, backend, log)      # executed: dwell 50 ms, dwell 50 ms
+    assert_exactly_once(segments, backend, log)      # (was: dwell 50 ms, dwell 50 ms)
 
 
-@pytest.mark.xfail(strict=True, raises=RanTwiceError, reason=RERUN_BUG)
 def test_an_output_action_run_before_a_link_fault_runs_once():
     machine, segments = plan("G90 G1 X1 F3000\nG1 X2\nM8\nG1 X3\nM9\nM30\n")
     with Emulator(port=0, speed=10.0, resolution=1000) as emu:
@@ -252,9 +238,108 @@ def test_an_output_action_run_before_a_link_fault_runs_once():
         backend.send(segments[0])
         backend.send(segments[1])
         assert emu.wait_idle(5.0)
-        emu.drop_connection(after_commands=1)                  # M8's action goes through (and runs), its marker not
+        emu.drop_connection(after_commands=2)                  # M8's gate and action go through, its marker not
         errors = stream(backend, segments[2:], operator(backend, emu))
         assert len(errors) == 1 and "no valid reply" in str(errors[0])
         log = emu.executed()
         backend.close()
-    assert_exactly_once(segments, backend, log)      # executed: OUT2 on, OUT2 on
+    assert_exactly_once(segments, backend, log)      # (was, before the gate: OUT2 on, OUT2 on)
+
+
+# ---------------------------------------------------------------- a fault at every write of a gated segment
+GATED = "G90 G1 X1 F3000\nG1 X2\nM5\nG4 K0.05\nG1 X3\nM30\n"     # M5: two actions; G4: one dwell
+WRITES = {"M5": ["gate wait", "output action", "analog action", "marker", "gate opening"],
+          "G4": ["gate wait", "dwell index", "marker", "dwell", "dwell end", "gate opening"]}
+CASES = [(seg, k, kind) for seg, names in WRITES.items() for k in range(len(names))
+         for kind in ("exception", "delay", "drop") if not (kind == "drop" and names[k] == "gate opening")]
+
+
+def inject(emu: Emulator, kind: str, k: int) -> None:
+    """The fault strikes the k-th write from now (a drop only counts command writes: the gate opening is not one)."""
+    if kind == "exception":
+        emu.fail_next(1, after=k)
+    elif kind == "delay":
+        emu.delay_next(1, seconds=0.5, after=k)
+    else:
+        emu.drop_connection(after_commands=k)
+
+
+@pytest.mark.parametrize(("segment", "k", "kind"), CASES,
+                         ids=[f"{s}-{WRITES[s][k].replace(' ', '_')}-{kind}" for s, k, kind in CASES])
+def test_a_fault_at_any_write_of_a_dwell_or_an_output_runs_it_exactly_once(segment, k, kind):
+    """Each write of the segment in turn is refused, lost or answered too late, on an idle card that runs whatever
+    it accepts at once: the recovery must neither lose nor repeat the segment's dwell or actions."""
+    machine, segments = plan(GATED)
+    first = 2 if segment == "M5" else 3                        # index of the segment under test
+    assert segments[first].kind == ("aux" if segment == "M5" else "dwell")
+    with Emulator(port=0, speed=10.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs=rb.OUTPUTS, timeout=0.3)
+        backend.open()
+        for seg in segments[:first]:
+            backend.send(seg)
+        assert emu.wait_idle(5.0)
+        inject(emu, kind, k)
+        errors = stream(backend, segments[first:], operator(backend, emu))
+        assert len(errors) == 1 and "stopped sending" in str(errors[0])
+        log = emu.executed()
+        backend.close()
+    assert_exactly_once(segments, backend, log)
+
+
+def test_an_exception_on_an_output_while_the_card_is_busy_runs_it_exactly_once():
+    """The same with the card still moving when the fault strikes: the purge removes what had not run."""
+    machine, segments = plan("G90 G1 X20 F600\nM5\nG1 X21\nM30\n")     # 2 s of motion ahead of M5
+    with Emulator(port=0, speed=1.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs=rb.OUTPUTS, timeout=0.3)
+        backend.open()
+        backend.send(segments[0])
+        emu.fail_next(1, after=2)                              # M5's second action refused
+        errors = stream(backend, segments[1:], operator(backend, emu))
+        assert [e.alarm for e in errors] == [0] and emu.inspect(lambda card: card.position[0]) == 21.0
+        log = emu.executed()
+        backend.close()
+    assert_exactly_once(segments, backend, log)
+
+
+def test_gate_tokens_start_again_at_one_once_the_card_has_passed_the_last_gate(monkeypatch):
+    """Tokens count up so that opening a gate never shuts an earlier one; at the end of the range the gate register
+    goes back to 0 only after the card has passed every gate sent (here after 3 tokens instead of 65535)."""
+    monkeypatch.setattr(backend_module, "GATE_TOKENS", 3)
+    machine, segments = plan("G90 G1 X20 F600\nM5\nG4 K0.01\nM5\nM5\nG1 X21\nM30\n")   # 0.2 s move first
+    with Emulator(port=0, speed=10.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs=rb.OUTPUTS, timeout=2.0)
+        backend.open()
+        for seg in segments[:4]:
+            backend.send(seg)
+        assert emu.inspect(lambda card: card.position[0]) < 20.0      # the three gates still ahead of the card
+        backend.send(segments[4])                                      # the 4th gate: waits for the card first
+        assert emu.inspect(lambda card: card.hr[3000]) >= 4            # the card has run the segment of token 3
+        for seg in segments[5:]:
+            backend.send(seg)
+        backend.finish()
+        log = emu.executed()
+        backend.close()
+    assert_exactly_once(segments, backend, log)
+    waits = [e.args["threshold"] for e in log if e.kind == "wait"]
+    assert waits == [0, 1, 2, 0]                               # strictly above: tokens 1, 2, 3, then 1 again
+
+
+def test_a_dwell_an_alarm_cuts_short_is_reported_at_its_line_and_runs_again_in_full():
+    """The card cannot tell how much of a dwell ran: M = its number with M+1 = 0 means under way; it runs again in
+    full after resume() (dwelling longer is safe), and the card logs a dwell only when it ends: once."""
+    machine, segments = plan("G90 G1 X1 F3000\nG4 K0.6\nG1 X2\nM30\n")
+    with Emulator(port=0, speed=1.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=2.0)
+        backend.open()
+        for seg in segments[:2]:
+            backend.send(seg)
+        time.sleep(0.3)                                        # 20 ms of motion, then the dwell
+        assert backend.status().line == 2
+        emu.raise_alarm(3)
+        time.sleep(0.05)
+        errors = stream(backend, segments[2:], operator(backend, emu))
+        assert [e.alarm for e in errors] == [3] and errors[0].line == 2 and "line 2" in str(errors[0])
+        log = emu.executed()
+        backend.close()
+    assert_exactly_once(segments, backend, log)
+    assert [e.args["ms"] for e in log if e.kind == "dwell"] == [600]

@@ -13,6 +13,7 @@ from pymodbus.client import ModbusTcpClient
 import fagorcnc
 from fagorcnc.backends.base import BackendError
 from fagorcnc.backends.interpcnc import InterpCncBackend, InterpCncError
+from fagorcnc.backends.interpcnc import backend as backend_module
 from fagorcnc.backends.interpcnc import protocol as proto
 from fagorcnc.backends.interpcnc.emulator import Emulator, main
 
@@ -132,3 +133,31 @@ def test_emulator_serves_the_registers_a_client_reads():
         client.close()
     with pytest.raises(SystemExit):
         main(["--speed", "0"])
+
+
+def test_an_output_and_a_dwell_run_behind_a_gate_the_back_end_opens_once_all_are_accepted():
+    """Their exact words: 1012 type 3 "above" (kind 2) on holding 3002 as extended address 103002 (seed 000 L1115)
+    with threshold token - 1, timeout 65535 ms and alarm 18 on timeout; then the actions and the sequence marker
+    (3000), or for a dwell 0 into 3001, the marker, the dwell and 1 into 3001; then a plain write of the token into
+    3002.  The card holds them until then: a fault before it leaves nothing run (tests/test_fault_campaign.py
+    injects one at each write)."""
+    machine, segments = plan("M3\nG4 K0.25\n")
+    with Emulator(port=0, speed=1.0) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, outputs={"M3": M3})
+        backend.open()
+        wait = [1012, 3, 65535, 1, 2]
+        gate = [103002 & 0xFFFF, 103002 >> 16]
+        assert backend._prepare(backend_module._Sent(1, segments[0])) == [
+            [*wait, 0, *gate], [1010, 1, 0, 1], [1010, 3, 3000, 1], backend_module._OpenGate(1)]
+        assert backend._prepare(backend_module._Sent(2, segments[1])) == [
+            [*wait, 1, *gate], [1010, 3, 3001, 0], [1010, 3, 3000, 2], [1011, 250], [1010, 3, 3001, 1],
+            backend_module._OpenGate(2)]
+        backend._reset_stream()
+        backend.send(segments[0])
+        backend.send(segments[1])
+        assert emu.inspect(lambda card: (card.hr[3002], card.outputs[0])) == (2, True)
+        st = backend.status()
+        assert st.line == 2 and st.executed == 1              # M3 has run, the dwell is under way
+        st = backend.finish()
+        assert st.executed == 2 and st.line == 2
+        backend.close()

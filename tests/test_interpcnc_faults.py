@@ -184,8 +184,9 @@ def test_emergency_stop_cannot_be_resumed_until_released():
 
         def recover(err: InterpCncError) -> None:
             assert err.alarm == 10 and "emergency stop" in str(err)
-            with pytest.raises(InterpCncError, match="still active"):
+            with pytest.raises(InterpCncError, match=r"still active .*; last block started: line \d+") as again:
                 backend.resume()
+            assert again.value.line == err.line > 0
             attempts.append(backend.status().state)
             emu.release_estop()
             backend.resume()

@@ -22,18 +22,34 @@ within one interval.
 **Sequence markers.**  Every segment gets a sequence number n (1, 2, ...)
 and a synchronised action 1010 type 3 writing ``n mod 65536`` into the user
 RAM holding register M = ``marker_register`` (3000 by default; L463,
-L967-L971).  The card runs synchronised actions just before the next move
-(L941), so:
+L967-L971).  The card runs synchronised actions in order with the moves,
+just before the next move (L941), so:
 
-* motion and dwell segments: the marker is sent *before* their commands -
+* motion segments and dwells: the marker is sent *before* their commands -
   M = n means segment n has **started** (segments before n are complete);
 * auxiliary segments: the marker is sent *after* their actions - M = n
-  means the actions of segment n have **run**;
+  means segment n has **run**;
 * a motion segment sent as several moves (an arc over 180 degrees, chords)
   also writes the index j of each move into M+1 before it (the first index
   before M itself, so M is never read beside a stale index), so a resume
   knows which move was under way (a full circle ends where it starts: the
-  position alone cannot tell).
+  position alone cannot tell); a dwell writes 0 into M+1 before M, and 1
+  after it has ended.
+
+**The gate.**  A move's progress can be read back (the position counters),
+a dwell's or an output's cannot: if the link failed while their commands
+were being written, the card may have run some of them and not the marker.
+So their commands go behind a gate - a 1012 wait (L1017-L1121) until the
+user register G = M+2 is above the segment's token minus one - and the
+back-end opens the gate (a plain write of the token into G) only once every
+command of the segment, markers included, has been accepted.  They then run
+in full or not at all: a fault before the gate opens leaves nothing run
+(recovery purges them), after it M and M+1 tell.  Tokens count
+up, so opening a gate never shuts an earlier one still queued; before they
+pass 65535 the back-end waits until the card has passed the last gate, then
+sets G back to 0 (once per 65535 dwells and outputs).  The wait raises
+alarm 18 if the gate stays shut for 65.535 s (a link lost for that long):
+the card stops rather than run an output nobody confirmed.
 
 The back-end assumes it is the only client commanding the card (another
 master acknowledging an alarm behind its back would make a purged segment
@@ -42,8 +58,8 @@ look complete).
 16 bits are enough: the unacknowledged window is bounded by the buffer
 (4096 registers, at least 4 per segment), far below 65536, so the value is
 unwrapped unambiguously against the last one read.  ``status().line`` is
-the source line of the last segment started; ``executed`` counts segments
-complete.
+the source line of the last segment started;
+``executed`` counts segments complete.
 
 **Faults.**  On an alarm (IR 3003 bit 0 or IR 3004 != 0), a lost link, a
 timeout or a Modbus exception reply, the back-end stops sending at once and
@@ -94,6 +110,29 @@ class InterpCncError(BackendError):
         self.accepted = accepted
 
 
+#: How long the card waits at a shut gate before alarm 18 (the longest 1012 timeout, L1091).
+GATE_TIMEOUT_MS = 0xFFFF
+#: Gate tokens 1..GATE_TOKENS, then the gate register is set back to 0 (see the module docstring).
+GATE_TOKENS = 0xFFFF
+
+
+@dataclass(frozen=True)
+class _OpenGate:
+    """Not a card command: the direct write of ``token`` into the gate register (see the module docstring)."""
+
+    token: int
+
+
+@dataclass(frozen=True)
+class _ResetGate:
+    """Not a card command: once segment ``after`` (the last one gated) has run, the gate register back to 0."""
+
+    after: int
+
+
+Command = proto.Words | _OpenGate | _ResetGate
+
+
 @dataclass
 class _Sent:
     """A segment with its sequence number, its moves (motion) and whether all its commands went out."""
@@ -102,6 +141,14 @@ class _Sent:
     segment: Segment
     moves: list[Move] = field(default_factory=list)
     transmitted: bool = False
+
+    end_sub: int | None = None     # the M+1 value written when it ends (a dwell); None: M = seq says it has run
+
+    def has_run(self, sub: int) -> bool:
+        """Whether it has run, the card's M holding its number and M+1 holding ``sub`` (see the module docstring)."""
+        if self.segment.kind == "motion":
+            return False                 # M = seq: started; the position tells how far
+        return self.end_sub is None or sub == self.end_sub
 
 
 class InterpCncBackend:
@@ -131,6 +178,9 @@ class InterpCncBackend:
         self._seq = 0                                # last sequence number given
         self._marker = 0                             # last marker read, unwrapped
         self._sub = 0                                # last move index read (register M+1)
+        self._done = 0                               # highest sequence number known complete
+        self._gate = 0                               # last gate token used
+        self._gated_seq = 0                          # sequence number of the last segment gated
         self._free = 0                               # free registers in the card buffer (lower bound)
         self._planner_free = 0
         self._card_status = 0
@@ -157,7 +207,7 @@ class InterpCncBackend:
                 raise BackendError(f"the InterpCNC at {self.link.where} is busy "
                                    f"({', '.join(proto.decode_status(self._card_status)) or 'buffer not empty'}): "
                                    "stop it before streaming")
-            self.link.write(self.options.marker_register, [0, 0], "clearing the sequence registers")
+            self.link.write(self.options.marker_register, [0, 0, 0], "clearing the sequence and gate registers")
         except LinkError as exc:
             self._set(state="closed")
             raise BackendError(str(exc), self._snapshot()) from exc
@@ -303,22 +353,24 @@ class InterpCncBackend:
            queued there is discarded, so nothing sent twice can run twice;
         3. wait until the card is idle, read the sequence registers (segment n,
            move j) and the position;
-        4. segments before n are complete and are never sent again.  Segment n:
-           an auxiliary one has run (its marker follows its actions); a motion
-           one resumes from the current position: move j is completed as a
-           line to the same end, or an XY arc about the same centre with I/J
-           recomputed from the current position - or skipped when the position
-           is at its end (its position counters read it) - then its later moves follow; a
-           dwell is repeated in full (the card cannot tell how much of it ran;
-           dwelling longer is safe);
+        4. segments up to n are complete and are never sent again - except a
+           motion segment n, which resumes from the current position: move j
+           is completed as a line to the same end, or an XY arc about the
+           same centre with I/J recomputed from the current position - or
+           skipped when the position is at its end (its position counters
+           read it) - then its later moves follow; an output segment n has
+           run (its marker follows its actions), a dwell n has if M+1 = 1,
+           else it runs again in full (one whose gate had not opened has
+           not run at all: it comes next);
         5. every later segment is sent again, in order, with its own sequence
-           number, then those ``send`` kept meanwhile.
+           number (and a fresh gate token), then those ``send`` kept meanwhile.
 
-        Guarantee: every move and every synchronised action of the stream runs
-        exactly once, except a dwell under way at the fault, which runs again
-        in full.  Resuming a move needs ``resolution`` for every axis; if the
-        machine is not on the interrupted move's path (it was jogged), this
-        raises and sends nothing.
+        Guarantee: every move, every dwell and every synchronised action of the
+        stream runs exactly once, except a dwell under way at the fault, which
+        runs again in full (the card cannot tell how much of it ran; dwelling
+        longer is safe).  Resuming a move needs ``resolution`` for every axis;
+        if the machine is not on the interrupted move's path (it was jogged),
+        this raises and sends nothing.
         """
         self._recover(acknowledge=False)
 
@@ -327,7 +379,7 @@ class InterpCncBackend:
         self._window.clear()
         self._pending.clear()
         self._lines.clear()
-        self._seq = self._marker = self._sub = 0
+        self._seq = self._marker = self._sub = self._done = self._gate = self._gated_seq = 0
         self._fault = None
         self._stopped = False
         self.encoder.reset()
@@ -349,7 +401,7 @@ class InterpCncBackend:
                 self._lines[entry.seq] = segment.line
             self._transmit(entry, words)
 
-    def _prepare(self, entry: _Sent, moves: list[Move] | None = None, first: int = 0) -> list[proto.Words]:
+    def _prepare(self, entry: _Sent, moves: list[Move] | None = None, first: int = 0) -> list[Command]:
         """The commands of a segment with its markers (order: see the module docstring).
 
         ``moves``/``first``: for a resumed segment, the moves left and the index of the first one.
@@ -370,18 +422,44 @@ class InterpCncBackend:
                 out += self.encoder.encode([m])
             return out
         if seg.kind == "dwell":
-            return [marker, *proto.encode_dwell(float(getattr(seg.record, "seconds", seg.duration)))]
+            dwell = proto.encode_dwell(float(getattr(seg.record, "seconds", seg.duration)))
+            if not dwell:
+                return [marker]
+            entry.end_sub = 1
+            return self._gated(entry, [proto.encode_register_write(reg + 1, 0), marker, *dwell,
+                                       proto.encode_register_write(reg + 1, entry.end_sub)])
         if seg.kind == "aux":
-            return [*self._aux_words(seg), marker]
+            actions = self._aux_words(seg)
+            return self._gated(entry, [*actions, marker]) if actions else [marker]
         return [marker]
 
-    def _transmit(self, entry: _Sent, commands: list[proto.Words]) -> None:
+    def _gated(self, entry: _Sent, body: list[proto.Words]) -> list[Command]:
+        """``body`` held behind a wait until the gate opens (see the module docstring)."""
+        out: list[Command] = []
+        if self._gate == GATE_TOKENS:
+            out.append(_ResetGate(self._gated_seq))
+            self._gate = 0
+        self._gate += 1
+        self._gated_seq = entry.seq
+        # seed 000 L1113-L1115: 1012 addresses holding register r as 100000 + r; "above" is strict (L1105)
+        out.append(proto.encode_wait_value(regs.EXTENDED_HOLDING + self.options.marker_register + 2,
+                                           regs.WAIT_ABOVE, self._gate - 1, GATE_TIMEOUT_MS, alarm_on_timeout=True))
+        return [*out, *body, _OpenGate(self._gate)]
+
+    def _transmit(self, entry: _Sent, commands: list[Command]) -> None:
         try:
             for words in commands:
+                if isinstance(words, _ResetGate):
+                    self._await_done(words.after)
+                if isinstance(words, (_OpenGate, _ResetGate)):
+                    token = words.token if isinstance(words, _OpenGate) else 0
+                    with self.link.lock:
+                        self._check_stopped()
+                        self.link.write(self.options.marker_register + 2, [token], "writing the gate register")
+                    continue
                 self._room(len(words))
                 with self.link.lock:             # a poll from another thread sees the write and the count
-                    if self._stopped:
-                        raise InterpCncError("stopped by the operator", self._snapshot())
+                    self._check_stopped()
                     self.link.command(words)
                     self._free -= len(words)
                 self.stats["commands"] += 1
@@ -393,6 +471,20 @@ class InterpCncBackend:
             self._status.sent += 1
             if self._status.state == "idle":
                 self._status.state = "run"
+
+    def _await_done(self, seq: int) -> None:
+        """Poll until segment ``seq`` has run (raises on an alarm or a stop)."""
+        while True:
+            self._poll()
+            if self._done >= seq:
+                return
+            self._check_stopped()
+            self.stats["waits"] += 1
+            time.sleep(self.options.poll_interval)
+
+    def _check_stopped(self) -> None:
+        if self._stopped:
+            raise InterpCncError("stopped by the operator", self._snapshot())
 
     def _room(self, size: int) -> None:
         """Wait until ``size`` registers fit the card's buffer; polls the status every poll_interval.
@@ -413,8 +505,7 @@ class InterpCncBackend:
             low = self._planner_size - self._planner_free < opt.low_water
             if self._free >= (size if low else batch):
                 return
-            if self._stopped:
-                raise InterpCncError("stopped by the operator", self._snapshot())
+            self._check_stopped()
             self.stats["waits"] += 1
             if low:
                 self.stats["low_water"] += 1
@@ -435,8 +526,9 @@ class InterpCncBackend:
         """The card's status words and the marker registers; updates the window and the status.
 
         An idle card with empty buffers has run everything sent - unless it purged them (an alarm, a
-        stop): ``purged`` (or an alarm, a fault, a stop) forbids that inference, the segment whose
-        marker was read last is then only known to have started.
+        stop): ``purged`` (or an alarm, a fault, a stop) forbids that inference, a motion segment whose
+        marker was read last is then only known to have started (a dwell's or an output's marker says
+        it has run).
         """
         with self.link.lock:                     # one consistent view, whichever thread polls
             self._read_poll_locked(purged)
@@ -456,12 +548,16 @@ class InterpCncBackend:
         self._marker = marker
         purged = purged or self._card_alarm() or self._fault is not None or self._stopped
         complete = not purged and self._card_idle() and all(e.transmitted for e in self._window)
-        while self._window and (self._window[0].seq < marker or (complete and self._window[0].seq <= marker)):
-            self._window.popleft()
-        done = marker if complete else max(marker - 1, 0)
+        window = self._window
+        while window and window[0].seq < marker:
+            window.popleft()
+        if window and window[0].seq == marker and (complete or window[0].has_run(self._sub)):
+            window.popleft()
+            self._done = marker
+        self._done = max(self._done, marker - 1)
         line = self._lines.get(marker, self._status.line) if marker else 0
         level = max(1.0 - self._free / self._buffer_size, 1.0 - self._planner_free / self._planner_size)
-        self._set(executed=done, line=line, buffer_level=level)
+        self._set(executed=self._done, line=line, buffer_level=level)
 
     def _poll(self) -> None:
         self._read_poll()
@@ -541,8 +637,8 @@ class InterpCncBackend:
         code = self._alarm_code
         self._fault = "alarm"
         self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
-        raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: {advice}", self._snapshot(), alarm=code,
-                             line=self._status.line)
+        raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: {advice}; {self._where_text()}",
+                             self._snapshot(), alarm=code, line=self._status.line)
 
     def _resync(self) -> None:
         self.link.command(proto.encode_stop(), "stop and purge before resuming")
@@ -556,10 +652,10 @@ class InterpCncBackend:
             time.sleep(self.options.poll_interval)
         marker = self._marker
         redo = [e for e in self._window if e.seq >= marker]
-        plans: list[tuple[_Sent, list[proto.Words]]] = []
+        plans: list[tuple[_Sent, list[Command]]] = []
         self.encoder.reset()
         for e in redo:
-            fresh = _Sent(e.seq, e.segment, e.moves)
+            fresh = _Sent(e.seq, e.segment, e.moves, end_sub=e.end_sub)
             words = self._resume_words(fresh) if e.seq == marker else self._prepare(fresh)
             if words is not None:
                 plans.append((fresh, words))
@@ -577,13 +673,12 @@ class InterpCncBackend:
             self._status.sent = sent        # segments sent again were counted the first time
         self._flush()
 
-    def _resume_words(self, entry: _Sent) -> list[proto.Words] | None:
+    def _resume_words(self, entry: _Sent) -> list[Command] | None:
         """Commands finishing the segment that had started (marker = its number); None when nothing is left."""
-        kind = entry.segment.kind
-        if kind == "aux":
-            return None                                   # its actions ran before its marker
-        if kind != "motion" or not entry.moves:
-            return self._prepare(entry)                   # a dwell runs again in full
+        if entry.has_run(self._sub):
+            return None
+        if not entry.moves:
+            return self._prepare(entry)                   # a dwell cut short runs again in full
         res = self.options.resolution
         missing = [a for a in self.axes if a not in res]
         if missing:

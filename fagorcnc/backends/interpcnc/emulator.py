@@ -62,8 +62,8 @@ class Emulator:
         self.card = Card(speed=speed, **card_options)
         self.lock = threading.Lock()
         self.requests = 0
-        self._fail: list = [0, ExcCodes.DEVICE_FAILURE, True]
-        self._delay: list = [0, 0.0, True]
+        self._fail: list = [0, ExcCodes.DEVICE_FAILURE, True, 0]     # [count, code, writes only, let pass first]
+        self._delay: list = [0, 0.0, True, 0]                        # [count, seconds, writes only, let pass first]
         self._drop_after: int | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._server: ModbusTcpServer | None = None
@@ -150,8 +150,7 @@ class Emulator:
         is_write = fc in _WRITES
         with self.lock:
             self.requests += 1
-            if self._fail[0] > 0 and (is_write or not self._fail[2]):
-                self._fail[0] -= 1
+            if self._due(self._fail, is_write):
                 return self._fail[1]
             touches_command = fc in (6, 16) and address <= regs.HR_COMMAND < address + count
             if touches_command and self._drop_after is not None:
@@ -170,13 +169,21 @@ class Emulator:
                 card.advance()
                 card.refresh()
                 self._read(fc, start, address, count, registers)
-            delay = 0.0
-            if self._delay[0] > 0 and (is_write or not self._delay[2]):
-                self._delay[0] -= 1
-                delay = self._delay[1]
+            delay = self._delay[1] if self._due(self._delay, is_write) else 0.0
         if delay:
             await asyncio.sleep(delay)
         return None
+
+    @staticmethod
+    def _due(fault: list, is_write: bool) -> bool:
+        """Whether a fault armed by fail_next/delay_next strikes this request (and count it)."""
+        if fault[0] <= 0 or not (is_write or not fault[2]):
+            return False
+        if fault[3] > 0:
+            fault[3] -= 1
+            return False
+        fault[0] -= 1
+        return True
 
     def _write(self, fc: int, address: int, values: list) -> int | None:
         if fc in (5, 15):                       # coils 0-95: digital outputs (L239)
@@ -219,15 +226,18 @@ class Emulator:
         if self._loop is not None:
             self._loop.call_soon_threadsafe(self._drop)
 
-    def fail_next(self, n: int = 1, code: ExcCodes = ExcCodes.DEVICE_FAILURE, *, writes_only: bool = True) -> None:
-        """Answer the next ``n`` requests (writes only by default) with Modbus exception ``code``, not applied."""
+    def fail_next(self, n: int = 1, code: ExcCodes = ExcCodes.DEVICE_FAILURE, *, writes_only: bool = True,
+                  after: int = 0) -> None:
+        """Answer the next ``n`` requests (writes only by default) with Modbus exception ``code``, not applied;
+        ``after``: let that many such requests through first."""
         with self.lock:
-            self._fail = [n, code, writes_only]
+            self._fail = [n, code, writes_only, after]
 
-    def delay_next(self, n: int = 1, seconds: float = 1.0, *, writes_only: bool = True) -> None:
-        """Apply the next ``n`` requests at once but answer them ``seconds`` late (a reply lost in transit)."""
+    def delay_next(self, n: int = 1, seconds: float = 1.0, *, writes_only: bool = True, after: int = 0) -> None:
+        """Apply the next ``n`` requests at once but answer them ``seconds`` late (a reply lost in transit);
+        ``after``: let that many such requests through first."""
         with self.lock:
-            self._delay = [n, seconds, writes_only]
+            self._delay = [n, seconds, writes_only, after]
 
     def hold_full(self, seconds: float) -> None:
         """Stop consuming commands for ``seconds``: a streaming client fills the buffer and must wait."""

@@ -84,7 +84,7 @@ class Options:
     ignore: frozenset[str] = frozenset(DEFAULT_IGNORED)
     poll_interval: float = 0.02              # s, status polling while streaming
     low_water: int = 8                       # planner entries below which the back-end stops sleeping
-    marker_register: int = regs.HR_USER_RAM     # user RAM registers (this and the next) for the markers
+    marker_register: int = regs.HR_USER_RAM     # user RAM registers (this and the next two): markers and gate
     axis_map: dict[str, str] = field(default_factory=dict)   # machine axis -> card axis letter
     strict_outputs: bool = False             # unmapped auxiliary function -> error instead of warning
 
@@ -135,7 +135,7 @@ def parse_options(machine: Machine, overrides: dict[str, Any]) -> Options:
     opt.poll_interval = _number("poll_interval", table.get("poll_interval", opt.poll_interval), 0.001, 5.0)
     opt.low_water = int(_number("low_water", table.get("low_water", opt.low_water), 0, 35, True))
     opt.marker_register = int(_number("marker_register", table.get("marker_register", opt.marker_register),
-                                      regs.HR_USER_RAM, regs.HR_USER_RAM_LAST - 1, True))
+                                      regs.HR_USER_RAM, regs.HR_USER_RAM_LAST - 2, True))
     strict = table.get("strict_outputs", False)
     if not isinstance(strict, bool):
         raise _err("strict_outputs", "expected true or false")
@@ -239,8 +239,9 @@ def _action(key: str, spec: Any, marker: int) -> OutputAction:
             high = 10000
         else:
             addr = int(_number(f"{key}.register", spec.get("register"), 2150, 65535, True))
-            if addr in (marker, marker + 1):
-                raise _err(f"{key}.register", f"{addr} holds the sequence markers (marker_register and the next)")
+            if marker <= addr <= marker + 2:
+                raise _err(f"{key}.register", f"{addr} holds the sequence markers and the gate (marker_register "
+                           "and the next two)")
             high = 0xFFFF
         if ("value" in spec) == ("scale" in spec):
             raise _err(key, "give exactly one of 'value' (fixed) or 'scale' (times the function's value)")

@@ -33,8 +33,9 @@ Contradictions and the choice made:
   input registers 0-65535 and holding registers 100000-165535, but the
   worked example (L775) and the PLC note (L250) use 100000+ for *input*
   registers and plain addresses for holding registers.  This package does
-  not use the index table for that reason; :func:`encode_wait` takes the
-  extended address as given.
+  not use the index table for that reason; :func:`encode_wait_value` takes
+  the extended address as given.  The back-end's gate (a 1012 wait on a
+  user register) follows the 1012 description itself: 100000 + r.
 * Command 1000 example (L872-L876): "G01 X12.2 F3000" has 15 characters but
   the example shows 8 registers whose sixth word 0x4620 is " F": the words
   spell "G01 X12.2  F3000" (two spaces).  The packing rule (first character
@@ -156,6 +157,11 @@ ACTION_THC_ON_SAMPLED = 5
 ACTION_THC_STOP = 6
 ACTION_THC_PAUSE = 7
 ACTION_THC_RESUME = 8
+
+# ---------------------------------------------------------------- command 1012 (L1017-L1121)
+WAIT_VALUE = 3                   # wait type 3: a Modbus value
+WAIT_ABOVE = 2                   # wait until the value is above the threshold (L1105)
+EXTENDED_HOLDING = 100000        # 1012's 32-bit address of holding register r is 100000 + r (L1115)
 
 # 1002 / 1111 axis mask (L908-L916, L1197-L1205)
 CARD_AXES = ("X", "Y", "Z", "A", "B", "C")   # bit 0..5
