@@ -15,9 +15,10 @@ It prints progress on stderr and, at the end, a markdown block for the README
     plugin, so the suites run unmodified); reports the inputs tried per suite
     (from hypothesis' statistics) and the crashes (failing properties) found;
 (b) **runaway guards**: programs that would never end - an endless
-    ``$WHILE``, a global subroutine calling itself, ``NR1000000000``, an
-    endless ``#RPT``, a gigantic generated program streamed - each must stop
-    with its diagnostic code; reports the code and the time it took;
+    ``$WHILE``, a global subroutine calling itself, ``NR1000000000``, a
+    ``#RPT`` of 10^9, endless ``$GOTO`` loops (of moves, of ``#MSG`` notes),
+    a gigantic generated program streamed - each must stop with its
+    diagnostic code; reports the code, the time it took and the peak memory;
 (c) **link faults**: the fault campaign of :func:`run_campaign` (also run,
     bounded, by ``tests/test_fault_campaign.py``): a stream of 10 000+ short
     segments to the InterpCNC emulator with faults of every kind the emulator
@@ -665,6 +666,8 @@ def _runaway_programs(tmp: Path) -> dict[str, tuple[str, str, dict]]:
         "nr": ("`G91 G1 X0.001 F1000 NR1000000000`", "G91 G1 X0.001 F1000 NR1000000000\nM30\n", {}),
         "rpt": ("`#RPT [N10, N20, 1000000000]` over two moves",
                 "N10: G91 G1 X0.001 F1000\nN20: G1 X-0.001\n#RPT [N10, N20, 1000000000]\nM30\n", {}),
+        "goto": ("endless `$GOTO` loop over two moves", "N10: G91 G1 X0.001 F1000\nG1 X-0.001\n$GOTO N10\nM30\n", {}),
+        "msg": ("endless `$GOTO` loop over a `#MSG` (a note per pass)", "N10: #MSG [\"pass\"]\n$GOTO N10\nM30\n", {}),
         "gigantic": (f"a generated program of {GIGANTIC_LINES:,} G1 lines, streamed line by line", "<generated>", {}),
     }
 
@@ -707,11 +710,14 @@ class RunawayResult:
     note: str = ""
 
 
-def run_runaway(max_blocks: int, max_loop: int | None, timeout: float = 900.0) -> list[RunawayResult]:
+def run_runaway(max_blocks: int, max_loop: int | None, max_seconds: float,
+                timeout: float = 900.0) -> list[RunawayResult]:
     """Every runaway program in its own process (a hang is a timeout, not a stuck benchmark).
 
     ``max_loop``: None keeps the default ``max_loop_iterations``; ``max_blocks`` replaces the default 100 000 000
-    for the programs only the block limit stops (the time the default would take is extrapolated)."""
+    for the gigantic program, which only the block limit stops with the defaults (the time the default would
+    take is extrapolated); ``max_seconds`` is the time limit of the endless ``$GOTO`` loops (none by default,
+    ``fagorcnc check`` applies 120 s)."""
     defaults = fagorcnc.load_machine(None).limits
     with tempfile.TemporaryDirectory() as tmp:
         programs = _runaway_programs(Path(tmp))
@@ -720,7 +726,9 @@ def run_runaway(max_blocks: int, max_loop: int | None, timeout: float = 900.0) -
         limits: dict = {}
         if name == "while" and max_loop is not None:
             limits["max_loop_iterations"] = max_loop
-        if name in ("nr", "rpt", "gigantic"):
+        if name in ("goto", "msg"):
+            limits["max_seconds"] = max_seconds
+        if name == "gigantic":
             limits["max_blocks"] = max_blocks
         cmd = [sys.executable, str(Path(__file__).resolve()), "--runaway-case", name, "--limits", json.dumps(limits)]
         try:
@@ -835,7 +843,7 @@ def main(argv: list[str] | None = None) -> int:
             say(f"  {f.suite}: {f.inputs} inputs, {len(f.failed)} failures, {f.seconds:.0f} s ({f.summary})")
     if "runaway" in sections:
         say(f"(b) runaway programs (max_blocks {max_blocks:,}) ...")
-        runaway = run_runaway(max_blocks, 100_000 if args.quick else None)
+        runaway = run_runaway(max_blocks, 100_000 if args.quick else None, 2.0 if args.quick else 10.0)
         for r in runaway:
             say(f"  {r.name}: {r.codes} after {r.records} records, {r.seconds:.1f} s")
     if "faults" in sections:

@@ -23,6 +23,10 @@ on a machine configuration and reported on:
   coordinates (arc extremes included; T0 = no tool);
 * the **planned cycle time** and, with ``--max-cycle-time``, whether it is over
   the limit (``PLN101``);
+* a **time limit** on the interpretation of each run (``--max-seconds``, else
+  the machine's ``limits.max_seconds``, else :data:`CHECK_MAX_SECONDS`): a
+  runaway program fails with ``INT082`` at the block it was running instead of
+  holding the CI job until the block limit;
 * a **verdict** per file: ``pass``, ``fail`` (an error; a warning too with
   ``--fail-on warning``), ``unreadable`` (usage error) or ``crashed`` (internal
   error of fagorcnc).
@@ -71,6 +75,7 @@ one workflow command per diagnostic (``::error file=F,line=L,col=C,title=CODE::m
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -90,6 +95,15 @@ from .machine import Machine, MachineError, load_machine
 UNSUPPORTED = ("INT011", "INT078", "INT079", "INT115")
 #: Re-runs after an error to find the errors further on.
 MAX_RECOVERIES = 25
+#: Seconds of interpretation per run when neither --max-seconds nor the machine's
+#: limits.max_seconds sets a limit.  A CI job wants a verdict in minutes: on a loaded 2-core
+#: machine 120 s interpret about 3 million blocks, more than a CAM program that the check
+#: (which keeps the whole program and its moves in memory, about 1.7 KB a block) can hold
+#: on a CI runner anyway, while an endless $GOTO loop of moves stops with about 3 GB of moves
+#: instead of running on to limits.max_blocks (an hour or more) or out of memory.
+CHECK_MAX_SECONDS = 120.0
+#: Runaway guards that spent the run's budget: a re-run to look further would spend it again.
+BUDGET_CODES = ("INT080", "INT082")
 #: Tolerance of the envelope check (mm, degrees).
 ENVELOPE_TOLERANCE = 1e-6
 SCHEMA = "fagorcnc-check/1"
@@ -236,11 +250,14 @@ def _num(v: float) -> str:
 
 # ----------------------------------------------------------------------------- checking one file
 def check_file(path: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
-               max_cycle_time: float | None = None, recover: bool = True) -> FileReport:
+               max_cycle_time: float | None = None, recover: bool = True,
+               max_seconds: float | None = None) -> FileReport:
     """Verify one program file; never raises (problems are in the report).
 
     ``machine`` as for :func:`fagorcnc.load_machine`; ``max_cycle_time`` in
-    seconds; ``recover`` re-runs after an error to report the errors further on.
+    seconds; ``recover`` re-runs after an error to report the errors further on;
+    ``max_seconds``: interpretation time limit per run (0 = none; None = the
+    machine's ``limits.max_seconds`` or :data:`CHECK_MAX_SECONDS`).
     """
     report = FileReport(str(path), max_cycle_time=max_cycle_time)
     try:
@@ -250,7 +267,7 @@ def check_file(path: str | Path, machine: Machine | dict | str | Path | None = N
         report.failure, report.usage_error = f"cannot read the file: {exc.strerror or exc}", True
         return report
     try:
-        mach = load_machine(machine)
+        mach = _time_limited(load_machine(machine), max_seconds)
     except MachineError as exc:
         report.failure, report.usage_error = f"bad machine configuration: {exc}", True
         return report
@@ -259,6 +276,13 @@ def check_file(path: str | Path, machine: Machine | dict | str | Path | None = N
     except Exception as exc:   # a bug in fagorcnc must not hide the other files' results
         report.failure = f"internal error of fagorcnc: {type(exc).__name__}: {exc}"
     return report
+
+
+def _time_limited(machine: Machine, seconds: float | None) -> Machine:
+    """The machine with the check's time limit (see :func:`check_file`)."""
+    if seconds is None:
+        seconds = machine.limits.max_seconds or CHECK_MAX_SECONDS
+    return dataclasses.replace(machine, limits=dataclasses.replace(machine.limits, max_seconds=seconds))
 
 
 def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool) -> None:
@@ -306,7 +330,7 @@ def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnos
     blanked = {d.line for d in first if d.is_error and d.file == name}
     out: list[Diagnostic] = []
     for _ in range(MAX_RECOVERIES):
-        if not blanked:
+        if not blanked or any(d.code in BUDGET_CODES for d in (*first, *out)):
             break
         program = parse_text("\n".join("" if i in blanked else s for i, s in enumerate(lines, start=1)), name)
         if not program.ok:   # blanking broke the structure ($IF without $ENDIF ...): stop here
@@ -522,14 +546,15 @@ def _work(path: str) -> FileReport:
 
 def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Path | None = None, *,
                 jobs: int | None = None, block_skip: bool = False, max_cycle_time: float | None = None,
-                recover: bool = True) -> Iterator[FileReport]:
+                recover: bool = True, max_seconds: float | None = None) -> Iterator[FileReport]:
     """Verify many files, ``jobs`` processes at a time (default: one per CPU);
     yields the reports in input order as they become available.
 
     Raises :class:`~fagorcnc.machine.MachineError` for a bad machine configuration.
     """
     mach = load_machine(machine)
-    options = {"block_skip": block_skip, "max_cycle_time": max_cycle_time, "recover": recover}
+    options = {"block_skip": block_skip, "max_cycle_time": max_cycle_time, "recover": recover,
+               "max_seconds": max_seconds}
     names = [str(p) for p in paths]
     jobs = min(jobs or os.cpu_count() or 1, len(names))
     if jobs <= 1:

@@ -15,6 +15,8 @@ on bad usage (unreadable file, unknown option).
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import math
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -85,16 +87,29 @@ def _clock(seconds: float) -> str:
     return f"{hours}:{minutes:02d}:{sec:04.1f}" if hours else f"{minutes}:{sec:04.1f}"
 
 
+def _max_seconds_error(args: argparse.Namespace) -> bool:
+    """--max-seconds must be a number of seconds, 0 or more (0 = no limit); says so if not."""
+    bad = args.max_seconds is not None and not (math.isfinite(args.max_seconds) and args.max_seconds >= 0)
+    if bad:
+        print("fagorcnc: --max-seconds must be 0 (no limit) or a positive number of seconds", file=sys.stderr)
+    return bad
+
+
 def _run_command(args: argparse.Namespace) -> int:
     from .backends import BackendError
     from .machine import MachineError, load_machine
     from .runner import run
 
+    if _max_seconds_error(args):
+        return 2
     try:
         machine = load_machine(args.machine)
     except MachineError as exc:
         print(f"fagorcnc: {exc}", file=sys.stderr)
         return 2
+    if args.max_seconds is not None:
+        machine = dataclasses.replace(machine, limits=dataclasses.replace(machine.limits,
+                                                                          max_seconds=args.max_seconds))
     if not Path(args.file).is_file():
         print(f"{args.file}: cannot read the file: no such file", file=sys.stderr)
         return 2
@@ -153,6 +168,8 @@ def _check_command(args: argparse.Namespace) -> int:
     if args.max_cycle_time is not None and not args.max_cycle_time > 0:
         print("fagorcnc: --max-cycle-time must be a positive number of seconds", file=sys.stderr)
         return 2
+    if _max_seconds_error(args):
+        return 2
     try:
         machine = load_machine(args.machine)
     except MachineError as exc:
@@ -173,7 +190,7 @@ def _check_report(args: argparse.Namespace, machine, out) -> int:
 
     reports = []
     for report in check_files(args.files, machine, jobs=args.jobs, block_skip=args.block_skip,
-                              max_cycle_time=args.max_cycle_time):
+                              max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds):
         reports.append(report)
         if report.usage_error:
             print(f"{report.file}: {report.failure}", file=sys.stderr)
@@ -277,6 +294,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="with --status-server: accept PLC writes (40001-40008 custom alarms stop the run, "
                           "40009-40016 custom warnings are shown)")
     run.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
+    run.add_argument("--max-seconds", type=float, metavar="SECONDS",
+                     help="stop a program whose interpretation takes longer (INT082; 0 = no limit; "
+                          "default: the machine's limits.max_seconds, none)")
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
     run.set_defaults(func=_run_command)
     check = sub.add_parser("check", help="verify programs offline for CI: diagnostics, limits, tools, cycle time")
@@ -288,6 +308,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help="fail a program whose planned cycle time is longer")
     check.add_argument("--fail-on", choices=("error", "warning"), default="error",
                        help="fail on errors only (default) or on warnings too")
+    check.add_argument("--max-seconds", type=float, metavar="SECONDS",
+                       help="fail a program whose interpretation takes longer (INT082; 0 = no limit; default: "
+                            "the machine's limits.max_seconds, else 120)")
     check.add_argument("--jobs", "-j", type=int, metavar="N", help="files checked in parallel (default: CPU count)")
     check.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     check.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE instead of the output")

@@ -69,12 +69,20 @@ class ToolOffset:
 
 @dataclass
 class Limits:
-    """Guards against runaway programs (documented in README)."""
+    """Guards against runaway programs, ``[limits]`` in TOML (README "Runaway guards")."""
 
-    max_loop_iterations: int = 1_000_000   # per loop instance
-    max_blocks: int = 100_000_000          # executed blocks per run
+    max_loop_iterations: int = 1_000_000   # per loop instance; also the largest NR and #RPT count
+    max_blocks: int = 100_000_000          # executed blocks per run (NR repetitions included)
     max_call_depth: int = 20               # subroutine nesting (seed 002 L10207)
     max_parameter_levels: int = 7          # local parameter levels (seed 002 L10503)
+    # Seconds of interpretation per run (the time the planner or a machine holds the records
+    # does not count); 0 = none.  None by default: the machine file also drives real runs,
+    # where a long program is legitimate and must not be cut by a timer.  `fagorcnc check`
+    # applies its own default when this is 0 (check.CHECK_MAX_SECONDS).
+    max_seconds: float = 0.0
+    # Warnings and notes kept per run (a #MSG in an endless $GOTO loop would otherwise fill
+    # the memory); errors are always kept; 0 = no limit.
+    max_messages: int = 10_000
 
 
 @dataclass
@@ -254,7 +262,7 @@ def _build(data: dict) -> Machine:
             raise MachineError(f"{key}: range must lie within P{hard[0]}..P{hard[1]}")
         return int(lo), int(hi)
 
-    limits = Limits(**{k: int(v) for k, v in data.get("limits", {}).items()})
+    limits = _limits(data.get("limits", {}))
     planner = _planner(data.get("planner", {}), data.get("servo_period"))
     return Machine(
         axes=axes,
@@ -295,6 +303,36 @@ def _backends(table: Any) -> dict[str, dict]:
     return {str(k): dict(v) for k, v in table.items()}
 
 
+#: Allowed ranges of the [limits] keys: (low, high, integer?)
+_LIMIT_RANGES = {
+    "max_loop_iterations": (1, 1e12, True), "max_blocks": (1, 1e15, True), "max_call_depth": (1, 10_000, True),
+    "max_parameter_levels": (1, 10_000, True), "max_seconds": (0.0, 1e7, False), "max_messages": (0, 1e9, True),
+}
+
+
+def _limits(table: Any) -> Limits:
+    return Limits(**_checked("limits", table, _LIMIT_RANGES))
+
+
+def _checked(name: str, table: Any, ranges: dict[str, tuple[float, float, bool]]) -> dict[str, Any]:
+    """The keys of table ``[name]``, each checked against ``ranges`` (unknown key, type, whole number, range)."""
+    if not isinstance(table, dict):
+        raise MachineError(f"{name}: expected a table")
+    unknown = set(table) - set(ranges)
+    if unknown:
+        raise MachineError(f"{name}: unknown key(s) {', '.join(sorted(unknown))}")
+    out: dict[str, Any] = {}
+    for key, value in table.items():
+        lo, hi, integer = ranges[key]
+        v = _number(f"{name}.{key}", value)
+        if integer and v != int(v):
+            raise MachineError(f"{name}.{key}: expected a whole number, got {value!r}")
+        if not lo <= v <= hi:
+            raise MachineError(f"{name}.{key} = {value!r}: must be between {lo:g} and {hi:g}")
+        out[key] = int(v) if integer else v
+    return out
+
+
 #: Allowed ranges of the [planner] keys: (low, high, integer?)
 _PLANNER_RANGES = {
     "servo_period": (1e-5, 1.0, False), "slope_type": (0, 2, True), "round_type": (0, 1, True),
@@ -307,24 +345,10 @@ _PLANNER_RANGES = {
 
 
 def _planner(table: Any, servo_period: Any) -> PlannerConfig:
-    if not isinstance(table, dict):
-        raise MachineError("planner: expected a table")
-    unknown = set(table) - set(_PLANNER_RANGES)
-    if unknown:
-        raise MachineError(f"planner: unknown key(s) {', '.join(sorted(unknown))}")
-    values = dict(table)
-    if servo_period is not None and "servo_period" not in values:
+    values = dict(table) if isinstance(table, dict) else table
+    if isinstance(values, dict) and servo_period is not None and "servo_period" not in values:
         values["servo_period"] = servo_period   # older top-level key
-    out = {}
-    for key, value in values.items():
-        lo, hi, integer = _PLANNER_RANGES[key]
-        v = _number(f"planner.{key}", value)
-        if integer and v != int(v):
-            raise MachineError(f"planner.{key}: expected a whole number, got {value!r}")
-        if not lo <= v <= hi:
-            raise MachineError(f"planner.{key} = {value!r}: must be between {lo:g} and {hi:g}")
-        out[key] = int(v) if integer else v
-    return PlannerConfig(**out)
+    return PlannerConfig(**_checked("planner", values, _PLANNER_RANGES))
 
 
 def _m_table(table: dict) -> dict[int, str]:

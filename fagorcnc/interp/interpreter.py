@@ -9,9 +9,11 @@ on its block and stops the run (nothing is sent to a machine after an error).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from time import monotonic
 
 from ..diagnostics import Diagnostic
 from ..machine import Machine
@@ -75,6 +77,8 @@ class Interpreter:
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
         self.program_dir = base
         self._files: dict[Path, Program] = {}
+        self._messages = 0   # warnings and notes reported so far (limits.max_messages)
+        self.clock = _Clock(machine.limits.max_seconds)
 
     # ------------------------------------------------------------------ run
     def run(self) -> Iterator:
@@ -84,12 +88,16 @@ class Interpreter:
         main = self.stream if self.stream is not None else RoutineSource(self.program.main)
         self.frames.append(Frame(main, self.program))
         machine = self.machine
+        clock = self.clock
+        clock.start()
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42
             for record in compensate(apply_aids(self._guarded(), self._aid_error)):
                 self.cycle_time += record_time(machine, record)
+                handed = monotonic()
                 yield record
+                clock.exclude(handed)   # the consumer's time is not interpretation time
         except CompensationError as exc:
             src = exc.record.src
             if not self.failed:
@@ -119,7 +127,6 @@ class Interpreter:
 
     def _loop(self, depth: int) -> Iterator:
         """Execute blocks until the call stack is back to ``depth`` frames."""
-        limit = self.machine.limits.max_blocks
         frames = self.frames
         state = self.state
         stream = self.stream
@@ -139,11 +146,8 @@ class Interpreter:
                 self._end_of_routine(frame)
                 continue
             frame.pc += 1
-            state.executed_blocks += 1
-            if state.executed_blocks > limit:
-                self._current_block = block
-                raise InterpError("INT080", f"more than {limit} blocks executed: runaway program stopped "
-                                  "(limits.max_blocks)", 1)
+            self._current_block = block
+            self.count_block(1)
             if block.skip and state.block_skip:
                 continue
             if block.number is not None:
@@ -151,6 +155,29 @@ class Interpreter:
             for record in self._block(block):
                 state.elapsed += record_time(self.machine, record)   # V.G.CYTIME while running
                 yield record
+
+    # ------------------------------------------------------------------ runaway guards
+    def count_block(self, col: int) -> None:
+        """One more executed block (an NR repetition too): the block limit, and the time
+        limit every 1024 blocks (INT080, INT082 at ``col`` of the current block)."""
+        state = self.state
+        state.executed_blocks += 1
+        limits = self.machine.limits
+        if state.executed_blocks > limits.max_blocks:
+            raise InterpError("INT080", f"more than {limits.max_blocks} blocks executed: runaway program stopped "
+                              "(limits.max_blocks)", col)
+        if state.executed_blocks & 1023 == 0 and self.clock.expired():
+            raise InterpError("INT082", f"interpretation took more than {limits.max_seconds:g} s: runaway program "
+                              "stopped (limits.max_seconds, or --max-seconds on the command line)", col)
+
+    def guard_repetitions(self, count: int, what: str, col: int) -> None:
+        """The repetitions of an NR or #RPT are a loop whose length is known up front: a count
+        over limits.max_loop_iterations is refused at once (INT081 at ``col``), not after the
+        limit's worth of repetitions."""
+        limit = self.machine.limits.max_loop_iterations
+        if count > limit:
+            raise InterpError("INT081", f"{what} more than limits.max_loop_iterations = {limit} times: runaway "
+                              "program stopped", col)
 
     # ------------------------------------------------------------------ helpers
     def _src(self, block: Block) -> Source:
@@ -163,6 +190,18 @@ class Interpreter:
         self.diagnostics.append(Diagnostic(file, line, exc.col, exc.code, "error", exc.message, text))
 
     def message(self, code: str, severity: str, message: str, col: int = 1) -> None:
+        """A warning or note on the current block.  At most limits.max_messages are kept per run
+        (a #MSG in an endless loop would fill the memory); INT083 says when the rest are left out."""
+        cap = self.machine.limits.max_messages
+        self._messages += 1
+        if cap and self._messages > cap:
+            if self._messages == cap + 1:
+                self._report("INT083", "warning", f"more than {cap} warnings and notes: the rest of this run's "
+                             "are not reported (limits.max_messages)", 1)
+            return
+        self._report(code, severity, message, col)
+
+    def _report(self, code: str, severity: str, message: str, col: int) -> None:
         block = self._current_block
         file = self.frames[-1].program.file if self.frames else self.program.file
         self.diagnostics.append(Diagnostic(file, block.line if block else 1, col, code, severity, message,
@@ -409,6 +448,8 @@ class Interpreter:
         start = self._find_label(frame.source, node.start.number, node.start.label, node.start.col)
         end = self._find_label(frame.source, node.end.number, node.end.label, node.end.col)
         count = 1 if node.count is None else self.evaluator.integer(node.count, "#RPT count ", node.col, 0, 1e9)
+        # seed 002 L16223-L16237: #RPT [<blk1>,<blk2>,<n>] runs the range n times (no upper bound given)
+        self.guard_repetitions(count, f"#RPT count {count} repeats the blocks", node.col)
         if end < start:
             raise InterpError("INT075", "#RPT: the end block comes before the start block", node.col)
         if frame.repeat is not None:
@@ -597,6 +638,28 @@ class Interpreter:
         from .sentences import execute_sentence
 
         yield from execute_sentence(self, node, src)
+
+
+class _Clock:
+    """Interpretation time against limits.max_seconds: wall-clock time since :meth:`start`,
+    less the time the records spent with the consumer (the planner, a back-end, a machine
+    executing them), so a long real run is not cut by a limit meant for runaway programs."""
+
+    __slots__ = ("deadline", "seconds")
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds = seconds
+        self.deadline = math.inf
+
+    def start(self) -> None:
+        if self.seconds > 0:
+            self.deadline = monotonic() + self.seconds
+
+    def exclude(self, since: float) -> None:
+        self.deadline += monotonic() - since
+
+    def expired(self) -> bool:
+        return monotonic() > self.deadline
 
 
 def _is_on_off(node: Sentence) -> bool:

@@ -297,18 +297,15 @@ class IsoExecutor:
             yield self._aid(aids, gs, bw, src)
             consumed = True
         if not consumed:
-            repeats = 1
+            repeats, nr_col = bw.nr or (1, 1)
             if bw.nr is not None:
-                repeats = bw.nr[0]
                 if not (bw.axes or "R" in bw.params or "Q" in bw.params):
-                    raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
-            limit = self.machine.limits.max_blocks
+                    raise InterpError("INT028", "NR repeats a motion: the block has none", nr_col)
+                # seed 002 L1109-L1111: NR = how many times the block is executed (no upper bound given)
+                interp.guard_repetitions(repeats, f"NR{repeats} repeats the block", nr_col)
             for k in range(max(repeats, 1)):
-                if k:  # every repetition counts as an executed block (runaway guard)
-                    st.executed_blocks += 1
-                    if st.executed_blocks > limit:
-                        raise InterpError("INT080", f"more than {limit} blocks executed: runaway program "
-                                          "stopped (limits.max_blocks)", bw.nr[1])
+                if k:  # every repetition counts as an executed block (runaway guards)
+                    interp.count_block(nr_col)
                 rec = self._motion(gs, bw, src)
                 if rec is not None:
                     moved = True

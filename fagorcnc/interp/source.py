@@ -132,8 +132,9 @@ class StreamSource:
             anchor = min(anchor, keep_from)
         if b.stack:
             anchor = min(anchor, b.stack[0].index)
-        if b.numbers or b.labels:
-            anchor = min(anchor, min([*b.numbers.values(), *b.labels.values()]))
+        for targets in (b.numbers, b.labels):   # jump targets: the first one added is the oldest
+            if targets:
+                anchor = min(anchor, next(iter(targets.values())))
         drop = anchor - self._base
         if drop > 4096:  # release in chunks; the list slice is O(kept)
             del b.blocks[:drop]
