@@ -21,10 +21,11 @@ Rapid moves always stop at their ends.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-from .geometry import _BOUND_U, BlendPiece, LinePiece, Piece
+from .geometry import _BOUND_U, TABLE_GAUSS, BlendPiece, LinePiece, Piece, speed_tables
 from .limits import CENTRIPETAL, CURVE_JERK
 
 #: Control-point spacing of a blend as a fraction of its length on each side.
@@ -36,7 +37,8 @@ CURVATURE_EPS = 1e-10
 
 def smooth(t0: np.ndarray, k0: np.ndarray, t1: np.ndarray, k1: np.ndarray) -> bool:
     """True when the path is tangent- and curvature-continuous at the junction."""
-    return float(np.linalg.norm(t1 - t0)) <= TANGENT_EPS and float(np.linalg.norm(k1 - k0)) <= CURVATURE_EPS
+    return (math.dist(t0.tolist(), t1.tolist()) <= TANGENT_EPS
+            and math.dist(k0.tolist(), k1.tolist()) <= CURVATURE_EPS)
 
 
 def included_angle(t0: np.ndarray, t1: np.ndarray) -> float:
@@ -85,85 +87,148 @@ def _dynamic_scale(blend: BlendPiece, speed: float, acc: float, jerk: float) -> 
     return need
 
 
-#: Line-line corners: unit curves (size 1) sampled in the corner's plane, per 0.25 degree of turn.
+#: Line-line corners: unit curves (size 1) in the corner's plane (x along the incoming line), one
+#: per 0.25 degree of turn k, filled in on first use: their tangents, curvatures and curvature
+#: derivatives at the 97 bound parameters (plane components x, y by 3 * 97 samples), their
+#: deviations from the corner point and from the path, and whether the curve is valid (1), has
+#: none (-1) or is not computed yet (0).
 _STEP = 0.25
-_UNIT: dict[int, tuple | None] = {}
+_TURNS = int(180 / _STEP) + 2
+_UNIT_V = np.zeros((_TURNS, 2, 3 * len(_BOUND_U)))
+_UNIT_DEV = np.zeros((_TURNS, 2))
+_UNIT_STATE = np.zeros(_TURNS, dtype=np.int8)
 
 
-def _unit_2d(k: int) -> tuple | None:
-    """(tangents, curvatures, curvature derivatives, corner deviation, path deviation) of the
-    unit blend turning by ``k * _STEP`` degrees, in plane coordinates (x along the incoming line)."""
-    if k not in _UNIT:
-        turn = math.radians(k * _STEP)
-        t0, t1, z = np.array([1.0, 0.0]), np.array([math.cos(turn), math.sin(turn)]), np.zeros(2)
-        b = BlendPiece(-t0, t0, z, SHAPE, t1, t1, z, SHAPE)
-        if not b.valid:
-            _UNIT[k] = None
-        else:
-            _, t, kv, dk = b._geometric(_BOUND_U)
-            pts = b.points(65)
-            on_in = pts - np.outer(np.clip(pts @ t0, None, 0.0), t0)    # distance to the incoming ray
-            on_out = pts - np.outer(np.clip(pts @ t1, 0.0, None), t1)   # ... and to the outgoing one
-            dev_path = float(np.sqrt(np.minimum((on_in ** 2).sum(axis=1), (on_out ** 2).sum(axis=1))).max())
-            dev_corner = float(np.sqrt((pts ** 2).sum(axis=1)).min())
-            _UNIT[k] = (t, kv, dk, dev_corner, dev_path)
-    return _UNIT[k]
+def _unit(k: int) -> None:
+    """Fill in the unit curve turning by ``k * _STEP`` degrees."""
+    turn = math.radians(k * _STEP)
+    t0, t1, z = np.array([1.0, 0.0]), np.array([math.cos(turn), math.sin(turn)]), np.zeros(2)
+    b = BlendPiece(-t0, t0, z, SHAPE, t1, t1, z, SHAPE)
+    if not b.valid:
+        _UNIT_STATE[k] = -1
+        return
+    _, t, kv, dk = b._geometric(_BOUND_U)
+    pts = b.points(65)
+    on_in = pts - np.outer(np.clip(pts @ t0, None, 0.0), t0)    # distance to the incoming ray
+    on_out = pts - np.outer(np.clip(pts @ t1, 0.0, None), t1)   # ... and to the outgoing one
+    dev_path = float(np.sqrt(np.minimum((on_in ** 2).sum(axis=1), (on_out ** 2).sum(axis=1))).max())
+    dev_corner = float(np.sqrt((pts ** 2).sum(axis=1)).min())
+    _UNIT_V[k] = np.concatenate([t, kv, dk]).T
+    _UNIT_DEV[k] = dev_corner, dev_path
+    _UNIT_STATE[k] = 1
+
+
+def _units(ks: np.ndarray) -> np.ndarray:
+    """Which of the unit curves ``ks`` are valid, filling in those not computed yet."""
+    for k in np.unique(ks[_UNIT_STATE[ks] == 0]).tolist():
+        _unit(k)
+    return _UNIT_STATE[ks] == 1
+
+
+def _speed_squares() -> tuple[np.ndarray, np.ndarray]:
+    """The unit blend's ``B' = 5 (A(u) u_in + C(u) u_out)`` (its control points' differences are
+    S u_in, S u_in, (1 - 2S)(u_in + u_out), S u_out, S u_out): ``|B'|² / 25 = A² + C² + 2 A C cos``
+    of the turn; ``A² + C²`` and ``2 A C`` at the arc-length table's nodes."""
+    u = TABLE_GAUSS
+    b = [math.comb(4, i) * u ** i * (1 - u) ** (4 - i) for i in range(5)]
+    a = SHAPE * (b[0] + b[1]) + (1 - 2 * SHAPE) * b[2]
+    c = (1 - 2 * SHAPE) * b[2] + SHAPE * (b[3] + b[4])
+    return a * a + c * c, 2 * a * c
+
+
+_SPEED_SQUARES = _speed_squares()
+
+
+class LineCorner(NamedTuple):
+    """The symmetric blend between two lines at size 1, from which every size follows: bounds of
+    ``q'`` (the same at any size), ``q''`` (scale as 1/size) and ``q'''`` (as 1/size²), the norms
+    of the last two, the deviations, the control points relative to the vertex and the arc-length
+    table (all three scale as size)."""
+
+    d1: np.ndarray
+    d2: np.ndarray
+    d3: np.ndarray
+    k_norm: float
+    dk_norm: float
+    dev_corner: float
+    dev_path: float
+    controls: np.ndarray
+    table: np.ndarray
+
+
+def line_corners(u_in: np.ndarray, u_out: np.ndarray) -> list[LineCorner | None]:
+    """The unit blends of the corners turning from the unit directions ``u_in`` to ``u_out``
+    (rows), all at once: the unit curves of the table interpolated by turning angle, turned into
+    each corner's plane, and each curve's arc length (None where the table has no valid curve)."""
+    n, dim = u_in.shape
+    cos_turn = np.clip((u_in * u_out).sum(axis=1), -1.0, 1.0)
+    f = np.degrees(np.arccos(cos_turn)) / _STEP
+    k = f.astype(np.intp)
+    valid = (_units(k) & _units(k + 1)).tolist()
+    w = f - k
+    devs = ((1 - w[:, None]) * _UNIT_DEV[k] + w[:, None] * _UNIT_DEV[k + 1]).tolist()
+    # the samples interpolated in place: the fewer large temporaries, the fewer fresh pages
+    plane, upper = _UNIT_V[k], _UNIT_V[k + 1]
+    plane *= 1 - w[:, None, None]
+    upper *= w[:, None, None]
+    plane += upper
+    ey = u_out - cos_turn[:, None] * u_in
+    norm = np.sqrt((ey * ey).sum(axis=1))[:, None]
+    ey = np.divide(ey, norm, out=np.zeros_like(ey), where=norm > 0)
+    # plane -> machine axes, then the largest magnitude per axis over the samples (n, D, 3)
+    machine = np.stack([u_in, ey], axis=2) @ plane
+    bounds = np.abs(machine, out=machine).reshape(n, dim, 3, -1).max(axis=3)
+    d1 = np.minimum(bounds[:, :, 0] * 1.02, 1.0)
+    d2 = bounds[:, :, 1] * 1.05
+    d3 = bounds[:, :, 2] * 1.10
+    k_norm = np.sqrt((d2 * d2).sum(axis=1)).tolist()
+    dk_norm = np.sqrt((d3 * d3).sum(axis=1)).tolist()
+    controls = np.stack([-u_in, -(1 - SHAPE) * u_in, -(1 - 2 * SHAPE) * u_in,
+                         (1 - 2 * SHAPE) * u_out, (1 - SHAPE) * u_out, u_out], axis=1)
+    tables = speed_tables(5.0 * np.sqrt(_SPEED_SQUARES[0][:, None] + _SPEED_SQUARES[1][:, None] * cos_turn))
+    return [LineCorner(d1[i], d2[i], d3[i], k_norm[i], dk_norm[i], *devs[i], controls[i], tables[i])
+            if valid[i] else None for i in range(n)]
 
 
 def _line_corner(p: LinePiece, q: LinePiece, lim_p: float, lim_q: float, tolerance, speed, acc, jerk,
-                 corner: bool) -> tuple[BlendPiece, float, float] | None:
+                 corner: bool, shape: LineCorner | None) -> tuple[BlendPiece, float, float] | None:
     """Two lines: the symmetric blend is one plane shape scaled by its size (curvature as
     1/size, its derivative as 1/size², deviation and length as size), so a table of unit
-    shapes by turning angle gives its bounds without sampling each corner."""
-    cos_turn = max(-1.0, min(1.0, float(p.u @ q.u)))
-    f = math.degrees(math.acos(cos_turn)) / _STEP
-    k = int(f)
-    lo, hi = _unit_2d(k), _unit_2d(k + 1)
-    if lo is None or hi is None:
-        return None
-    w = f - k
-    t, kv, dk = ((1 - w) * a + w * b for a, b in zip(lo[:3], hi[:3], strict=True))
-    dev_corner, dev_path = ((1 - w) * a + w * b for a, b in zip(lo[3:5], hi[3:5], strict=True))
-    ex = p.u
-    ey = q.u - cos_turn * ex
-    norm = float(np.linalg.norm(ey))
-    ey = ey / norm if norm > 0 else np.zeros_like(ex)
-    basis = np.stack([ex, ey])                     # plane -> machine axes
-    d1 = np.minimum(np.abs(t @ basis).max(axis=0) * 1.02, 1.0)
-    d2 = np.abs(kv @ basis).max(axis=0) * 1.05
-    d3 = np.abs(dk @ basis).max(axis=0) * 1.10
+    shapes by turning angle gives its bounds without sampling each corner.  ``shape``: the
+    corner's unit blend when already computed with others (:func:`line_corners`)."""
+    if shape is None:
+        shape = line_corners(p.u[None, :], q.u[None, :])[0]
+        if shape is None:
+            return None
     size = min(lim_p, lim_q)
     if speed is not None:
-        need = float(np.linalg.norm(d2)) * speed * speed / (CENTRIPETAL * acc)
+        need = shape.k_norm * speed * speed / (CENTRIPETAL * acc)
         if jerk != math.inf:
-            need = max(need, math.sqrt(float(np.linalg.norm(d3)) * speed ** 3 / (CURVE_JERK * jerk)))
+            need = max(need, math.sqrt(shape.dk_norm * speed ** 3 / (CURVE_JERK * jerk)))
         size = min(size, max(need * 1.02, 1e-9))
     if tolerance is not None:
-        dev = dev_corner if corner else dev_path
+        dev = shape.dev_corner if corner else shape.dev_path
         if dev > 0:
             size = min(size, 0.95 * tolerance / dev)
     if not size > 1e-9:
         return None
-    vertex = p.end
-    controls = vertex + size * np.array([-ex, -(1 - SHAPE) * ex, -(1 - 2 * SHAPE) * ex,
-                                         (1 - 2 * SHAPE) * q.u, (1 - SHAPE) * q.u, q.u])
-    return BlendPiece.from_controls(controls, d1, d2 / size, d3 / (size * size)), size, size
-
-
-_ZERO = np.zeros(16)
+    blend = BlendPiece.from_controls(p.end + size * shape.controls, shape.d1, shape.d2 / size,
+                                     shape.d3 / (size * size), size * shape.table)
+    return blend, size, size
 
 
 def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: float | None,
                speed: float | None, acc: float, jerk: float,
-               distances: tuple[float, float] | None = None,
-               corner: bool = False) -> tuple[BlendPiece, float, float] | None:
+               distances: tuple[float, float] | None = None, corner: bool = False,
+               shape: LineCorner | None = None) -> tuple[BlendPiece, float, float] | None:
     """The corner curve between ``p`` (incoming) and ``q`` (outgoing) and the lengths
     ``d1``, ``d2`` it takes from their end and start, or None when none fits.
 
     ``tolerance``: the largest deviation allowed; ``speed``: the speed the
     curve should allow (None: as large as the tolerance allows);
     ``distances``: fixed (a, b) of #ROUNDPAR type 3.  ``half_p``/``half_q``:
-    the most each piece may give up (half of its programmed block).
+    the most each piece may give up (half of its programmed block).  ``shape``: the unit
+    blend of a corner between two lines, when already computed (:func:`line_corners`).
     """
     lim_p, lim_q = min(half_p, p.length), min(half_q, q.length)
     if lim_p <= 1e-9 or lim_q <= 1e-9:
@@ -173,7 +238,7 @@ def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: f
         blend = _blend(p, q, d1, d2)
         return (blend, d1, d2) if blend.valid else None
     if isinstance(p, LinePiece) and isinstance(q, LinePiece):
-        made = _line_corner(p, q, lim_p, lim_q, tolerance, speed, acc, jerk, corner)
+        made = _line_corner(p, q, lim_p, lim_q, tolerance, speed, acc, jerk, corner, shape)
         if made is not None:
             return made
     size = max(lim_p, lim_q)

@@ -17,7 +17,9 @@ the piece never reaches its cap anyway.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from typing import NamedTuple
 
 #: Share of an axis' acceleration / jerk the curvature terms may use at the cap.
 CENTRIPETAL = 0.9
@@ -31,48 +33,103 @@ class AxisLimits:
     velocity: tuple[float, ...]
     acceleration: tuple[float, ...]
     jerk: tuple[float, ...]
+    #: The tightest axis' acceleration and jerk (what a corner curve of unknown direction gets).
+    least_acceleration: float = field(init=False)
+    least_jerk: float = field(init=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "least_acceleration", min(self.acceleration))
+        object.__setattr__(self, "least_jerk", min(self.jerk))
 
 
 def piece_cap(d1, d2, d3, lim: AxisLimits, feed: float) -> float:
     """Highest speed cap ``vc`` on a piece: feed, axis velocities and curvature terms."""
+    # plain comparisons over zipped tuples, no min() calls: this runs for every piece planned
     vc = feed
-    for i, g in enumerate(d1):
-        if g > 0:
-            vc = min(vc, lim.velocity[i] / g)
-        k = d2[i]
-        if k > 0:
-            vc = min(vc, math.sqrt(CENTRIPETAL * lim.acceleration[i] / k))
-        k3 = d3[i]
-        if k3 > 0 and lim.jerk[i] != math.inf:
-            vc = min(vc, (CURVE_JERK * lim.jerk[i] / k3) ** (1.0 / 3.0))
+    for g, k, k3, v, a, j in zip(d1, d2, d3, lim.velocity, lim.acceleration, lim.jerk, strict=True):
+        if g > 0 and (x := v / g) < vc:
+            vc = x
+        if k > 0 and (x := math.sqrt(CENTRIPETAL * a / k)) < vc:
+            vc = x
+        if k3 > 0 and j != math.inf and (x := (CURVE_JERK * j / k3) ** (1.0 / 3.0)) < vc:
+            vc = x
     return vc
 
 
-def tangential(d1, d2, d3, lim: AxisLimits, vc: float, path_acc: float = 0.0,
-               path_jerk: float = 0.0) -> tuple[float, float]:
-    """Tangential acceleration and jerk allowed on a piece whose speed stays below ``vc``.
+class Terms(NamedTuple):
+    """The axes' terms of the formulas of :func:`tangential`, sorted by what they limit (axes
+    that limit nothing left out): ``(A, d2, d1)`` of the acceleration (``d1 > 0``), ``(J, d3, d2)``
+    of the cross term (``d2 > 0``, finite J) and ``(J, d2, d3, d1)`` of the jerk (``d1 > 0``, finite
+    J).  The terms of several pieces together give the limits of a motion along all of them."""
+
+    acc: list[tuple[float, float, float]]
+    cross: list[tuple[float, float, float]]
+    jerk: list[tuple[float, float, float, float]]
+
+    @staticmethod
+    def joined(parts: Iterable[Terms]) -> Terms:
+        """The terms of several pieces as one."""
+        acc: list = []
+        cross: list = []
+        jerk: list = []
+        for part in parts:
+            acc += part.acc
+            cross += part.cross
+            jerk += part.jerk
+        return Terms(acc, cross, jerk)
+
+
+def axis_terms(d1, d2, d3, lim: AxisLimits) -> Terms:
+    """The :class:`Terms` of a piece with derivative bounds ``d1, d2, d3``."""
+    terms = Terms([], [], [])
+    for g, k, k3, a, j in zip(d1, d2, d3, lim.acceleration, lim.jerk, strict=True):
+        if g > 0:
+            terms.acc.append((a, k, g))
+            if j != math.inf:
+                terms.jerk.append((j, k, k3, g))
+        if k > 0 and j != math.inf:
+            terms.cross.append((j, k3, k))
+    return terms
+
+
+def tangential(terms: Terms, vc: float, path_acc: float = 0.0, path_jerk: float = 0.0) -> tuple[float, float]:
+    """Tangential acceleration and jerk allowed on a piece (or pieces: their :func:`axis_terms`
+    together) whose speed stays below ``vc``.
 
     On a curve the jerk left after the ``vc³ d3`` term is shared half and half
     between the tangential jerk and the ``3 vc A_s d2`` cross term, which caps
     the tangential acceleration: a tight curve is run at low speed *and* with
     gentle speed changes, never at a speed that leaves no jerk at all.
     """
+    # plain comparisons, no min() calls: this runs for every piece planned
+    vc2, vc3 = vc * vc, vc ** 3
     acc = path_acc if path_acc > 0 else math.inf
-    for i, g in enumerate(d1):
-        if g > 0:
-            acc = min(acc, (lim.acceleration[i] - vc * vc * d2[i]) / g)
-        if d2[i] > 0 and vc > 0 and lim.jerk[i] != math.inf:
-            acc = min(acc, 0.5 * (lim.jerk[i] - vc ** 3 * d3[i]) / (3.0 * vc * d2[i]))
+    for a, k, g in terms.acc:
+        if (x := (a - vc2 * k) / g) < acc:
+            acc = x
+    if vc > 0:
+        for j, k3, k in terms.cross:
+            if (x := 0.5 * (j - vc3 * k3) / (3.0 * vc * k)) < acc:
+                acc = x
     jerk = path_jerk if path_jerk > 0 else math.inf
-    for i, g in enumerate(d1):
-        if g > 0 and lim.jerk[i] != math.inf:
-            jerk = min(jerk, (lim.jerk[i] - 3.0 * vc * acc * d2[i] - vc ** 3 * d3[i]) / g)
+    for j, k, k3, g in terms.jerk:
+        if (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
+            jerk = x
     return acc, jerk
 
 
-def curved_limits(d1, d2, d3, lim: AxisLimits, feed: float, path_acc: float = 0.0,
-                  path_jerk: float = 0.0) -> tuple[float, float, float]:
-    """``(vc, A_s, J_s)`` for a curved piece at its highest cap."""
-    vc = piece_cap(d1, d2, d3, lim, feed)
-    acc, jerk = tangential(d1, d2, d3, lim, vc, path_acc, path_jerk)
+def line_limits(d1, lim: AxisLimits, feed: float, path_acc: float = 0.0,
+                path_jerk: float = 0.0) -> tuple[float, float, float]:
+    """``(vc, A_s, J_s)`` of a line, its cap (:func:`piece_cap`) and :func:`tangential` limits
+    with ``d2 = d3 = 0``: without curvature terms every axis bounds the cap, the acceleration and
+    the jerk by its own limit over its share ``d1``."""
+    vc = feed
+    acc = path_acc if path_acc > 0 else math.inf
+    jerk = path_jerk if path_jerk > 0 else math.inf
+    for g, v, a, j in zip(d1, lim.velocity, lim.acceleration, lim.jerk, strict=True):
+        if g > 0:
+            vc = min(vc, v / g)
+            acc = min(acc, a / g)
+            if j != math.inf:
+                jerk = min(jerk, j / g)
     return vc, acc, jerk

@@ -60,15 +60,18 @@ def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
     return v0 + dv * (1.0 - MARGIN)
 
 
-def backward(spans, end_speed: float) -> list[float]:
+def backward(spans, end_speed: float, known: list[float] | None = None) -> list[float]:
     """Highest start speed of each span so that every later limit (and ``end_speed``) holds.
 
     ``spans[i].reach(v)`` gives the span's reachable speed within its cap; the
     junction between i and i+1 is also capped by both sides and by a stop
     (``stop_after``).  The forward pass runs as the spans are committed.
+    ``known``: what an earlier pass gave for the first spans (with fewer spans after them):
+    the pass stops where it finds one of those again, as every limit before follows from it.
     """
+    known = known or []
     n = len(spans)
-    start = [0.0] * n
+    start = known + [0.0] * (n - len(known))
     v = end_speed
     for i in range(n - 1, -1, -1):
         s = spans[i]
@@ -77,5 +80,7 @@ def backward(spans, end_speed: float) -> list[float]:
         v = s.reach(min(v, s.vc))
         if i > 0:
             v = min(v, spans[i - 1].vc)
+        if i < len(known) and v == known[i]:
+            break
         start[i] = v
     return start

@@ -14,12 +14,13 @@ import math
 from collections import deque
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
+from itertools import accumulate, islice
 
 import numpy as np
 
 from ..machine import Machine, load_machine
-from .corners import SHAPE, deviation, included_angle, make_blend, smooth
-from .geometry import _BOUND_U, ArcPiece, BlendPiece, LinePiece, Piece, blends, corner_deviations
+from .corners import SHAPE, LineCorner, included_angle, line_corners, make_blend, smooth
+from .geometry import ArcPiece, LinePiece, Piece, blends, corner_deviations
 from .limits import AxisLimits
 from .lookahead import backward, distance
 from .profile import Profile, ProfileError, ProfileWindow, Solver
@@ -34,12 +35,15 @@ SPLINE_SHAPE = 0.4
 MIN_CORNER_ANGLE = 1.0
 #: Arcs are planned in parts of at most this sweep (radians).
 ARC_PART = math.radians(30.0)
-#: Items the corner stage looks ahead (and HSC spline curves computed in one batch).
-LOOK = 64
+#: Items the corner stage looks ahead (and corner curves computed in one batch; more would make
+#: the batches' temporary arrays so large that allocating them costs more than it saves).
+LOOK = 32
 #: Grouping of short spans into one motion: span length, group length (mm) and members at most.
 GROUP_SPAN = 2.0
 GROUP_LENGTH = 20.0
 GROUP_MEMBERS = 64
+#: HSC transition curves tried at once (the halving rarely goes further than a few steps).
+TRANSITION_TRIES = 4
 #: Pieces shorter than this (mm) are dropped: nothing moves.
 MIN_LENGTH = 1e-9
 
@@ -96,10 +100,11 @@ class Planner:
         self.window = max(16, m.planner.lookahead)
         self._limits: dict = {}
         self.solver = Solver()
-        self._peek: Span | Event | None = None   # the item after the one the corner stage looks at
         self._ahead: deque = deque()             # the corner stage's look-ahead
         self._candidates: dict[int, tuple] = {}  # batched HSC spline curves by the id of their second line
+        self._shapes: dict[tuple[int, int], tuple] = {}  # batched G05 line corners by their directions' ids
         self._spline_used = False
+        self._known: list[float] = []           # the last backward pass's limits of the queue's groups
 
     # ------------------------------------------------------------ records -> spans
     def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
@@ -179,11 +184,12 @@ class Planner:
             prev.stop_after = True
             return None
         p, q = prev.piece, nxt.piece
-        _, t0, k0 = p.frame(p.length)
-        _, t1, k1 = q.frame(0.0)
+        t0, k0 = p.direction(p.length)
+        t1, k1 = q.direction(0.0)
         if smooth(t0, k0, t1, k1):
             return None
-        if included_angle(t0, t1) < MIN_CORNER_ANGLE:
+        angle = included_angle(t0, t1)
+        if angle < MIN_CORNER_ANGLE:
             prev.stop_after = True   # a reversal cannot be rounded
             return None
         feed = min(prev.feed, nxt.feed)
@@ -191,9 +197,10 @@ class Planner:
         speed: float | None = feed
         distances = None
         corner_measure = False
+        shape = None
         if corner == "HSC":
             hsc = dyn.hsc
-            if included_angle(t0, t1) < hsc.corner:   # L13537: sharp edge
+            if angle < hsc.corner:   # L13537: sharp edge
                 prev.stop_after = True
                 return None
             tolerance = hsc.tolerance
@@ -218,17 +225,37 @@ class Planner:
                 distances, speed = (params[0], params[1]), None
             elif kind == 4:
                 tolerance, speed = params[0], None
-        lim = prev.lim
-        acc = min(min(lim.acceleration), min(nxt.lim.acceleration))
-        jerk = min(min(lim.jerk), min(nxt.lim.jerk))
+            if distances is None and isinstance(p, LinePiece) and isinstance(q, LinePiece):
+                shape = self._line_shape(prev, nxt)
+        acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
+        jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         # a span that starts on an HSC spline keeps room for its transition back to a straight line
         half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
         made = make_blend(p, q, half_p, nxt.orig_length / 2.0, tolerance=tolerance,
-                          speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure)
+                          speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure, shape=shape)
         if made is None:
             prev.stop_after = True
             return None
         return self._blend_span(prev, nxt, made, feed)
+
+    def _line_shape(self, prev: Span, nxt: Span) -> LineCorner | None:
+        """The unit blend of the G05 corner between the lines of ``prev`` and ``nxt``, computed in
+        one batch with those of the line corners after it in the look-ahead (:func:`line_corners`)."""
+        key = (id(prev.piece.u), id(nxt.piece.u))
+        found = self._shapes.get(key)
+        if found is None:
+            dirs = [prev.piece.u, nxt.piece.u]
+            for x in self._ahead:
+                if len(dirs) > LOOK or not (isinstance(x, Span) and _g05_line(x)):
+                    break
+                dirs.append(x.piece.u)
+            shapes = line_corners(np.array(dirs[:-1]), np.array(dirs[1:]))
+            # keyed by the identity of the two directions (a trimmed line keeps its direction
+            # array); the entries hold the arrays, so no other array can take their ids
+            self._shapes = {(id(a), id(b)): (a, b, shape)
+                            for a, b, shape in zip(dirs[:-1], dirs[1:], shapes, strict=True)}
+            found = self._shapes[key]
+        return found[2]
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float) -> Span | None:
         """Trim both spans for the corner curve ``made`` = (piece, d1, d2); None (a stop) when
@@ -240,12 +267,12 @@ class Planner:
             nxt.mid_k = None
             self._spline_used = False
             return None
-        p, q = prev.piece, nxt.piece
-        prev.piece = p.sub(0.0, p.length - d1) if p.length - d1 > MIN_LENGTH else None
-        nxt.piece = q.sub(d2, q.length)
-        nxt.refresh()
-        if prev.piece is not None:
-            prev.refresh()
+        nxt.trim(d2, nxt.piece.length)
+        keep = prev.piece.length - d1
+        if keep > MIN_LENGTH:
+            prev.trim(0.0, keep)
+        else:
+            prev.piece = None
         return span
 
     # ------------------------------------------------------------ HSC splines through dense polylines
@@ -256,7 +283,6 @@ class Planner:
         dense CAM polyline becomes one smooth curve instead of a chain of corner rounds whose
         curvature drops to zero between corners.  None when it does not fit the tolerance."""
         self._spline_used = False
-        after = self._peek
         p, q = prev.piece, nxt.piece
         if not (isinstance(p, LinePiece) and isinstance(q, LinePiece)) or _adapts(prev) or _adapts(nxt):
             return None
@@ -264,38 +290,20 @@ class Planner:
         cached = self._candidates.pop(id(nxt), None)
         if not _fits(cached, prev, d1):
             self._candidates.clear()
-            self._batch(prev, nxt, tolerance)
-            cached = self._candidates.pop(id(nxt), None)
-        if _fits(cached, prev, d1):
-            _, _, _, blend, d2, k5, dev = cached
-            if not blend.valid or dev > 0.95 * tolerance:
-                return None
-            nxt.mid_k = k5
-            self._spline_used = True
-            return blend, d1, d2
-        d2 = nxt.orig_length / 2.0
-        zero = np.zeros_like(q.u)
-        k0 = prev.mid_k if prev.mid_k is not None else zero
-        k5 = zero
-        if (isinstance(after, Span) and isinstance(after.piece, LinePiece) and not after.rapid
-                and after.dyn is not None and after.dyn.corner == "HSC" and not _adapts(after)
-                and included_angle(q.u, after.piece.u) >= max(after.dyn.hsc.corner, MIN_CORNER_ANGLE)):
-            k_in = (q.u - p.u) / ((prev.orig_length + nxt.orig_length) / 2.0)
-            k_out = (after.piece.u - q.u) / ((nxt.orig_length + after.orig_length) / 2.0)
-            k5 = (k_in + k_out) / 2.0
-            k5 = k5 - float(k5 @ q.u) * q.u
-        p0, p5 = p.end - d1 * p.u, q.start + d2 * q.u
-        blend = BlendPiece(p0, p.u, k0, SPLINE_SHAPE * d1, p5, q.u, k5, SPLINE_SHAPE * d2)
-        if not blend.valid or deviation(blend, p, q, d1, d2, False) > 0.95 * tolerance:
+            self._batch(prev, nxt)
+            cached = self._candidates.pop(id(nxt))
+        _, _, _, blend, d2, k5, dev = cached
+        if not blend.valid or dev > 0.95 * tolerance:
             return None
-        nxt.mid_k = k5 if float(np.abs(k5).max()) > 0.0 else None
+        nxt.mid_k = k5
         self._spline_used = True
         return blend, d1, d2
 
-    def _batch(self, prev: Span, nxt: Span, tolerance: float) -> None:
+    def _batch(self, prev: Span, nxt: Span) -> None:
         """Spline candidates for the run of HSC lines starting at ``prev``, ``nxt`` and going on
-        through the look-ahead, all computed at once (:func:`~fagorcnc.plan.geometry.blends`); each
-        assumes the previous one is taken (its end curvature is the next one's start)."""
+        through the look-ahead up to its first sharp corner, all computed at once
+        (:func:`~fagorcnc.plan.geometry.blends`); each assumes the previous one is taken (its end
+        curvature is the next one's start), which a stop at a sharp corner undoes."""
         chain = [prev, nxt]
         ahead = self._ahead
         for j, x in enumerate(ahead):
@@ -304,64 +312,70 @@ class Planner:
             if j == len(ahead) - 1 or len(chain) >= LOOK:
                 break   # keep the item after the chain known: it decides the last line's curvature
             chain.append(x)
-        follow = self._ahead[len(chain) - 2] if len(self._ahead) > len(chain) - 2 else None
+        follow = ahead[len(chain) - 2] if len(ahead) > len(chain) - 2 else None
+        after_ok = isinstance(follow, Span) and isinstance(follow.piece, LinePiece) and _spline_line(follow)
+        lines = [*chain, follow] if after_ok else chain
+        u = np.array([s.piece.u for s in lines])
+        angle = 180.0 - np.degrees(np.arccos(np.clip((u[:-1] * u[1:]).sum(axis=1), -1.0, 1.0)))
+        sharp = angle[1:len(chain) - 1] < np.maximum([s.dyn.hsc.corner for s in chain[1:-1]], MIN_CORNER_ANGLE)
+        if sharp.any():   # the corner chain[cut - 1] -> chain[cut]: the tool stops there
+            cut = int(sharp.argmax()) + 2
+            follow, after_ok, chain = chain[cut], True, chain[:cut]
+            lines, u, angle = [*chain, follow], u[:cut + 1], angle[:cut]
         n = len(chain) - 1                       # corners chain[i] -> chain[i + 1]
-        u = np.array([s.piece.u for s in chain])
-        orig = np.array([s.orig_length for s in chain])
-        vertex = np.array([s.piece.start for s in chain[1:]])
         dim = u.shape[1]
+        orig = np.array([s.orig_length for s in lines] + ([] if after_ok else [1.0]))
+        vertex = np.array([s.piece.start for s in chain[1:]])
         # curvature at the middle of each line: the mean of its two corners', normal to the line,
         # where the corner after it is rounded by a spline too (an HSC line beyond, angle >= CORNER)
-        kmid = np.zeros((len(chain), dim))
-        after_ok = isinstance(follow, Span) and isinstance(follow.piece, LinePiece) and _spline_line(follow)
-        u_next = np.vstack([u[2:], follow.piece.u[None, :] if after_ok else np.zeros((1, dim))])
-        len_next = np.append(orig[2:], follow.orig_length if after_ok else 1.0)
-        corner = np.array([x.dyn.hsc.corner for x in chain[2:]] + [follow.dyn.hsc.corner if after_ok else 180.0])
-        cosine = np.clip((u[1:] * u_next).sum(axis=1), -1.0, 1.0)
-        angle_ok = 180.0 - np.degrees(np.arccos(cosine)) >= np.maximum(corner, MIN_CORNER_ANGLE)
+        u_next = u[2:] if after_ok else np.vstack([u[2:], np.zeros((1, dim))])
+        corner = [x.dyn.hsc.corner for x in lines[2:]] + ([] if after_ok else [180.0])
+        angle_ok = (angle[1:] if after_ok else np.append(angle[1:], 0.0)) >= np.maximum(corner, MIN_CORNER_ANGLE)
         angle_ok[-1] &= after_ok
-        k_in = (u[1:] - u[:-1]) / ((orig[:-1] + orig[1:]) / 2.0)[:, None]
-        k_out = (u_next - u[1:]) / ((orig[1:] + len_next) / 2.0)[:, None]
+        k_in = (u[1:n + 1] - u[:n]) / ((orig[:n] + orig[1:n + 1]) / 2.0)[:, None]
+        k_out = (u_next - u[1:n + 1]) / ((orig[1:n + 1] + orig[2:]) / 2.0)[:, None]
         k = (k_in + k_out) / 2.0
-        k -= (k * u[1:]).sum(axis=1)[:, None] * u[1:]
+        k -= (k * u[1:n + 1]).sum(axis=1)[:, None] * u[1:n + 1]
+        kmid = np.zeros((n + 1, dim))
         kmid[1:] = np.where(angle_ok[:, None], k, 0.0)
         if prev.mid_k is not None:
             kmid[0] = prev.mid_k
         d1 = orig[:n] / 2.0
         d1[0] = min(prev.orig_length / 2.0, prev.piece.length)
-        d2 = orig[1:] / 2.0
-        p0 = vertex - d1[:, None] * u[:-1]
-        p5 = vertex + d2[:, None] * u[1:]
-        curves = blends(p0, u[:-1], kmid[:-1], SPLINE_SHAPE * d1, p5, u[1:], kmid[1:], SPLINE_SHAPE * d2)
-        ok = np.array([c.samples is not None for c in curves])
-        samples = np.stack([c.samples if c.samples is not None else np.zeros((len(_BOUND_U), dim)) for c in curves])
+        d2 = orig[1:n + 1] / 2.0
+        p0 = vertex - d1[:, None] * u[:n]
+        p5 = vertex + d2[:, None] * u[1:n + 1]
+        curves, samples = blends(p0, u[:n], kmid[:-1], SPLINE_SHAPE * d1, p5, u[1:n + 1], kmid[1:], SPLINE_SHAPE * d2)
         devs = corner_deviations(samples, p0, vertex, p5)
-        devs[~ok] = np.inf
+        devs[[not c.valid for c in curves]] = np.inf
+        curved = (np.abs(kmid).max(axis=1) > 0.0).tolist()
         previous_k = prev.mid_k
-        for i in range(n):
-            k5 = kmid[i + 1] if float(np.abs(kmid[i + 1]).max()) > 0.0 else None
-            self._candidates[id(chain[i + 1])] = (chain[i], previous_k, float(d1[i]), curves[i], float(d2[i]), k5,
-                                                  float(devs[i]))
+        for i, (curve, d_1, d_2, dev) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(), strict=True)):
+            k5 = kmid[i + 1] if curved[i + 1] else None
+            self._candidates[id(chain[i + 1])] = (chain[i], previous_k, d_1, curve, d_2, k5, dev)
             previous_k = k5
 
     def _transition(self, span: Span) -> Span | None:
         """A span that starts on an HSC spline with curvature but does not end on one: a short
-        curve back to its straight line (curvature stays continuous), cut from its start."""
+        curve back to its straight line (curvature stays continuous), cut from its start: the
+        longest of 1/8 of the block, half that, ... (down to 1e-6 mm) that keeps the tolerance,
+        tried a few at a time."""
         k, p = span.mid_k, span.piece
         span.mid_k = None
         if k is None or p is None or not isinstance(p, LinePiece):
             return None
         tol = span.dyn.hsc.tolerance if span.dyn is not None and span.dyn.hsc is not None else 0.01
-        step = min(span.orig_length / 8.0, p.length / 2.0)
+        steps, step = [], min(span.orig_length / 8.0, p.length / 2.0)
         while step > 1e-6:
-            curve = BlendPiece(p.start, p.u, k, SHAPE * step, p.start + step * p.u, p.u, np.zeros_like(k),
-                               SHAPE * step)
-            if curve.valid and deviation(curve, p, p, 0.0, step, False) <= 0.95 * tol:
-                span.piece = p.sub(step, p.length)
-                span.refresh()
+            steps.append(step)
+            step /= 2.0
+        for i in range(0, len(steps), TRANSITION_TRIES):
+            found = _transition_curve(p, k, steps[i:i + TRANSITION_TRIES], tol)
+            if found is not None:
+                curve, step = found
+                span.trim(step, p.length)
                 return Span(curve, span.record, span.feed, span.lim, False, span.dyn, span.path_acc,
                             span.path_jerk, blend=True)
-            step /= 2.0
         return None
 
     def _adapt(self, prev: Span, nxt: Span) -> tuple[list[Span], list[Span], Span]:
@@ -402,19 +416,10 @@ class Planner:
         pending: list[Event] = []        # events that do not stop the motion, after prev
         settle = self.config.inposition_time
         source = iter(items)
-        ahead = self._ahead = deque()
-        for x in source:
-            ahead.append(x)
-            if len(ahead) >= LOOK:
-                break
+        ahead = self._ahead = deque(islice(source, LOOK))
         while ahead:
             item = ahead.popleft()
-            if len(ahead) < LOOK // 2:
-                for x in source:
-                    ahead.append(x)
-                    if len(ahead) >= LOOK:
-                        break
-            self._peek = ahead[0] if ahead else None
+            ahead.extend(islice(source, 1))   # kept full: the batches of corner curves then span all of it
             if isinstance(item, Event):
                 if item.kind == "aux" and item.record.function in NO_SYNC and prev is not None:
                     pending.append(item)
@@ -467,6 +472,7 @@ class Planner:
     def segments(self, records: Iterable) -> Iterator[Segment]:
         """Plan ``records`` (motion records in execution order); yields timed segments."""
         queue: list[Group] = []
+        self._known = []
         after: dict[int, list[Event]] = {}   # events that follow a span without a stop
         clock = [0.0]
         v = 0.0
@@ -505,7 +511,8 @@ class Planner:
         """Time the first ``k`` groups of the queue starting at speed ``v``; returns the speed after them."""
         if not queue:
             return v
-        limit = backward(queue, 0.0)
+        limit = backward(queue, 0.0, self._known)
+        self._known = limit[k:]
         n = len(queue)
         for i in range(k):
             g = queue[i]
@@ -517,7 +524,8 @@ class Planner:
                 yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1,
                               profile if self.keep else None, s.blend)
                 clock[0] += duration
-                yield from self._after(s, after, clock)
+                if after:
+                    yield from self._after(s, after, clock)
             else:
                 yield from self._split(g, profile, v1, clock, after)
             v = v1
@@ -526,28 +534,21 @@ class Planner:
 
     def _split(self, group: Group, profile: Profile, v1: float, clock: list, after: dict) -> Iterator[Segment]:
         """The members' segments of a group: the times where the group profile crosses each
-        member's start (Newton from an interpolated guess)."""
+        member's start."""
         members = group.members
-        bounds = np.cumsum([0.0] + [m.length for m in members])
-        bounds[-1] = group.length
-        grid = np.linspace(0.0, profile.duration, 16 * len(members) + 1)
-        s_grid = profile.at(grid)[0]
-        t = np.interp(bounds, s_grid, grid)
-        inner = slice(1, -1)
-        for _ in range(4):
-            s_t, v_t, _a, _j = profile.at(t[inner])
-            t[inner] -= (s_t - bounds[inner]) / np.maximum(v_t, 1e-12)
-            t[inner] = np.clip(t[inner], 0.0, profile.duration)
-        t[0], t[-1] = 0.0, profile.duration
-        speeds = profile.at(t)[1]
-        speeds[-1] = v1
+        bounds = list(accumulate((m.length for m in members[:-1]), initial=0.0))
+        times, speeds = profile.crossings(bounds[1:])
+        t = [0.0, *times, profile.duration]
+        speeds = [float(profile.v[0]), *speeds, v1]
+        bounds.append(group.length)
         start = clock[0]
         for i, m in enumerate(members):
-            window = ProfileWindow(profile, float(t[i]), float(bounds[i]), float(t[i + 1] - t[i]))
-            yield Segment("motion", start + t[i], t[i + 1] - t[i], m.line, m.record, m.piece, float(speeds[i]),
-                          float(speeds[i + 1]), window if self.keep else None, m.blend)
+            window = ProfileWindow(profile, t[i], bounds[i], t[i + 1] - t[i])
+            yield Segment("motion", start + t[i], t[i + 1] - t[i], m.line, m.record, m.piece, speeds[i],
+                          speeds[i + 1], window if self.keep else None, m.blend)
             clock[0] = start + t[i + 1]
-            yield from self._after(m, after, clock)
+            if after:
+                yield from self._after(m, after, clock)
 
     @staticmethod
     def _after(span: Span, after: dict, clock: list) -> Iterator[Segment]:
@@ -580,13 +581,18 @@ def _joins(group: Group, span: Span) -> bool:
         return False
     if not (_short(span) and _short(group.members[0])):
         return False
-    return span.vc <= 1.3 * group.vc and span.vc * 1.3 >= max(m.vc for m in group.members[-4:])
+    return span.vc <= 1.3 * group.vc and span.vc * 1.3 >= max([m.vc for m in group.members[-4:]])
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
     """Whether a batched spline candidate was made for this corner as it now stands."""
     return (cached is not None and cached[0] is prev and cached[1] is prev.mid_k
             and abs(cached[2] - d1) <= 1e-9 * max(d1, 1e-9))
+
+
+def _g05_line(span: Span) -> bool:
+    """A line whose corners G05 rounds (batched unit blends)."""
+    return isinstance(span.piece, LinePiece) and not span.rapid and span.dyn is not None and span.dyn.corner == "G05"
 
 
 def _spline_line(span: Span) -> bool:
@@ -597,6 +603,23 @@ def _spline_line(span: Span) -> bool:
 
 def _adapts(span: Span) -> bool:
     return span.dyn is not None and span.dyn.adaptation is not None
+
+
+def _transition_curve(p: LinePiece, k: np.ndarray, steps: list[float], tol: float) -> tuple | None:
+    """The first of the transition curves over ``steps`` from the start of ``p`` that keeps the
+    tolerance, and its step; all computed at once."""
+    size = np.array(steps)
+    rows = (len(steps), len(k))
+    start, u = np.broadcast_to(p.start, rows), np.broadcast_to(p.u, rows)
+    ends = p.start + size[:, None] * p.u
+    curves, samples = blends(start, u, np.broadcast_to(k, rows), SHAPE * size, ends, u, np.zeros(rows), SHAPE * size)
+    # the deviation as corners.deviation(curve, p, p, 0.0, step) measures it: from the polyline
+    # (line end, line end, curve end)
+    far = np.broadcast_to(p.start + p.length * p.u, rows)
+    for curve, step, dev in zip(curves, steps, corner_deviations(samples, far, far, ends).tolist(), strict=True):
+        if curve.valid and dev <= 0.95 * tol:
+            return curve, step
+    return None
 
 
 def _crawls(span: Span) -> bool:

@@ -40,9 +40,49 @@ class Profile:
         s = p0 + v0 * dt + a0 * dt * dt / 2.0 + j * dt ** 3 / 6.0
         return s, v, a, j
 
+    def crossings(self, positions: list[float]) -> tuple[list[float], list[float]]:
+        """Times at which the motion reaches the increasing ``positions`` (inside ``[0, length]``)
+        and its speeds there.  Per constant-jerk phase the position is a cubic in time, increasing
+        (the speed stays >= 0): Newton kept inside the phase by bisection, to full precision."""
+        starts, jerks, accs, speeds, places = (x.tolist() for x in (self.t, self.j, self.a, self.v, self.p))
+        ends = [*starts[1:], self.duration]
+        times, at_speed = [], []
+        k = 0
+        for b in positions:
+            while k + 1 < len(places) and places[k + 1] <= b:
+                k += 1
+            tau = _cubic_root(places[k] - b, speeds[k], accs[k], jerks[k], ends[k] - starts[k])
+            times.append(starts[k] + tau)
+            at_speed.append(speeds[k] + accs[k] * tau + jerks[k] * tau * tau / 2.0)
+        return times, at_speed
+
     @property
     def peak_speed(self) -> float:
         return float(np.max(self.v))
+
+
+def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float:
+    """The root in ``[0, span]`` of ``p0 + v0 t + a0 t²/2 + j t³/6``, non-decreasing there from
+    ``p0 <= 0`` (Newton from the linear guess, kept inside the bracket by bisection)."""
+    lo, hi = 0.0, span
+    rise = span * (v0 + span * (a0 / 2.0 + span * j / 6.0))
+    tau = span * min(1.0, -p0 / rise) if rise > 0.0 else span / 2.0
+    for _ in range(100):
+        f = p0 + tau * (v0 + tau * (a0 / 2.0 + tau * j / 6.0))
+        if f == 0.0:
+            return tau
+        if f > 0.0:
+            hi = tau
+        else:
+            lo = tau
+        slope = v0 + tau * (a0 + tau * j / 2.0)
+        nxt = tau - f / slope if slope > 0.0 else (lo + hi) / 2.0
+        if not lo <= nxt <= hi:
+            nxt = (lo + hi) / 2.0
+        if abs(nxt - tau) <= 4e-16 * span:
+            return nxt
+        tau = nxt
+    return tau
 
 
 #: Spans shorter than this (mm) get exact closed-form profiles: ruckig's end position is only
@@ -137,23 +177,26 @@ class Solver:
             if prof is not None:
                 return prof.duration, span.vc, prof
         top = max(v0, v1)
-        rungs = [(span.vc, span.acc, span.jerk)]
-        if span.ladder is not None:
-            rungs = [r for r in span.ladder if r[0] >= top]
+        rungs = span.rungs(top)
+        if span.curved:
+            rungs = [r for r in rungs if r[0] >= top]
             if top > 0 and top * (1 + 1e-9) < rungs[-1][0]:
                 cap = top * (1 + 1e-9)
                 rungs.append((cap, *span.limits_at(cap)))
         best = (math.inf, span.vc, 0.0, 0.0)
+        held = False   # whether the trajectory holds the best profile (the last one solved)
         for vc, acc, jerk in rungs:
             if acc <= 0 or jerk <= 0:
                 continue
             d = self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
-            if d < best[0]:
+            held = d < best[0]
+            if held:
                 best = (d, vc, acc, jerk)
         if best[0] == math.inf:
             raise ProfileError(f"no profile for a {span.length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
         if not keep:
             return best[0], best[1], None
-        _d, vc, acc, jerk = best   # solve the best again so that the trajectory holds it
-        self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+        if not held:
+            _d, vc, acc, jerk = best   # solve the best again so that the trajectory holds it
+            self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
         return best[0], best[1], self.profile()

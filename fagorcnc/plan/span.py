@@ -3,10 +3,10 @@ events (dwells, auxiliary functions) that synchronise with the motion."""
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
 from .geometry import Piece
-from .limits import AxisLimits, curved_limits, piece_cap, tangential
+from .limits import AxisLimits, Terms, axis_terms, line_limits, piece_cap, tangential
 from .lookahead import reachable
 
 #: Lower caps tried on curves (fractions of the highest cap).
@@ -18,8 +18,8 @@ class Span:
     tangential acceleration ``acc`` and jerk ``jerk``, and whether the motion
     must stop at its end."""
 
-    __slots__ = ("_ladder", "acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "mid_k",
-                 "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
+    __slots__ = ("acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "mid_k",
+                 "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "terms", "vc")
 
     def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
                  path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False) -> None:
@@ -42,51 +42,28 @@ class Span:
         """Recompute the limits from the (possibly trimmed) piece."""
         p = self.piece
         self.length = p.length
-        feed = self.feed / p.speed_factor()
-        d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
-        self._ladder = None
-        if p.curved:
-            self.vc, self.acc, self.jerk = curved_limits(d1, d2, d3, self.lim, feed, self.path_acc, self.path_jerk)
+        if p.curved:   # its axis terms kept: a group of curves below a lower cap needs them again
+            d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
+            self.terms = axis_terms(d1, d2, d3, self.lim)
+            self.vc = piece_cap(d1, d2, d3, self.lim, self.feed / p.speed_factor())
+            self.acc, self.jerk = tangential(self.terms, self.vc, self.path_acc, self.path_jerk)
         else:
-            self.vc = piece_cap(d1, d2, d3, self.lim, feed)
-            self.acc, self.jerk = tangential(d1, d2, d3, self.lim, self.vc, self.path_acc, self.path_jerk)
+            self.vc, self.acc, self.jerk = line_limits(p.d1.tolist(), self.lim, self.feed, self.path_acc,
+                                                       self.path_jerk)
+
+    def trim(self, s0: float, s1: float) -> None:
+        """Keep the stretch ``[s0, s1]`` of the piece.  A line's limits depend on its direction
+        alone, so a trimmed line only changes its length."""
+        self.piece = self.piece.sub(s0, s1)
+        if self.piece.curved:
+            self.refresh()
+        else:
+            self.length = self.piece.length
 
     def part(self, s0: float, s1: float, feed: float | None = None) -> Span:
         """The stretch ``[s0, s1]`` of this span as a new span (optionally with another feed)."""
         return Span(self.piece.sub(s0, s1), self.record, self.feed if feed is None else feed, self.lim, self.rapid,
                     self.dyn, self.path_acc, self.path_jerk, self.blend)
-
-    @property
-    def ladder(self) -> list[tuple[float, float, float]] | None:
-        """Curves: (cap, tangential acceleration, tangential jerk) for descending caps: below its
-        highest cap a curve leaves more of the axes' budget for speed changes.  None for lines."""
-        if self._ladder is None and self.piece.curved:
-            p = self.piece
-            d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
-            self._ladder = [(self.vc, self.acc, self.jerk)] + [
-                (self.vc * f, *tangential(d1, d2, d3, self.lim, self.vc * f, self.path_acc, self.path_jerk))
-                for f in LADDER]
-        return self._ladder
-
-    def reach(self, v: float) -> float:
-        """Highest speed at the other end of this span from speed ``v`` at one end (either
-        direction: the profiles are symmetric), within the cap."""
-        ladder = self.ladder
-        if ladder is None:
-            return min(self.vc, reachable(v, self.length, self.acc, self.jerk))
-        best = 0.0
-        for c, a, j in ladder:
-            if c < v or a <= 0 or j <= 0:
-                break
-            best = max(best, min(c, reachable(v, self.length, a, j)))
-        return best if best > 0.0 else min(self.vc, v)
-
-    def limits_at(self, vc: float) -> tuple[float, float]:
-        """Tangential acceleration and jerk when the speed stays below ``vc`` (curved pieces gain budget)."""
-        if not self.piece.curved or vc >= self.vc:
-            return self.acc, self.jerk
-        p = self.piece
-        return tangential(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim, vc, self.path_acc, self.path_jerk)
 
 
 class Event:
@@ -109,7 +86,8 @@ class Group:
     Limits are the most restrictive of the members' (each member's are valid below its own
     cap, and the group stays below the lowest cap)."""
 
-    __slots__ = ("_bounds", "_ladder", "acc", "jerk", "length", "line", "members", "record", "stop_after", "vc")
+    __slots__ = ("_rungs", "_terms", "acc", "curves", "jerk", "length", "line", "line_acc", "line_jerk", "members",
+                 "record", "stop_after", "vc")
 
     def __init__(self, first: Span) -> None:
         self.members = [first]
@@ -117,8 +95,20 @@ class Group:
         self.vc, self.acc, self.jerk = first.vc, first.acc, first.jerk
         self.stop_after = first.stop_after
         self.line, self.record = first.line, first.record
-        self._ladder = None
-        self._bounds = None
+        self._rungs = [(self.vc, self.acc, self.jerk)]
+        self._terms = None
+        # below a lower cap only the curves' limits change: a line's terms in the formulas of
+        # :func:`~fagorcnc.plan.limits.tangential` reduce exactly to its own limits
+        self.curves: list[Span] = []
+        self.line_acc = self.line_jerk = math.inf
+        self._classify(first)
+
+    def _classify(self, span: Span) -> None:
+        if span.piece.curved:
+            self.curves.append(span)
+        else:
+            self.line_acc = min(self.line_acc, span.acc)
+            self.line_jerk = min(self.line_jerk, span.jerk)
 
     def add(self, span: Span) -> None:
         self.members.append(span)
@@ -127,46 +117,48 @@ class Group:
         self.acc = min(self.acc, span.acc)
         self.jerk = min(self.jerk, span.jerk)
         self.stop_after = span.stop_after
-        self._ladder = None
-        self._bounds = None
+        self._rungs = [(self.vc, self.acc, self.jerk)]
+        self._terms = None
+        self._classify(span)
 
     @property
-    def ladder(self) -> list[tuple[float, float, float]] | None:
-        if self._ladder is None and any(m.piece.curved for m in self.members):
-            caps = self.vc * np.array(LADDER)
-            acc, jerk = self._limits(caps)
-            self._ladder = [(self.vc, self.acc, self.jerk), *zip(caps.tolist(), acc.tolist(), jerk.tolist(),
-                                                                 strict=True)]
-        return self._ladder
+    def curved(self) -> bool:
+        return bool(self.curves)
 
-    reach = Span.reach
+    def rungs(self, v: float) -> list[tuple[float, float, float]]:
+        """(cap, tangential acceleration, tangential jerk) for the descending caps ``vc * LADDER``
+        at least down to the speed ``v`` (below a lower cap a curve leaves more of the axes' budget
+        for speed changes; a motion at ``v`` has no use for caps below it); lines: the cap alone.
+        Made as they are needed: most junctions run close to the top cap."""
+        rungs = self._rungs
+        if self.curves:
+            while len(rungs) <= len(LADDER) and (cap := self.vc * LADDER[len(rungs) - 1]) >= v:
+                rungs.append((cap, *self._tangential(cap)))
+        return rungs
+
+    def reach(self, v: float) -> float:
+        """Highest speed at the other end of the group from speed ``v`` at one end (either
+        direction: the profiles are symmetric), within the cap."""
+        if not self.curves:
+            return min(self.vc, reachable(v, self.length, self.acc, self.jerk))
+        best = 0.0
+        for c, a, j in self.rungs(v):
+            if c < v or a <= 0 or j <= 0:
+                break
+            best = max(best, min(c, reachable(v, self.length, a, j)))
+        return best if best > 0.0 else min(self.vc, v)
 
     def limits_at(self, vc: float) -> tuple[float, float]:
         """The members' tangential limits below the cap ``vc``."""
-        if vc >= self.vc or self.ladder is None:
+        if vc >= self.vc or not self.curves:
             return self.acc, self.jerk
-        acc, jerk = self._limits(np.array([vc]))
-        return float(acc[0]), float(jerk[0])
+        return self._tangential(vc)
 
-    def _limits(self, caps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Tangential acceleration and jerk for each cap in ``caps``: the formulas of
-        :func:`~fagorcnc.plan.limits.tangential` over all members, axes and caps at once."""
-        if self._bounds is None:
-            self._bounds = tuple(np.array([getattr(m.piece, name) for m in self.members])
-                                 for name in ("d1", "d2", "d3"))
-        d1, d2, d3 = self._bounds
-        lim = self.members[0].lim
-        a_max = np.asarray(lim.acceleration)
-        j_max = np.asarray(lim.jerk)
-        path_acc = self.members[0].path_acc or np.inf
-        path_jerk = self.members[0].path_jerk or np.inf
-        vc = caps[:, None, None]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            acc = np.where(d1 > 0, (a_max - vc * vc * d2) / d1, np.inf)
-            finite = np.isfinite(j_max)
-            cross = np.where((d2 > 0) & finite, 0.5 * (j_max - vc ** 3 * d3) / (3.0 * vc * d2), np.inf)
-            acc = np.minimum(np.minimum(acc.min(axis=(1, 2)), cross.min(axis=(1, 2))), path_acc)
-            a3 = acc[:, None, None]
-            jerk = np.where((d1 > 0) & finite, (j_max - 3.0 * vc * a3 * d2 - vc ** 3 * d3) / d1, np.inf)
-            jerk = np.minimum(jerk.min(axis=(1, 2)), path_jerk)
-        return acc, jerk
+    def _tangential(self, cap: float) -> tuple[float, float]:
+        """Tangential acceleration and jerk below ``cap``: the limits of every curved member's
+        axes together, and the lines' own."""
+        if self._terms is None:
+            self._terms = Terms.joined(m.terms for m in self.curves)
+        first = self.members[0]
+        return tangential(self._terms, cap, min(first.path_acc or math.inf, self.line_acc),
+                                min(first.path_jerk or math.inf, self.line_jerk))

@@ -1,0 +1,102 @@
+"""The planner's batched computations give what the one-by-one ones give (to round-off)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fagorcnc.plan.corners import SHAPE, deviation, line_corners
+from fagorcnc.plan.geometry import BlendPiece, LinePiece, arc_tables, blends, corner_deviations
+from fagorcnc.plan.limits import AxisLimits, axis_terms, line_limits, piece_cap, tangential
+from fagorcnc.plan.profile import Solver
+
+TOL = 1e-12
+
+
+def unit_rows(rng: np.random.Generator, n: int, spread: float) -> np.ndarray:
+    """n + 1 unit directions, each turning from the one before by about ``spread`` radians."""
+    u = np.cumsum(rng.normal(scale=spread, size=(n + 1, 3)), axis=0) + np.array([1.0, 0.2, -0.1])
+    return u / np.linalg.norm(u, axis=1)[:, None]
+
+
+def close(a, b) -> bool:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return bool(np.all(np.abs(a - b) <= TOL * np.maximum(1.0, np.abs(b))))
+
+
+@pytest.mark.parametrize("spread", [0.002, 0.05, 0.6])
+def test_line_corners_in_a_batch_equal_one_by_one(spread):
+    u = unit_rows(np.random.default_rng(1), 40, spread)
+    batch = line_corners(u[:-1], u[1:])
+    for i, got in enumerate(batch):
+        alone = line_corners(u[i:i + 1], u[i + 1:i + 2])[0]
+        assert (got is None) == (alone is None)
+        if got is not None:
+            assert all(close(x, y) for x, y in zip(got, alone, strict=True))
+
+
+def test_line_corner_table_is_the_arc_length_of_its_curve():
+    # the closed form |B'|² = 25 (A² + C² + 2 A C cos) against the curve's own integral
+    u = unit_rows(np.random.default_rng(2), 30, 0.4)
+    for shape, a, b in zip(line_corners(u[:-1], u[1:]), u[:-1], u[1:], strict=True):
+        if shape is not None:
+            curve = BlendPiece(-a, a, np.zeros(3), SHAPE, b, b, np.zeros(3), SHAPE)
+            assert close(shape.table, arc_tables(curve.controls[None])[0])
+            assert close(shape.controls, curve.controls)
+
+
+def test_blends_in_a_batch_equal_one_by_one():
+    rng = np.random.default_rng(3)
+    n = 25
+    u = unit_rows(rng, n, 0.3)
+    p0 = rng.uniform(-50.0, 50.0, (n, 3))
+    p5 = p0 + rng.uniform(0.1, 2.0, (n, 1)) * u[1:]
+    k0, k5 = rng.normal(scale=0.3, size=(n, 3)), rng.normal(scale=0.3, size=(n, 3))
+    a, b = rng.uniform(0.05, 0.5, n), rng.uniform(0.05, 0.5, n)
+    curves, samples = blends(p0, u[:-1], k0, a, p5, u[1:], k5, b)
+    for i, got in enumerate(curves):
+        alone = BlendPiece(p0[i], u[i], k0[i], a[i], p5[i], u[i + 1], k5[i], b[i])
+        assert got.valid == alone.valid
+        assert close(got.controls, alone.controls) and close(got.length, alone.length)
+        if alone.valid:
+            assert all(close(x, y) for x, y in ((got.d1, alone.d1), (got.d2, alone.d2), (got.d3, alone.d3)))
+            assert close(samples[:, :, i], alone.points(97))
+
+
+def test_corner_deviations_equal_deviation_from_two_lines():
+    rng = np.random.default_rng(4)
+    n = 20
+    u = unit_rows(rng, n, 0.4)
+    vertex = rng.uniform(-20.0, 20.0, (n, 3))
+    d1, d2 = rng.uniform(0.1, 1.0, n), rng.uniform(0.1, 1.0, n)
+    p0, p5 = vertex - d1[:, None] * u[:-1], vertex + d2[:, None] * u[1:]
+    curves, samples = blends(p0, u[:-1], np.zeros((n, 3)), 0.4 * d1, p5, u[1:], np.zeros((n, 3)), 0.4 * d2)
+    devs = corner_deviations(samples, p0, vertex, p5)
+    for i, curve in enumerate(curves):
+        if curve.valid:
+            p, q = LinePiece(p0[i], vertex[i]), LinePiece(vertex[i], p5[i])
+            expected = deviation(BlendPiece.from_controls(curve.controls, curve.d1, curve.d2, curve.d3), p, q,
+                                 d1[i], d2[i], False)
+            assert devs[i] == pytest.approx(expected, rel=1e-9, abs=1e-15)
+
+
+@pytest.mark.parametrize(("length", "v0", "v1"), [(5.0, 0.0, 0.0), (2.0, 30.0, 5.0), (0.3, 10.0, 13.0)])
+def test_profile_crossings_reach_the_positions(length, v0, v1):
+    solver = Solver()
+    assert solver.duration(length, v0, v1, 60.0, 1000.0, 20000.0) < float("inf")
+    profile = solver.profile()
+    marks = sorted(np.random.default_rng(5).uniform(0.0, length, 30).tolist())
+    times, speeds = profile.crossings(marks)
+    s, v, _a, _j = profile.at(np.array(times))
+    assert np.all(np.diff(times) >= 0.0)
+    assert np.abs(s - marks).max() <= 1e-12 * length
+    assert np.abs(v - speeds).max() <= 1e-9 * max(v0, v1, 1.0)
+
+
+def test_line_limits_are_the_general_limits_without_curvature():
+    lim = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), (20000.0, 15000.0, float("inf")))
+    zero = [0.0] * 3
+    for d1 in ([0.6, 0.8, 0.0], [0.0, 0.0, 1.0], [0.3, 0.4, 0.866]):
+        for path in ((0.0, 0.0), (500.0, 9000.0)):
+            vc = piece_cap(d1, zero, zero, lim, 70.0)
+            assert line_limits(d1, lim, 70.0, *path) == (vc, *tangential(axis_terms(d1, zero, zero, lim), vc, *path))
