@@ -100,3 +100,22 @@ def test_line_limits_are_the_general_limits_without_curvature():
         for path in ((0.0, 0.0), (500.0, 9000.0)):
             vc = piece_cap(d1, zero, zero, lim, 70.0)
             assert line_limits(d1, lim, 70.0, *path) == (vc, *tangential(axis_terms(d1, zero, zero, lim), vc, *path))
+
+
+def test_an_hsc_transition_curve_is_measured_against_the_line_it_replaces():
+    """Back from an HSC spline's curvature k to the straight line: the curve over [start, start + step] must stay within
+    the tolerance of that stretch of line, and the longest step that does is taken (it used to be measured against
+    the stretch from the step's end to the line's end, which is never closer than the step: only steps below the
+    tolerance passed)."""
+    from fagorcnc.plan.planner import _transition_curve
+
+    p = LinePiece(np.array([0.0, 0.0, 0.0]), np.array([8.0, 0.0, 0.0]))
+    k = np.array([0.0, 0.02, 0.0])                 # curvature 0.02 /mm towards +Y at the start
+    steps = [1.0, 0.5, 0.25, 0.125]
+    curve, step = _transition_curve(p, k, steps, 0.01)
+    assert step == 1.0                             # far longer than the 0.01 mm tolerance
+    pts = curve.points(400)
+    assert np.abs(pts[:, 1]).max() <= 0.95 * 0.01 and pts[:, 0].min() >= -1e-12 and pts[:, 0].max() <= 1.0 + 1e-12
+    assert np.allclose(curve.start, p.start) and np.allclose(curve.end, [1.0, 0.0, 0.0])
+    tight = _transition_curve(p, k, steps, 1e-5)   # no step keeps 10 nm: the caller goes on with shorter ones
+    assert tight is None or np.abs(tight[0].points(400)[:, 1]).max() <= 0.95e-5

@@ -613,10 +613,8 @@ def _transition_curve(p: LinePiece, k: np.ndarray, steps: list[float], tol: floa
     start, u = np.broadcast_to(p.start, rows), np.broadcast_to(p.u, rows)
     ends = p.start + size[:, None] * p.u
     curves, samples = blends(start, u, np.broadcast_to(k, rows), SHAPE * size, ends, u, np.zeros(rows), SHAPE * size)
-    # the deviation as corners.deviation(curve, p, p, 0.0, step) measures it: from the polyline
-    # (line end, line end, curve end)
-    far = np.broadcast_to(p.start + p.length * p.u, rows)
-    for curve, step, dev in zip(curves, steps, corner_deviations(samples, far, far, ends).tolist(), strict=True):
+    # the deviation from the stretch of line the curve replaces: from its start to the curve's end
+    for curve, step, dev in zip(curves, steps, corner_deviations(samples, start, start, ends).tolist(), strict=True):
         if curve.valid and dev <= 0.95 * tol:
             return curve, step
     return None
