@@ -87,25 +87,27 @@ def _clock(seconds: float) -> str:
     return f"{hours}:{minutes:02d}:{sec:04.1f}" if hours else f"{minutes}:{sec:04.1f}"
 
 
-def _max_seconds_error(args: argparse.Namespace) -> bool:
-    """--max-seconds must be a number of seconds, 0 or more (0 = no limit); says so if not."""
-    bad = args.max_seconds is not None and not (math.isfinite(args.max_seconds) and args.max_seconds >= 0)
-    if bad:
+def _command_machine(args: argparse.Namespace):
+    """The machine of ``--machine``, or None after saying why it cannot be used (a bad file, a
+    --max-seconds that is not 0 or more)."""
+    from .machine import MachineError, load_machine
+
+    if args.max_seconds is not None and not (math.isfinite(args.max_seconds) and args.max_seconds >= 0):
         print("fagorcnc: --max-seconds must be 0 (no limit) or a positive number of seconds", file=sys.stderr)
-    return bad
+        return None
+    try:
+        return load_machine(args.machine)
+    except MachineError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return None
 
 
 def _run_command(args: argparse.Namespace) -> int:
     from .backends import BackendError
-    from .machine import MachineError, load_machine
     from .runner import run
 
-    if _max_seconds_error(args):
-        return 2
-    try:
-        machine = load_machine(args.machine)
-    except MachineError as exc:
-        print(f"fagorcnc: {exc}", file=sys.stderr)
+    machine = _command_machine(args)
+    if machine is None:
         return 2
     if args.max_seconds is not None:
         machine = dataclasses.replace(machine, limits=dataclasses.replace(machine.limits,
@@ -160,20 +162,14 @@ def _run_command(args: argparse.Namespace) -> int:
 
 
 def _check_command(args: argparse.Namespace) -> int:
-    from .machine import MachineError, load_machine
-
     if args.jobs is not None and args.jobs < 1:
         print("fagorcnc: --jobs must be 1 or more", file=sys.stderr)
         return 2
     if args.max_cycle_time is not None and not args.max_cycle_time > 0:
         print("fagorcnc: --max-cycle-time must be a positive number of seconds", file=sys.stderr)
         return 2
-    if _max_seconds_error(args):
-        return 2
-    try:
-        machine = load_machine(args.machine)
-    except MachineError as exc:
-        print(f"fagorcnc: {exc}", file=sys.stderr)
+    machine = _command_machine(args)
+    if machine is None:
         return 2
     if not args.output:
         return _check_report(args, machine, sys.stdout)
