@@ -28,8 +28,8 @@ import time
 from pathlib import Path
 
 import pytest
+from interpcnc_helpers import assert_exactly_once, plan, stream
 
-import fagorcnc
 from fagorcnc.backends.interpcnc import InterpCncBackend, InterpCncError
 from fagorcnc.backends.interpcnc import backend as backend_module
 from fagorcnc.backends.interpcnc import registers as regs
@@ -40,17 +40,6 @@ _BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 if str(_BENCH) not in sys.path:
     sys.path.insert(0, str(_BENCH))
 rb = importlib.import_module("robustness")
-
-
-def assert_exactly_once(segments, backend, log) -> None:
-    difference = first_difference(expected_events(segments, backend), executed_events(log))
-    assert difference is None, difference
-
-
-def plan(text: str):
-    result = fagorcnc.simulate(text)
-    assert result.ok, result.diagnostics[:3]
-    return result.machine, list(result.segments(keep_profiles=False))
 
 
 def operator(backend: InterpCncBackend, emu: Emulator):
@@ -64,24 +53,6 @@ def operator(backend: InterpCncBackend, emu: Emulator):
                 err = again
         raise AssertionError(f"no recovery: {err}")
     return recover
-
-
-def stream(backend, segments, recover) -> list[InterpCncError]:
-    errors = []
-    for seg in segments:
-        try:
-            backend.send(seg)
-        except InterpCncError as err:
-            errors.append(err)
-            recover(err)
-    for _ in range(4):
-        try:
-            backend.finish()
-            break
-        except InterpCncError as err:
-            errors.append(err)
-            recover(err)
-    return errors
 
 
 # ---------------------------------------------------------------- the campaign

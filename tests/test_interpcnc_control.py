@@ -8,9 +8,9 @@ from __future__ import annotations
 import time
 
 import pytest
+from interpcnc_helpers import plan
 from pymodbus.client import ModbusTcpClient
 
-import fagorcnc
 from fagorcnc.backends.base import BackendError
 from fagorcnc.backends.interpcnc import InterpCncBackend, InterpCncError
 from fagorcnc.backends.interpcnc import backend as backend_module
@@ -19,11 +19,6 @@ from fagorcnc.backends.interpcnc.emulator import Emulator, main
 
 M3 = {"type": 1, "output": 0, "value": 1}
 
-
-def plan(text: str):
-    result = fagorcnc.simulate(text)
-    assert result.ok, result.diagnostics[:3]
-    return result.machine, list(result.segments(keep_profiles=False))
 
 
 def test_status_reports_the_block_running_and_the_position():

@@ -10,13 +10,13 @@ from __future__ import annotations
 import math
 
 import pytest
+from interpcnc_helpers import assert_exactly_once, plan, stream
 from pymodbus.constants import ExcCodes
 
-import fagorcnc
 from fagorcnc.backends.interpcnc import InterpCncBackend, InterpCncError
 from fagorcnc.backends.interpcnc.emulator import Emulator
 from fagorcnc.backends.interpcnc.translate import segment_moves
-from fagorcnc.backends.interpcnc.verify import executed_events, expected_events, first_difference
+from fagorcnc.backends.interpcnc.verify import expected_events
 
 OUTPUTS = {
     "M3": {"type": 1, "output": 0, "value": 1},
@@ -39,38 +39,9 @@ def program(lines: int = 600) -> str:
     return "\n".join(out) + "\n"
 
 
-def plan(text: str):
-    result = fagorcnc.simulate(text)
-    assert result.ok, result.diagnostics[:3]
-    return result.machine, list(result.segments(keep_profiles=False))
-
-
-def stream(backend, segments, recover, limit: int = 3) -> list[InterpCncError]:
-    """Send everything; on an error check it kept the segment and call ``recover(error)``."""
-    errors: list[InterpCncError] = []
-    for seg in segments:
-        try:
-            backend.send(seg)
-        except InterpCncError as err:
-            assert err.accepted, err
-            errors.append(err)
-            assert len(errors) <= limit, errors
-            recover(err)
-    for _ in range(limit):
-        try:
-            backend.finish()
-            break
-        except InterpCncError as err:
-            errors.append(err)
-            recover(err)
-    return errors
-
-
 def check_exactly_once(emu, segments, backend) -> None:
-    expected = expected_events(segments, backend)
-    assert first_difference(expected, executed_events(emu.executed())) is None
-    card = emu.card
-    assert card.overflows == 0 and card.arc_errors == 0
+    assert_exactly_once(segments, backend, emu.executed())
+    assert emu.card.overflows == 0 and emu.card.arc_errors == 0
 
 
 def open_backend(emu, machine, **options) -> InterpCncBackend:

@@ -8,7 +8,8 @@ from __future__ import annotations
 import threading
 import time
 
-import fagorcnc
+from interpcnc_helpers import plan
+
 from fagorcnc.backends import get_backend
 from fagorcnc.backends.interpcnc import InterpCncBackend
 from fagorcnc.backends.interpcnc.emulator import Emulator
@@ -38,11 +39,6 @@ def raster_program(lines: int, arcs_every: int = 2500) -> str:
     out += ["M5", "M9", "G0 Z5", "M30"]
     return "\n".join(out) + "\n"
 
-
-def plan(text: str):
-    result = fagorcnc.simulate(text)
-    assert result.ok, result.diagnostics[:3]
-    return result.machine, list(result.segments(keep_profiles=False))
 
 
 def streaming_rate(machine, segments) -> float:
