@@ -19,6 +19,7 @@ from .backends import Backend, BackendError, Status, get_backend
 from .diagnostics import Diagnostic
 from .machine import Machine, MachineError, load_machine
 from .plan import Planner, PlanningError, Segment
+from .runtime import fewer_collections
 from .simulate import FinalState, interpret, simulate
 
 
@@ -75,6 +76,12 @@ def run(source: str | Path, machine: Machine | dict | str | Path | None = None, 
     ``progress(segment, status, total_time)`` is called after each segment.
     ``backend_options`` go to the back-end (e.g. ``host``, ``port``, ``serial``).
     """
+    with fewer_collections():
+        return _run(source, machine, backend, block_skip, check_first, progress, keep_profiles, backend_options)
+
+
+def _run(source, machine, backend, block_skip: bool, check_first: bool | None, progress: Progress | None,
+         keep_profiles: bool, backend_options: dict) -> RunReport:
     try:
         mach = load_machine(machine)
     except MachineError as exc:

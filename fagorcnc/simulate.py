@@ -20,6 +20,7 @@ from .interp.state import ChannelState
 from .machine import Machine, MachineError, load_machine
 from .persist import attach_parameter_file
 from .plan import Planner, PlanningError, Segment, Trajectory, sample
+from .runtime import fewer_collections
 from .syntax import parse_file, parse_text
 from .syntax.ast import Program
 
@@ -132,6 +133,11 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
     except MachineError as exc:
         d = Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))
         return Result(False, [d], [], None, 0.0, None)
+    with fewer_collections():
+        return _simulate(source, mach, block_skip)
+
+
+def _simulate(source: str | Path, mach: Machine, block_skip: bool) -> Result:
     if isinstance(source, Path) or ("\n" not in str(source) and Path(str(source)).is_file()):
         program = parse_file(source)
     else:
