@@ -7,8 +7,8 @@ import pytest
 
 from fagorcnc.plan.corners import SHAPE, deviation, line_corners
 from fagorcnc.plan.geometry import BlendPiece, LinePiece, arc_tables, blends, corner_deviations
-from fagorcnc.plan.limits import AxisLimits, axis_terms, line_limits, piece_cap, tangential
-from fagorcnc.plan.profile import Solver
+from fagorcnc.plan.limits import AxisLimits, axis_terms, curve_limits, line_limits, piece_cap, tangential
+from fagorcnc.plan.profile import Profile, Solver, micro_profile
 
 TOL = 1e-12
 
@@ -100,6 +100,28 @@ def test_line_limits_are_the_general_limits_without_curvature():
         for path in ((0.0, 0.0), (500.0, 9000.0)):
             vc = piece_cap(d1, zero, zero, lim, 70.0)
             assert line_limits(d1, lim, 70.0, *path) == (vc, *tangential(axis_terms(d1, zero, zero, lim), vc, *path))
+
+
+def test_curve_limits_are_the_cap_and_tangential_limits_of_the_axis_terms():
+    # the fused form must give the very same numbers as the general one (no round-off allowed)
+    rng = np.random.default_rng(6)
+    for jerk in ((20000.0, 15000.0, 9000.0), (20000.0, float("inf"), 9000.0)):
+        lim = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), jerk)
+        for _ in range(200):
+            d1, d2, d3 = (rng.uniform(0.0, 1.0, 3) * rng.integers(0, 2, 3) for _ in range(3))
+            d2, d3 = d2 * rng.choice([0.01, 1.0, 100.0]), d3 * rng.choice([0.01, 1.0, 1e4])
+            d1, d2, d3 = d1.tolist(), d2.tolist(), d3.tolist()
+            for path in ((0.0, 0.0), (500.0, 9000.0)):
+                vc = piece_cap(d1, d2, d3, lim, 70.0)
+                assert curve_limits(d1, d2, d3, lim, 70.0, *path) == (
+                    vc, *tangential(axis_terms(d1, d2, d3, lim), vc, *path))
+
+
+@pytest.mark.parametrize(("length", "v0", "v1"), [(4e-4, 20.0, 20.0), (4e-4, 20.0, 20.000001), (4e-4, 0.0, 0.0)])
+def test_a_micro_profile_duration_alone_is_the_profile_duration(length, v0, v1):
+    full = micro_profile(length, v0, v1, 1000.0, 20000.0)
+    assert isinstance(full, Profile)
+    assert micro_profile(length, v0, v1, 1000.0, 20000.0, keep=False) == full.duration
 
 
 def test_an_hsc_transition_curve_is_measured_against_the_line_it_replaces():

@@ -123,13 +123,37 @@ def line_limits(d1, lim: AxisLimits, feed: float, path_acc: float = 0.0,
     """``(vc, A_s, J_s)`` of a line, its cap (:func:`piece_cap`) and :func:`tangential` limits
     with ``d2 = d3 = 0``: without curvature terms every axis bounds the cap, the acceleration and
     the jerk by its own limit over its share ``d1``."""
+    # plain comparisons, no min() calls: this runs for every line planned
     vc = feed
     acc = path_acc if path_acc > 0 else math.inf
     jerk = path_jerk if path_jerk > 0 else math.inf
     for g, v, a, j in zip(d1, lim.velocity, lim.acceleration, lim.jerk, strict=True):
         if g > 0:
-            vc = min(vc, v / g)
-            acc = min(acc, a / g)
-            if j != math.inf:
-                jerk = min(jerk, j / g)
+            if (x := v / g) < vc:
+                vc = x
+            if (x := a / g) < acc:
+                acc = x
+            if j != math.inf and (x := j / g) < jerk:
+                jerk = x
+    return vc, acc, jerk
+
+
+def curve_limits(d1, d2, d3, lim: AxisLimits, feed: float, path_acc: float = 0.0,
+                 path_jerk: float = 0.0) -> tuple[float, float, float]:
+    """``(vc, A_s, J_s)`` of a curved piece: :func:`piece_cap`, then :func:`tangential` of its
+    :func:`axis_terms` below that cap, without building the terms (the same operations, so the
+    same numbers; a corner curve is made for every corner rounded)."""
+    vc = piece_cap(d1, d2, d3, lim, feed)
+    vc2, vc3 = vc * vc, vc ** 3
+    rows = list(zip(d1, d2, d3, lim.acceleration, lim.jerk, strict=True))
+    acc = path_acc if path_acc > 0 else math.inf
+    for g, k, k3, a, j in rows:
+        if g > 0 and (x := (a - vc2 * k) / g) < acc:
+            acc = x
+        if vc > 0 and k > 0 and j != math.inf and (x := 0.5 * (j - vc3 * k3) / (3.0 * vc * k)) < acc:
+            acc = x
+    jerk = path_jerk if path_jerk > 0 else math.inf
+    for g, k, k3, _a, j in rows:
+        if g > 0 and j != math.inf and (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
+            jerk = x
     return vc, acc, jerk

@@ -105,6 +105,7 @@ class Planner:
         self._shapes: dict[tuple[int, int], tuple] = {}  # batched G05 line corners by their directions' ids
         self._spline_used = False
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
+        self._last_end: tuple = (None, None)    # the last record's end and its vector
 
     # ------------------------------------------------------------ records -> spans
     def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
@@ -129,7 +130,11 @@ class Planner:
         return np.array([pos.get(a, 0.0) for a in self.axes], dtype=float)
 
     def _span(self, rec) -> Span | None:
-        start, end = self._vector(rec.start), self._vector(rec.end)
+        # a block starts where the one before ended: its end vector is reused
+        last, last_end = self._last_end
+        start = last_end if rec.start == last else self._vector(rec.start)
+        end = self._vector(rec.end)
+        self._last_end = rec.end, end
         if rec.kind == "arc":
             a, o = rec.plane[0], rec.plane[1]
             piece: Piece = ArcPiece(start, end, self.index[a], self.index[o], (rec.center[a], rec.center[o]),

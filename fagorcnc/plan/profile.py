@@ -90,9 +90,10 @@ def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float
 MICRO = 1e-3
 
 
-def micro_profile(length: float, v0: float, v1: float, acc: float, jerk: float) -> Profile | None:
+def micro_profile(length: float, v0: float, v1: float, acc: float, jerk: float,
+                  keep: bool = True) -> Profile | float | None:
     """Exact short profile with zero acceleration at both ends, or None when it would need more
-    than ``acc`` (then ruckig plans it).
+    than ``acc`` (then ruckig plans it); with ``keep=False`` only its duration.
 
     Moving (v0 + v1 > 0): two jerk phases of ``tau = L / (v0 + v1)`` with ``j = (v1 - v0) / tau²``;
     at the speeds the look-ahead allows, ``|j|`` never exceeds J (the reachable-speed relation
@@ -100,17 +101,23 @@ def micro_profile(length: float, v0: float, v1: float, acc: float, jerk: float) 
     """
     if v0 + v1 > 0 and abs(v1 - v0) <= 1e-12 * (v0 + v1):
         v = (v0 + v1) / 2   # equal up to rounding: constant speed
+        if not keep:
+            return length / v
         return Profile(np.array([0.0]), np.array([0.0]), np.array([0.0]), np.array([v]), np.array([0.0]), length / v)
     if v0 + v1 > 0:
         tau = length / (v0 + v1)
         j = (v1 - v0) / (tau * tau)
         if abs(j) > jerk * (1 + 1e-6) or abs(j) * tau > acc:   # rounding of the reachable speed
             return None
+        if not keep:
+            return 2 * tau
         t = np.array([0.0, tau])
         return Profile(t, np.array([j, -j]), np.array([0.0, j * tau]), np.array([v0, v0 + j * tau * tau / 2]),
                        np.array([0.0, v0 * tau + j * tau ** 3 / 6]), 2 * tau)
     j = min(jerk, acc ** 1.5 * math.sqrt(2.0 / length))   # peak acceleration J tau stays <= A
     tau = (length / (2.0 * j)) ** (1.0 / 3.0)
+    if not keep:
+        return 4 * tau
     return Profile(np.arange(4) * tau, np.array([j, -j, -j, j]), np.array([0.0, j * tau, 0.0, -j * tau]),
                    np.array([0.0, j * tau ** 2 / 2, j * tau ** 2, j * tau ** 2 / 2]),
                    np.array([0.0, j * tau ** 3 / 6, j * tau ** 3, 11 * j * tau ** 3 / 6]), 4 * tau)
@@ -173,9 +180,11 @@ class Solver:
         the axes' acceleration for speeding up and slowing down.
         """
         if span.length < MICRO:
-            prof = micro_profile(span.length, v0, v1, span.acc, span.jerk)
-            if prof is not None:
+            prof = micro_profile(span.length, v0, v1, span.acc, span.jerk, keep)
+            if isinstance(prof, Profile):
                 return prof.duration, span.vc, prof
+            if prof is not None:
+                return prof, span.vc, None
         top = max(v0, v1)
         rungs = span.rungs(top)
         if span.curved:

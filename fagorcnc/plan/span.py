@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from .geometry import Piece
-from .limits import AxisLimits, Terms, axis_terms, line_limits, piece_cap, tangential
+from .limits import AxisLimits, Terms, axis_terms, curve_limits, line_limits, tangential
 from .lookahead import reachable
 
 #: Lower caps tried on curves (fractions of the highest cap).
@@ -18,8 +18,8 @@ class Span:
     tangential acceleration ``acc`` and jerk ``jerk``, and whether the motion
     must stop at its end."""
 
-    __slots__ = ("acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "mid_k",
-                 "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "terms", "vc")
+    __slots__ = ("_terms", "acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "mid_k",
+                 "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
 
     def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
                  path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False) -> None:
@@ -42,14 +42,22 @@ class Span:
         """Recompute the limits from the (possibly trimmed) piece."""
         p = self.piece
         self.length = p.length
-        if p.curved:   # its axis terms kept: a group of curves below a lower cap needs them again
-            d1, d2, d3 = p.d1.tolist(), p.d2.tolist(), p.d3.tolist()
-            self.terms = axis_terms(d1, d2, d3, self.lim)
-            self.vc = piece_cap(d1, d2, d3, self.lim, self.feed / p.speed_factor())
-            self.acc, self.jerk = tangential(self.terms, self.vc, self.path_acc, self.path_jerk)
+        self._terms = None
+        if p.curved:
+            self.vc, self.acc, self.jerk = curve_limits(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim,
+                                                        self.feed / p.speed_factor(), self.path_acc, self.path_jerk)
         else:
             self.vc, self.acc, self.jerk = line_limits(p.d1.tolist(), self.lim, self.feed, self.path_acc,
                                                        self.path_jerk)
+
+    @property
+    def terms(self) -> Terms:
+        """The :func:`~fagorcnc.plan.limits.axis_terms` of a curved piece, made on first use: a
+        group of curves below a lower cap needs them (most corner curves are never asked)."""
+        if self._terms is None:
+            p = self.piece
+            self._terms = axis_terms(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim)
+        return self._terms
 
     def trim(self, s0: float, s1: float) -> None:
         """Keep the stretch ``[s0, s1]`` of the piece.  A line's limits depend on its direction
