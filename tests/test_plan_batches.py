@@ -7,7 +7,16 @@ import pytest
 
 from fagorcnc.plan.corners import SHAPE, deviation, line_corners
 from fagorcnc.plan.geometry import BlendPiece, LinePiece, arc_tables, blends, corner_deviations
-from fagorcnc.plan.limits import AxisLimits, axis_terms, curve_limits, line_limits, piece_cap, tangential
+from fagorcnc.plan.limits import (
+    AxisLimits,
+    Terms,
+    axis_terms,
+    curve_limits,
+    line_limits,
+    piece_cap,
+    tangential,
+    tangential_arrays,
+)
 from fagorcnc.plan.profile import Profile, Solver, micro_profile
 
 TOL = 1e-12
@@ -117,6 +126,21 @@ def test_curve_limits_are_the_cap_and_tangential_limits_of_the_axis_terms():
                     vc, *tangential(axis_terms(d1, d2, d3, lim), vc, *path))
 
 
+def test_tangential_over_arrays_gives_the_same_numbers():
+    # a group of many short curves: the joined terms of 40 pieces, below several caps
+    rng = np.random.default_rng(7)
+    lim = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), (20000.0, 15000.0, 9000.0))
+    parts = [axis_terms(rng.uniform(0.0, 1.0, 3).tolist(), rng.uniform(0.0, 5.0, 3).tolist(),
+                        rng.uniform(0.0, 500.0, 3).tolist(), lim) for _ in range(40)]
+    terms = Terms.joined(parts)
+    assert terms.total() == 40 * 9
+    for vc in (0.0, 0.5, 3.0, 12.0, 40.0):
+        for path in ((0.0, 0.0), (500.0, 9000.0)):
+            assert tangential_arrays(terms.arrays(), vc, *path) == tangential(terms, vc, *path)
+    empty = Terms([], [], [])
+    assert tangential_arrays(empty.arrays(), 5.0, 300.0, 0.0) == tangential(empty, 5.0, 300.0, 0.0)
+
+
 @pytest.mark.parametrize(("length", "v0", "v1"), [(4e-4, 20.0, 20.0), (4e-4, 20.0, 20.000001), (4e-4, 0.0, 0.0)])
 def test_a_micro_profile_duration_alone_is_the_profile_duration(length, v0, v1):
     full = micro_profile(length, v0, v1, 1000.0, 20000.0)
@@ -141,3 +165,41 @@ def test_an_hsc_transition_curve_is_measured_against_the_line_it_replaces():
     assert np.allclose(curve.start, p.start) and np.allclose(curve.end, [1.0, 0.0, 0.0])
     tight = _transition_curve(p, k, steps, 1e-5)   # no step keeps 10 nm: the caller goes on with shorter ones
     assert tight is None or np.abs(tight[0].points(400)[:, 1]).max() <= 0.95e-5
+
+
+def test_a_rejected_hsc_spline_redoes_only_the_next_corner(monkeypatch):
+    """Where an HSC spline does not fit the tolerance, the next corner's candidate (made on the
+    assumption that it did) is made again alone; the plan is the one a whole new batch gives."""
+    import fagorcnc
+    from fagorcnc.plan import Planner
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    rows = []
+    for r in range(4):   # a 3D finishing raster (0.5 mm steps): its inflections stop some splines
+        xs = [i * 0.5 for i in range(101)]
+        rows += [f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}" for x in (xs[::-1] if r % 2 else xs)]
+    program = ["G90 G1 X0 Y0 Z0 F3000", "#HSC ON [CONTERROR 0.01]", *rows, "M30"]
+    records = list(Run(iter(program), "<raster>", machine))
+
+    calls = []
+    original = Planner._single
+
+    def counted(self, *args):
+        calls.append(1)
+        return original(self, *args)
+
+    monkeypatch.setattr(Planner, "_single", counted)
+    alone = [(s.t0, s.duration, s.v0, s.v1, s.line) for s in Planner(machine).segments(iter(records))]
+    assert calls   # some corners do not take their spline
+
+    def whole_batch(self, prev, nxt, d1, cached):   # what the planner did before: a new batch
+        self._candidates.clear()
+        self._batch(prev, nxt)
+        return self._candidates.pop(id(nxt))
+
+    monkeypatch.setattr(Planner, "_single", whole_batch)
+    batched = [(s.t0, s.duration, s.v0, s.v1, s.line) for s in Planner(machine).segments(iter(records))]
+    assert len(alone) == len(batched)
+    for a, b in zip(alone, batched, strict=True):
+        assert a[4] == b[4] and close(a[:4], b[:4])

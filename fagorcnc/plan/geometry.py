@@ -73,13 +73,14 @@ class Piece(ABC):
 class LinePiece(Piece):
     """A straight segment."""
 
-    __slots__ = ("u",)
+    __slots__ = ("u", "ul")
 
     def __init__(self, start: np.ndarray, end: np.ndarray) -> None:
         self.start, self.end = start, end
         delta = end - start
         self.length = length = math.hypot(*delta.tolist())
         self.u = delta / length if length > 0 else delta * 0.0
+        self.ul = self.u.tolist()   # the direction as floats, for the per-corner tests
         self.d1 = np.abs(self.u)
         self.d2 = self.d3 = _zeros(len(delta))
 
@@ -102,7 +103,7 @@ class LinePiece(Piece):
         out.start = self.start if s0 == 0.0 else self.start + s0 * self.u
         out.end = self.end if s1 == self.length else self.start + s1 * self.u
         out.length = s1 - s0
-        out.u, out.d1, out.d2, out.d3 = self.u, self.d1, self.d2, self.d3
+        out.u, out.ul, out.d1, out.d2, out.d3 = self.u, self.ul, self.d1, self.d2, self.d3
         return out
 
 

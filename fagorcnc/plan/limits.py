@@ -21,6 +21,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+import numpy as np
+
 #: Share of an axis' acceleration / jerk the curvature terms may use at the cap.
 CENTRIPETAL = 0.9
 CURVE_JERK = 0.8
@@ -78,6 +80,25 @@ class Terms(NamedTuple):
             jerk += part.jerk
         return Terms(acc, cross, jerk)
 
+    def total(self) -> int:
+        """How many terms in all."""
+        return len(self.acc) + len(self.cross) + len(self.jerk)
+
+    def arrays(self) -> TermArrays:
+        """The same terms as arrays (columns), for :func:`tangential_arrays`."""
+        def cols(rows: list, width: int) -> tuple:
+            table = np.array(rows, dtype=float).reshape(-1, width)
+            return tuple(table[:, i] for i in range(width))
+        return TermArrays(cols(self.acc, 3), cols(self.cross, 3), cols(self.jerk, 4))
+
+
+class TermArrays(NamedTuple):
+    """:class:`Terms` as columns: ``acc = (A, d2, d1)``, ``cross = (J, d3, d2)``, ``jerk = (J, d2, d3, d1)``."""
+
+    acc: tuple
+    cross: tuple
+    jerk: tuple
+
 
 def axis_terms(d1, d2, d3, lim: AxisLimits) -> Terms:
     """The :class:`Terms` of a piece with derivative bounds ``d1, d2, d3``."""
@@ -115,6 +136,30 @@ def tangential(terms: Terms, vc: float, path_acc: float = 0.0, path_jerk: float 
     for j, k, k3, g in terms.jerk:
         if (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
             jerk = x
+    return acc, jerk
+
+
+#: Terms above which :func:`tangential_arrays` is faster than :func:`tangential` (a group of
+#: many short curves asks for its limits below several lower caps).
+ARRAY_TERMS = 64
+
+
+def tangential_arrays(terms: TermArrays, vc: float, path_acc: float = 0.0,
+                      path_jerk: float = 0.0) -> tuple[float, float]:
+    """:func:`tangential` over the terms as arrays: the same expressions, element by element
+    and in the same order, so the same numbers."""
+    vc2, vc3 = vc * vc, vc ** 3
+    acc = path_acc if path_acc > 0 else math.inf
+    a, k, g = terms.acc
+    if len(a) and (x := float(((a - vc2 * k) / g).min())) < acc:
+        acc = x
+    j, k3, k = terms.cross
+    if vc > 0 and len(j) and (x := float((0.5 * (j - vc3 * k3) / (3.0 * vc * k)).min())) < acc:
+        acc = x
+    jerk = path_jerk if path_jerk > 0 else math.inf
+    j, k, k3, g = terms.jerk
+    if len(j) and (x := float(((j - 3.0 * vc * acc * k - vc3 * k3) / g).min())) < jerk:
+        jerk = x
     return acc, jerk
 
 

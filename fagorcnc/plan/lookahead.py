@@ -54,7 +54,7 @@ def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
             f = x ** 3 + 2.0 * v0 * x - rhs
             step = f / (3.0 * x * x + 2.0 * v0)
             x -= step
-            if abs(step) <= 1e-15 * max(x, 1e-300):
+            if abs(step) <= 1e-15 * (x if x > 1e-300 else 1e-300):
                 break
         dv = x * x
     return v0 + dv * (1.0 - MARGIN)
@@ -77,9 +77,9 @@ def backward(spans, end_speed: float, known: list[float] | None = None) -> list[
         s = spans[i]
         if s.stop_after:
             v = 0.0
-        v = s.reach(min(v, s.vc))
-        if i > 0:
-            v = min(v, spans[i - 1].vc)
+        v = s.reach(v if v < s.vc else s.vc)
+        if i > 0 and spans[i - 1].vc < v:
+            v = spans[i - 1].vc
         if i < len(known) and v == known[i]:
             break
         start[i] = v

@@ -19,7 +19,7 @@ from itertools import accumulate, islice
 import numpy as np
 
 from ..machine import Machine, load_machine
-from .corners import SHAPE, LineCorner, included_angle, line_corners, make_blend, smooth
+from .corners import SHAPE, TANGENT_EPS, LineCorner, included_angle, line_corners, make_blend, smooth
 from .geometry import ArcPiece, LinePiece, Piece, blends, corner_deviations
 from .limits import AxisLimits
 from .lookahead import backward, distance
@@ -189,15 +189,20 @@ class Planner:
             prev.stop_after = True
             return None
         p, q = prev.piece, nxt.piece
-        t0, k0 = p.direction(p.length)
-        t1, k1 = q.direction(0.0)
-        if smooth(t0, k0, t1, k1):
-            return None
+        if p.curved or q.curved:
+            t0, k0 = p.direction(p.length)
+            t1, k1 = q.direction(0.0)
+            if smooth(t0, k0, t1, k1):
+                return None
+        else:   # two lines: no curvature on either side (the test of smooth(), with the direction lists)
+            t0, t1 = p.u, q.u
+            if math.dist(p.ul, q.ul) <= TANGENT_EPS:
+                return None
         angle = included_angle(t0, t1)
         if angle < MIN_CORNER_ANGLE:
             prev.stop_after = True   # a reversal cannot be rounded
             return None
-        feed = min(prev.feed, nxt.feed)
+        feed = prev.feed if prev.feed <= nxt.feed else nxt.feed
         tolerance: float | None = None
         speed: float | None = feed
         distances = None
@@ -216,20 +221,21 @@ class Planner:
             if made is not None:
                 return self._blend_span(prev, nxt, made, feed)
         else:   # G05 / G61 with #ROUNDPAR
-            kind, *params = dyn.roundpar
+            params = dyn.roundpar
+            kind = params[0]
             corner_measure = True
             if kind == 5:
                 prev.stop_after = True   # not modelled (INT115 was reported): a sharp corner
                 return None
             if kind == 1:
-                tolerance = params[0]
+                tolerance = params[1]
             elif kind == 2:
-                feed *= params[0] / 100.0
+                feed *= params[1] / 100.0
                 speed = feed
             elif kind == 3:
-                distances, speed = (params[0], params[1]), None
+                distances, speed = (params[1], params[2]), None
             elif kind == 4:
-                tolerance, speed = params[0], None
+                tolerance, speed = params[1], None
             if distances is None and isinstance(p, LinePiece) and isinstance(q, LinePiece):
                 shape = self._line_shape(prev, nxt)
         acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
@@ -294,15 +300,34 @@ class Planner:
         d1 = min(prev.orig_length / 2.0, p.length)
         cached = self._candidates.pop(id(nxt), None)
         if not _fits(cached, prev, d1):
-            self._candidates.clear()
-            self._batch(prev, nxt)
-            cached = self._candidates.pop(id(nxt))
+            if cached is not None and cached[0] is prev and _same_length(cached[2], d1):
+                # only prev's curvature differs (the spline before it was not taken): this corner
+                # alone is made again, and the candidates after it still hold (same end curvature)
+                cached = self._single(prev, nxt, d1, cached)
+            else:
+                self._candidates.clear()
+                self._batch(prev, nxt)
+                cached = self._candidates.pop(id(nxt))
         _, _, _, blend, d2, k5, dev = cached
         if not blend.valid or dev > 0.95 * tolerance:
             return None
         nxt.mid_k = k5
         self._spline_used = True
         return blend, d1, d2
+
+    def _single(self, prev: Span, nxt: Span, d1: float, cached: tuple) -> tuple:
+        """The spline candidate of the corner prev -> nxt made again from prev's curvature as it
+        now stands, with the end (d2, curvature) of the batched one."""
+        _, _, _, _, d2, k5, _ = cached
+        u0, u1 = prev.piece.u, nxt.piece.u
+        vertex = nxt.piece.start
+        zero = np.zeros_like(u0)
+        k0 = zero if prev.mid_k is None else prev.mid_k
+        p0, p5 = vertex - d1 * u0, vertex + d2 * u1
+        curves, samples = blends(p0[None], u0[None], k0[None], np.array([SPLINE_SHAPE * d1]), p5[None], u1[None],
+                                 (zero if k5 is None else k5)[None], np.array([SPLINE_SHAPE * d2]))
+        dev = float(corner_deviations(samples, p0[None], vertex[None], p5[None])[0]) if curves[0].valid else math.inf
+        return prev, prev.mid_k, d1, curves[0], d2, k5, dev
 
     def _batch(self, prev: Span, nxt: Span) -> None:
         """Spline candidates for the run of HSC lines starting at ``prev``, ``nxt`` and going on
@@ -439,7 +464,7 @@ class Planner:
             if prev is not None:
                 self._spline_used = False
                 blend = self._junction(prev, item)
-                if not self._spline_used:
+                if not self._spline_used and prev.mid_k is not None:
                     yield from self._lead(prev)
                 if prev.stop_after:
                     yield from self._emit(prev, pending, settle)
@@ -522,7 +547,9 @@ class Planner:
         for i in range(k):
             g = queue[i]
             nxt = 0.0 if g.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
-            v1 = min(nxt, g.reach(v))
+            v1 = g.reach(v)
+            if nxt < v1:
+                v1 = nxt
             duration, profile, v1 = self._time(g, v, v1, keep=self.keep or len(g.members) > 1)
             if len(g.members) == 1:
                 s = g.members[0]
@@ -581,18 +608,21 @@ def _short(span: Span) -> bool:
 
 def _joins(group: Group, span: Span) -> bool:
     """Whether ``span`` continues ``group`` as one motion: short spans with caps within 30 %."""
-    last = group.members[-1]
-    if last.stop_after or len(group.members) >= GROUP_MEMBERS or group.length + span.length > GROUP_LENGTH:
+    members = group.members
+    if members[-1].stop_after or len(members) >= GROUP_MEMBERS or group.length + span.length > GROUP_LENGTH:
         return False
-    if not (_short(span) and _short(group.members[0])):
+    if not (span.vc <= 1.3 * group.vc and _short(span) and _short(members[0])):
         return False
-    return span.vc <= 1.3 * group.vc and span.vc * 1.3 >= max([m.vc for m in group.members[-4:]])
+    return span.vc * 1.3 >= max([m.vc for m in members[-4:]])
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
     """Whether a batched spline candidate was made for this corner as it now stands."""
-    return (cached is not None and cached[0] is prev and cached[1] is prev.mid_k
-            and abs(cached[2] - d1) <= 1e-9 * max(d1, 1e-9))
+    return cached is not None and cached[0] is prev and cached[1] is prev.mid_k and _same_length(cached[2], d1)
+
+
+def _same_length(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(b, 1e-9)
 
 
 def _g05_line(span: Span) -> bool:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from .geometry import Piece
-from .limits import AxisLimits, Terms, axis_terms, curve_limits, line_limits, tangential
+from .limits import ARRAY_TERMS, AxisLimits, Terms, axis_terms, curve_limits, line_limits, tangential, tangential_arrays
 from .lookahead import reachable
 
 #: Lower caps tried on curves (fractions of the highest cap).
@@ -112,18 +112,24 @@ class Group:
         self._classify(first)
 
     def _classify(self, span: Span) -> None:
+        # plain comparisons, no min() calls: this runs for every span planned
         if span.piece.curved:
             self.curves.append(span)
         else:
-            self.line_acc = min(self.line_acc, span.acc)
-            self.line_jerk = min(self.line_jerk, span.jerk)
+            if span.acc < self.line_acc:
+                self.line_acc = span.acc
+            if span.jerk < self.line_jerk:
+                self.line_jerk = span.jerk
 
     def add(self, span: Span) -> None:
         self.members.append(span)
         self.length += span.length
-        self.vc = min(self.vc, span.vc)
-        self.acc = min(self.acc, span.acc)
-        self.jerk = min(self.jerk, span.jerk)
+        if span.vc < self.vc:
+            self.vc = span.vc
+        if span.acc < self.acc:
+            self.acc = span.acc
+        if span.jerk < self.jerk:
+            self.jerk = span.jerk
         self.stop_after = span.stop_after
         self._rungs = [(self.vc, self.acc, self.jerk)]
         self._terms = None
@@ -148,7 +154,8 @@ class Group:
         """Highest speed at the other end of the group from speed ``v`` at one end (either
         direction: the profiles are symmetric), within the cap."""
         if not self.curves:
-            return min(self.vc, reachable(v, self.length, self.acc, self.jerk))
+            reach = reachable(v, self.length, self.acc, self.jerk)
+            return reach if reach < self.vc else self.vc
         best = 0.0
         for c, a, j in self.rungs(v):
             if c < v or a <= 0 or j <= 0:
@@ -166,7 +173,10 @@ class Group:
         """Tangential acceleration and jerk below ``cap``: the limits of every curved member's
         axes together, and the lines' own."""
         if self._terms is None:
-            self._terms = Terms.joined(m.terms for m in self.curves)
+            terms = Terms.joined(m.terms for m in self.curves)
+            self._terms = terms.arrays() if terms.total() > ARRAY_TERMS else terms
         first = self.members[0]
-        return tangential(self._terms, cap, min(first.path_acc or math.inf, self.line_acc),
-                                min(first.path_jerk or math.inf, self.line_jerk))
+        path = (min(first.path_acc or math.inf, self.line_acc), min(first.path_jerk or math.inf, self.line_jerk))
+        if isinstance(self._terms, Terms):
+            return tangential(self._terms, cap, *path)
+        return tangential_arrays(self._terms, cap, *path)
