@@ -173,8 +173,11 @@ class Group:
         """Tangential acceleration and jerk below ``cap``: the limits of every curved member's
         axes together, and the lines' own."""
         if self._terms is None:
-            terms = Terms.joined(m.terms for m in self.curves)
-            self._terms = terms.arrays() if terms.total() > ARRAY_TERMS else terms
+            if len(self.curves) == 1:   # most groups with a curve: one corner curve alone
+                self._terms = self.curves[0].terms
+            else:
+                terms = Terms.joined(m.terms for m in self.curves)
+                self._terms = terms.arrays() if terms.total() > ARRAY_TERMS else terms
         first = self.members[0]
         path = (min(first.path_acc or math.inf, self.line_acc), min(first.path_jerk or math.inf, self.line_jerk))
         if isinstance(self._terms, Terms):
