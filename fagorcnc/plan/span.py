@@ -103,7 +103,7 @@ class Group:
         self.vc, self.acc, self.jerk = first.vc, first.acc, first.jerk
         self.stop_after = first.stop_after
         self.line, self.record = first.line, first.record
-        self._rungs = [(self.vc, self.acc, self.jerk)]
+        self._rungs: list | None = None   # made when the look-ahead asks (see rungs())
         self._terms = None
         # below a lower cap only the curves' limits change: a line's terms in the formulas of
         # :func:`~fagorcnc.plan.limits.tangential` reduce exactly to its own limits
@@ -131,7 +131,7 @@ class Group:
         if span.jerk < self.jerk:
             self.jerk = span.jerk
         self.stop_after = span.stop_after
-        self._rungs = [(self.vc, self.acc, self.jerk)]
+        self._rungs = None
         self._terms = None
         self._classify(span)
 
@@ -144,11 +144,16 @@ class Group:
         at least down to the speed ``v`` (below a lower cap a curve leaves more of the axes' budget
         for speed changes; a motion at ``v`` has no use for caps below it); lines: the cap alone.
         Made as they are needed: most junctions run close to the top cap."""
-        rungs = self._rungs
+        rungs = self._top()
         if self.curves:
             while len(rungs) <= len(LADDER) and (cap := self.vc * LADDER[len(rungs) - 1]) >= v:
                 rungs.append((cap, *self._tangential(cap)))
         return rungs
+
+    def _top(self) -> list[tuple[float, float, float]]:
+        if self._rungs is None:
+            self._rungs = [(self.vc, self.acc, self.jerk)]
+        return self._rungs
 
     def reach(self, v: float) -> float:
         """Highest speed at the other end of the group from speed ``v`` at one end (either
@@ -156,11 +161,27 @@ class Group:
         if not self.curves:
             reach = reachable(v, self.length, self.acc, self.jerk)
             return reach if reach < self.vc else self.vc
+        # down the ladder one cap at a time, each made only when reached: once a cap is reached
+        # within the length, no lower cap can do better
         best = 0.0
-        for c, a, j in self.rungs(v):
+        rungs = self._top()
+        i = 0
+        while True:
+            if i == len(rungs):
+                if i > len(LADDER) or (cap := self.vc * LADDER[i - 1]) < v:
+                    break
+                rungs.append((cap, *self._tangential(cap)))
+            c, a, j = rungs[i]
             if c < v or a <= 0 or j <= 0:
                 break
-            best = max(best, min(c, reachable(v, self.length, a, j)))
+            r = reachable(v, self.length, a, j)
+            if r >= c:
+                if c > best:
+                    best = c
+                break
+            if r > best:
+                best = r
+            i += 1
         return best if best > 0.0 else min(self.vc, v)
 
     def limits_at(self, vc: float) -> tuple[float, float]:
