@@ -106,6 +106,7 @@ class Planner:
         self._spline_used = False
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
         self._last_end: tuple = (None, None)    # the last record's end and its vector
+        self._origin = (0.0,) * len(self.axes)
 
     # ------------------------------------------------------------ records -> spans
     def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
@@ -127,7 +128,8 @@ class Planner:
         return lim
 
     def _vector(self, pos: dict) -> np.ndarray:
-        return np.array([pos.get(a, 0.0) for a in self.axes], dtype=float)
+        """A position in machine axis order (axes it does not name at 0)."""
+        return np.fromiter(map(pos.get, self.axes, self._origin), float, len(self.axes))
 
     def _span(self, rec) -> Span | None:
         # a block starts where the one before ended: its end vector is reused
