@@ -135,3 +135,26 @@ def test_side_change_where_the_offsets_meet_trims_both():
     moves, _ = path("G90 G00 X0 Y-10\nT1 D1 M6\nG01 G41 X0 Y0 F100\nX30\nG42 Y30\nG40 X40 Y40\nM30\n")
     points = [m[1:3] for m in moves]
     assert pt(33, 3) in points and pt(30, 3) not in points
+
+
+NECK = ("G00 X-20 Y5\nT1 D1 M6\nG41 G01 X-20 Y0 F500\nG01 X{w} Y0\nG01 X-4 Y-40\nG01 X4 Y-40\n"
+        "G01 X{e} Y0\nG01 X20 Y0\nG40 G01 X20 Y5\nM30\n")
+
+
+def test_a_gap_narrower_than_the_tool_two_blocks_apart_is_refused():
+    """A channel 8 mm wide at the bottom, 5.8 mm at its mouth, tool radius 3: the corner trims alone
+    see nothing wrong (the bottom is wide enough), but the tool cannot pass the mouth.  The left wall's
+    offset starts at its perpendicular point (-2.9, 0) + 3 n, n = (0.999622, -0.027488) the wall's left
+    normal: (0.098866, -0.082464); the right wall runs at 2.9 + 1.1 * (-y / 40) = 2.902268 there, so the
+    tool's edge crosses it by 3 - (2.902268 - 0.098866) * 0.999622 = 0.1977 mm (seed 002 L9455-L9459)."""
+    r = fagorcnc.simulate(NECK.format(w=-2.9, e=2.9), TOOL)
+    assert [d.code for d in r.errors] == ["INT086"]
+    err = r.errors[0]
+    assert err.line == 7 and "0.1977 mm" in err.message and "narrower than the tool diameter 6" in err.message
+
+
+def test_a_gap_wider_than_the_tool_is_compensated():
+    moves, r = path(NECK.format(w=-3.1, e=3.1))
+    assert not r.errors
+    # down the left wall 3 mm inside it, then along the bottom 3 mm above it
+    assert any(m[0] == "linear" and abs(m[2] - (-37.0)) < 0.2 for m in moves)

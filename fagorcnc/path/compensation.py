@@ -20,8 +20,11 @@ Moves off the plane (a Z plunge) between compensated moves are kept at the
 joint.  A change of side (G41 <-> G42) or of radius without G40 joins the two
 offsets at their intersection near the corner, else by a connecting segment
 (spec 04 §22).  Reported as errors rather than handled: an inside corner whose
-trim would reverse a move (a "step", which the CNC removes with a warning),
-arcs as activation or cancellation moves.
+trim would reverse a move (a "step", which the CNC removes with a warning), a
+move whose compensated path comes nearer than R to the profile two blocks back
+or whose profile the path two blocks back comes that near (a gap narrower than
+the tool, which the corner trims alone do not see; the CNC's look-ahead finds
+such problems, L9455-L9459), arcs as activation or cancellation moves.
 """
 
 from __future__ import annotations
@@ -206,6 +209,90 @@ def _check_step(prev: _Move, rec, a, o, x: Point, t1: Point) -> None:
                                 "(a step in the profile); fagorcnc does not remove such moves yet")
 
 
+#: Samples along an arc when measuring how close a compensated path comes to the profile.
+ARC_SAMPLES = 48
+#: A compensated path nearer to the profile than R minus this (mm) gouges it.
+GOUGE_TOLERANCE = 1e-6
+
+
+def _points_along(kind: str, p: Point, q: Point, centre: Point | None, ccw: bool) -> list[Point]:
+    """Points along a line (its two ends: distances to a segment or an arc are checked exactly
+    or densely on the other side) or along an arc (``ARC_SAMPLES`` and its ends)."""
+    if kind != "arc" or centre is None:
+        return [p, q]
+    from .arcs import sweep
+
+    a0 = math.atan2(p[1] - centre[1], p[0] - centre[0])
+    rho = math.dist(p, centre)
+    total = math.radians(sweep(p, q, centre, ccw))   # sweep() is in degrees
+    return [(centre[0] + rho * math.cos(a0 + total * i / ARC_SAMPLES),
+             centre[1] + rho * math.sin(a0 + total * i / ARC_SAMPLES)) for i in range(ARC_SAMPLES + 1)]
+
+
+def _to_segment(x: Point, p: Point, q: Point) -> float:
+    d = (q[0] - p[0], q[1] - p[1])
+    den = d[0] * d[0] + d[1] * d[1]
+    t = 0.0 if den == 0.0 else max(0.0, min(1.0, ((x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1]) / den))
+    return math.dist(x, (p[0] + t * d[0], p[1] + t * d[1]))
+
+
+def _to_arc(x: Point, p: Point, q: Point, centre: Point, ccw: bool) -> float:
+    """Distance from ``x`` to the arc from p to q about ``centre``."""
+    from .arcs import sweep
+
+    rho = math.dist(p, centre)
+    if math.dist(x, centre) > 1e-12 and abs(sweep(p, x, centre, ccw)) <= abs(sweep(p, q, centre, ccw)):
+        return abs(math.dist(x, centre) - rho)   # x lies within the arc's angular span
+    return min(math.dist(x, p), math.dist(x, q))
+
+
+def _segments_distance(p1: Point, q1: Point, p2: Point, q2: Point) -> float:
+    """Least distance between two segments (0 when they cross)."""
+    def side(a: Point, b: Point, c: Point) -> float:
+        return _cross((b[0] - a[0], b[1] - a[1]), (c[0] - a[0], c[1] - a[1]))
+    if side(p1, q1, p2) * side(p1, q1, q2) < 0 and side(p2, q2, p1) * side(p2, q2, q1) < 0:
+        return 0.0
+    return min(_to_segment(p1, p2, q2), _to_segment(q1, p2, q2), _to_segment(p2, p1, q1), _to_segment(q2, p1, q1))
+
+
+def _element(rec, a, o, start: Point | None = None, end: Point | None = None) -> tuple:
+    """A plane element (kind, p, q, centre, ccw): the programmed move, or its compensated
+    stretch from ``start`` to ``end``."""
+    p, q = _pts(rec, a, o)
+    centre = (rec.center[a], rec.center[o]) if rec.kind == "arc" else None
+    return (rec.kind, start or p, end or q, centre, rec.direction == "ccw" if centre else True)
+
+
+def _nearest(path: tuple, profile: tuple) -> float:
+    """Least distance from a compensated element to a programmed one (exact between two lines,
+    from dense samples with an arc)."""
+    kind, p, q, centre, ccw = path
+    pkind, pp, pq, pcentre, pccw = profile
+    if kind != "arc" and pkind != "arc":
+        return _segments_distance(p, q, pp, pq)
+    if pkind != "arc":
+        return min(_to_segment(x, pp, pq) for x in _points_along(kind, p, q, centre, ccw))
+    points = _points_along(kind, p, q, centre, ccw)
+    if kind != "arc":   # a line against an arc: the line's points densely
+        points = [(p[0] + (q[0] - p[0]) * i / ARC_SAMPLES, p[1] + (q[1] - p[1]) * i / ARC_SAMPLES)
+                  for i in range(ARC_SAMPLES + 1)]
+    return min(_to_arc(x, pp, pq, pcentre, pccw) for x in points)
+
+
+def _check_neck(rec, profile: tuple, path: tuple, history: list, r: float) -> None:
+    """A compensated move against the programmed move two blocks before it, and that one's
+    compensated path against this programmed move: nearer than R is a neck narrower than the
+    tool.  The corner trims only see neighbours; the CNC looks further ahead for such
+    problems (seed 002 L9455-L9459, spec 04 §16.2), and like a step it is refused here."""
+    if len(history) < 2:
+        return
+    back_profile, back_path = history[-2]
+    near = min(_nearest(path, back_profile), _nearest(back_path, profile))
+    if near < r - GOUGE_TOLERANCE:
+        raise CompensationError(rec, f"the tool does not fit here: its path comes {r - near:.4f} mm into the "
+                                f"profile two blocks back (a gap narrower than the tool diameter {2 * r:g})")
+
+
 def _record(rec, a, o, start: Point | None, end: Point | None):
     p, q = _pts(rec, a, o)
     ns, ne = start or p, end or q
@@ -251,6 +338,7 @@ def compensate(records: Iterable) -> Iterator:
     waiting = False                # activation without plane motion seen, waiting for the plane move
     held: list = []                # records after pending (off-plane moves, aux)
     comp = None
+    history: list = []             # (programmed, compensated) elements of the last two contour moves
 
     def flush_held(point: Point | None, a, o, first_from: Point | None = None):
         out = []
@@ -305,6 +393,7 @@ def compensate(records: Iterable) -> Iterator:
             activation = False
             comp = rc
             pending = _Move(rec, next_start)
+            history = []
             continue
         if waiting:
             if rc is None:   # G40 before any plane move: nothing was compensated
@@ -334,13 +423,18 @@ def compensate(records: Iterable) -> Iterator:
             continue
         inserted, next_start = _join(pending, rec, a, o, s, r, transition, start_mode, activation, cancel)
         feed = rec.feed if rec.kind != "rapid" else None
+        if not activation:   # a contour move: its path against the profile two blocks back
+            profile = _element(pending.rec, a, o)
+            path = _element(pending.rec, a, o, pending.start, pending.end)
+            _check_neck(pending.rec, profile, path, history, r)
+            history = [*history[-1:], (profile, path)]
         yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
         yield from flush_held(pending.end, a, o)
         yield from _inserted(pending.rec, a, o, inserted, feed)
         activation = False
         if cancel:
             yield _record(rec, a, o, next_start, None)
-            pending, comp = None, None
+            pending, comp, history = None, None, []
         else:
             pending = _Move(rec, next_start)
     if pending is not None:
