@@ -203,3 +203,110 @@ def test_a_rejected_hsc_spline_redoes_only_the_next_corner(monkeypatch):
     assert len(alone) == len(batched)
     for a, b in zip(alone, batched, strict=True):
         assert a[4] == b[4] and close(a[:4], b[:4])
+
+
+@pytest.mark.parametrize("spread", [0.002, 0.05, 0.6])
+def test_line_corner_bounds_cover_the_curves_own_samples(spread):
+    """The unit blends' bounds come from tabulated support functions of the curves turning by whole
+    0.25 degree steps: not below the bounds the curve itself gives at its 97 samples (with the same
+    margins) but for the interpolation between two steps (within 3e-3 of the largest axis, as with
+    the sampled table before; the margins of 2 to 10 % cover it), and above them by at most a
+    hundredth of the largest axis (directions in 1 degree)."""
+    u = unit_rows(np.random.default_rng(11), 60, spread)
+    for shape, a, b in zip(line_corners(u[:-1], u[1:]), u[:-1], u[1:], strict=True):
+        if shape is None:
+            continue
+        curve = BlendPiece(-a, a, np.zeros(3), SHAPE, b, b, np.zeros(3), SHAPE)
+        for got, own in ((shape.d1, curve.d1), (shape.d2, curve.d2), (shape.d3, curve.d3)):
+            assert np.all(got >= own - 3e-3 * own.max())
+            assert np.all(got <= own + 0.01 * own.max())
+
+
+def test_line_corner_sizes_in_a_batch_equal_one_by_one():
+    from fagorcnc.plan.corners import _line_corner, line_corner_arrays, line_corner_sizes
+
+    rng = np.random.default_rng(12)
+    u = unit_rows(rng, 30, 0.3)
+    ends = rng.uniform(-20.0, 20.0, (30, 3))
+    lim_p, lim_q = rng.uniform(0.01, 2.0, 30), rng.uniform(0.01, 2.0, 30)
+    unit = line_corner_arrays(u[:-1], u[1:])
+    for speed, tolerance, jerk in ((50.0, 0.01, 20000.0), (50.0, None, float("inf")), (None, 0.002, 9000.0),
+                                   (500.0, 1e-7, 20000.0)):
+        sizes = line_corner_sizes(unit, lim_p, lim_q, speed, tolerance, 800.0, jerk, corner=True)
+        for i, size in enumerate(sizes.tolist()):
+            p = LinePiece(ends[i] - 3.0 * u[i], ends[i])
+            q = LinePiece(ends[i], ends[i] + 3.0 * u[i + 1])
+            alone = _line_corner(p, q, lim_p[i], lim_q[i], tolerance, speed, 800.0, jerk, True, None)
+            assert close(size, 0.0 if alone is None else alone[1])   # the lines' directions to round-off
+
+
+def test_curve_limits_of_many_rows_equal_one_by_one():
+    from fagorcnc.plan.limits import curve_limits_rows
+
+    rng = np.random.default_rng(13)
+    for jerk in ((20000.0, 15000.0, 9000.0), (20000.0, float("inf"), 9000.0)):
+        lim = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), jerk)
+        d1, d2, d3 = (rng.uniform(0.0, 1.0, (200, 3)) * rng.integers(0, 2, (200, 3)) for _ in range(3))
+        d2, d3 = d2 * rng.choice([0.01, 1.0, 100.0], (200, 1)), d3 * rng.choice([0.01, 1.0, 1e4], (200, 1))
+        for path in ((0.0, 0.0), (500.0, 9000.0)):
+            rows = curve_limits_rows(d1, d2, d3, lim, 70.0, *path)
+            for i in range(200):
+                alone = curve_limits(d1[i].tolist(), d2[i].tolist(), d3[i].tolist(), lim, 70.0, *path)
+                np.testing.assert_allclose([r[i] for r in rows], alone, rtol=TOL, atol=0.0)
+
+
+def test_term_arrays_give_the_limits_of_the_joined_terms():
+    from fagorcnc.plan.limits import term_arrays
+
+    rng = np.random.default_rng(14)
+    for jerk in ((20000.0, 15000.0, 9000.0), (20000.0, float("inf"), 9000.0)):
+        lim = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), jerk)
+        d1, d2, d3 = (rng.uniform(0.0, 1.0, (30, 3)) * rng.integers(0, 2, (30, 3)) for _ in range(3))
+        d2, d3 = d2 * 5.0, d3 * 500.0
+        terms = Terms.joined(axis_terms(d1[i].tolist(), d2[i].tolist(), d3[i].tolist(), lim) for i in range(30))
+        arrays = term_arrays(d1, d2, d3, lim)
+        assert sum(len(col[0]) for col in arrays) == terms.total()
+        for vc in (0.0, 0.5, 3.0, 12.0, 40.0):
+            for path in ((0.0, 0.0), (500.0, 9000.0)):
+                assert tangential_arrays(arrays, vc, *path) == tangential(terms, vc, *path)
+
+
+def _g05_program(roundpar: str, feeds: bool = False) -> list[str]:
+    rows = []
+    for r in range(4):   # a 3D raster with a feed change in one row
+        xs = [i * 0.5 for i in range(60)]
+        for j, x in enumerate(xs[::-1] if r % 2 else xs):
+            f = f" F{2000 + 1000 * (j % 3)}" if feeds and r == 2 else ""
+            rows.append(f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}{f}")
+    return ["G90 G1 X0 Y0 Z0 F3000", roundpar, "G05", *rows, "G01 G108 X40 Y10", "G109 X45 Y10 F1000",
+            "X50 Y12 F4000", "G193 X55 Y15 F2000", "X60 Y15", "#HSC ON [CONTERROR 0.01]", "X61 Y16", "X62 Y16.5",
+            "#HSC OFF", "G05 X63 Y17.2", "X64 Y16", "M30"]
+
+
+@pytest.mark.parametrize(("roundpar", "feeds"), [("#ROUNDPAR [1, 0.01]", False), ("#ROUNDPAR [2, 40]", True),
+                                                 ("#ROUNDPAR [4, 0.002]", False), ("#ROUNDPAR [1, 0.05]", True)])
+def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, feeds):
+    """The G05 curves of a chain of lines made in one batch (sizes, curves, limits) give the plan
+    the corners made one by one give; and the batch is used for (nearly) every line corner."""
+    import fagorcnc
+    from fagorcnc.plan import Planner
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
+    used = []
+    original = Planner._line_blend
+
+    def counted(self, *args):
+        found = original(self, *args)
+        used.append(found is not None)
+        return found
+
+    monkeypatch.setattr(Planner, "_line_blend", counted)
+    batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
+    assert sum(used) >= 0.95 * len(used) > 200
+    monkeypatch.setattr(Planner, "_line_blend", lambda self, *args: None)
+    alone = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
+    assert len(alone) == len(batched)
+    for a, b in zip(alone, batched, strict=True):
+        assert a[4:] == b[4:] and close(a[:4], b[:4])

@@ -88,13 +88,16 @@ def _dynamic_scale(blend: BlendPiece, speed: float, acc: float, jerk: float) -> 
 
 
 #: Line-line corners: unit curves (size 1) in the corner's plane (x along the incoming line), one
-#: per 0.25 degree of turn k, filled in on first use: their tangents, curvatures and curvature
-#: derivatives at the 97 bound parameters (plane components x, y by 3 * 97 samples), their
-#: deviations from the corner point and from the path, and whether the curve is valid (1), has
-#: none (-1) or is not computed yet (0).
+#: per 0.25 degree of turn k, filled in on first use: the support functions of their tangents,
+#: curvatures and curvature derivatives at the 97 bound parameters (for each direction in the
+#: plane, every 1 degree round, the largest of the samples' components along it),
+#: their deviations from the corner point and from the path, and whether the curve is valid (1),
+#: has none (-1) or is not computed yet (0).
 _STEP = 0.25
 _TURNS = int(180 / _STEP) + 2
-_UNIT_V = np.zeros((_TURNS, 2, 3 * len(_BOUND_U)))
+_PHI = math.radians(1.0)
+_PHIS = 360
+_UNIT_H = np.zeros((_TURNS, 3, _PHIS + 2))
 _UNIT_DEV = np.zeros((_TURNS, 2))
 _UNIT_STATE = np.zeros(_TURNS, dtype=np.int8)
 
@@ -113,16 +116,46 @@ def _unit(k: int) -> None:
     on_out = pts - np.outer(np.clip(pts @ t1, 0.0, None), t1)   # ... and to the outgoing one
     dev_path = float(np.sqrt(np.minimum((on_in ** 2).sum(axis=1), (on_out ** 2).sum(axis=1))).max())
     dev_corner = float(np.sqrt((pts ** 2).sum(axis=1)).min())
-    _UNIT_V[k] = np.concatenate([t, kv, dk]).T
+    phi = np.arange(_PHIS + 2) * _PHI
+    along = np.stack([np.cos(phi), np.sin(phi)], axis=1)                 # (362, 2)
+    samples = np.stack([t, kv, dk])                                      # (3, 97, 2)
+    _UNIT_H[k] = (samples @ along.T).max(axis=1)                         # (3, 362)
     _UNIT_DEV[k] = dev_corner, dev_path
     _UNIT_STATE[k] = 1
 
 
+def _bounds(k: np.ndarray, w: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Upper bounds (n, D, 3) of the magnitude of the components along the plane vectors
+    ``(x, y)`` (n, D) of the samples (tangent, curvature and its derivative) of the unit curves
+    turning by ``k + w`` steps (rows): the larger of the support functions towards (x, y) and
+    away from it, interpolated between the turns k and k + 1 (the largest of a sum is at most the
+    sum of the largest).  Between two tabulated directions a and b, a unit vector is
+    e = (sin(b - phi) e_a + sin(phi - a) e_b) / sin(b - a), both weights >= 0, so the largest p.e is
+    at most the same combination of the support values at a and b: a bound, never below the
+    samples' largest component, above it by about 1 - cos(1/2 degree) in direction."""
+    tau = 2.0 * math.pi
+    phi = np.arctan2(y, x) % tau
+    phi = np.stack([phi, (phi + math.pi) % tau])                          # towards, away (2, n, D)
+    j = np.minimum((phi / _PHI).astype(np.intp), _PHIS - 1)
+    wa = np.sin((j + 1) * _PHI - phi)
+    wb = np.sin(phi - j * _PHI)
+    turns = np.stack([k, k + 1])[:, None, :, None, None]                 # (2, 1, n, 1, 1)
+    h = _UNIT_H[turns, :, j[None, ..., None] + np.arange(2)]             # (2, 2, n, D, 2, 3)
+    sup = wa[..., None] * h[..., 0, :]
+    sup += wb[..., None] * h[..., 1, :]
+    sup = np.maximum(sup[:, 0], sup[:, 1])                               # (2, n, D, 3)
+    scale = (np.hypot(x, y) / math.sin(_PHI))[..., None]
+    return ((1 - w)[:, None, None] * sup[0] + w[:, None, None] * sup[1]) * scale
+
+
 def _units(ks: np.ndarray) -> np.ndarray:
-    """Which of the unit curves ``ks`` are valid, filling in those not computed yet."""
-    for k in np.unique(ks[_UNIT_STATE[ks] == 0]).tolist():
-        _unit(k)
-    return _UNIT_STATE[ks] == 1
+    """Which of the unit curves ``ks`` and ``ks + 1`` are both valid, filling in those not computed yet."""
+    state = _UNIT_STATE[ks], _UNIT_STATE[ks + 1]
+    if not (state[0].all() and state[1].all()):
+        for k in np.unique(np.concatenate([ks[state[0] == 0], ks[state[1] == 0] + 1])).tolist():
+            _unit(k)
+        state = _UNIT_STATE[ks], _UNIT_STATE[ks + 1]
+    return (state[0] == 1) & (state[1] == 1)
 
 
 def _speed_squares() -> tuple[np.ndarray, np.ndarray]:
@@ -156,38 +189,73 @@ class LineCorner(NamedTuple):
     table: np.ndarray
 
 
-def line_corners(u_in: np.ndarray, u_out: np.ndarray) -> list[LineCorner | None]:
+class LineCorners(NamedTuple):
+    """The unit blends of many line-line corners as arrays (rows: corners), see :class:`LineCorner`;
+    ``valid`` is False where the table has no curve for the turn."""
+
+    valid: np.ndarray
+    d1: np.ndarray
+    d2: np.ndarray
+    d3: np.ndarray
+    k_norm: np.ndarray
+    dk_norm: np.ndarray
+    dev_corner: np.ndarray
+    dev_path: np.ndarray
+    controls: np.ndarray
+    table: np.ndarray
+
+
+def line_corner_arrays(u_in: np.ndarray, u_out: np.ndarray) -> LineCorners:
     """The unit blends of the corners turning from the unit directions ``u_in`` to ``u_out``
     (rows), all at once: the unit curves of the table interpolated by turning angle, turned into
-    each corner's plane, and each curve's arc length (None where the table has no valid curve)."""
-    n, dim = u_in.shape
+    each corner's plane, and each curve's arc length."""
     cos_turn = np.clip((u_in * u_out).sum(axis=1), -1.0, 1.0)
     f = np.degrees(np.arccos(cos_turn)) / _STEP
     k = f.astype(np.intp)
-    valid = (_units(k) & _units(k + 1)).tolist()
+    valid = _units(k)
     w = f - k
-    devs = ((1 - w[:, None]) * _UNIT_DEV[k] + w[:, None] * _UNIT_DEV[k + 1]).tolist()
-    # the samples interpolated in place: the fewer large temporaries, the fewer fresh pages
-    plane, upper = _UNIT_V[k], _UNIT_V[k + 1]
-    plane *= 1 - w[:, None, None]
-    upper *= w[:, None, None]
-    plane += upper
+    devs = (1 - w[:, None]) * _UNIT_DEV[k] + w[:, None] * _UNIT_DEV[k + 1]
     ey = u_out - cos_turn[:, None] * u_in
     norm = np.sqrt((ey * ey).sum(axis=1))[:, None]
     ey = np.divide(ey, norm, out=np.zeros_like(ey), where=norm > 0)
-    # plane -> machine axes, then the largest magnitude per axis over the samples (n, D, 3)
-    machine = np.stack([u_in, ey], axis=2) @ plane
-    bounds = np.abs(machine, out=machine).reshape(n, dim, 3, -1).max(axis=3)
+    # per machine axis i, the plane vector (u_in_i, ey_i) takes the plane's samples to axis i
+    bounds = _bounds(k, w, u_in, ey)
     d1 = np.minimum(bounds[:, :, 0] * 1.02, 1.0)
     d2 = bounds[:, :, 1] * 1.05
     d3 = bounds[:, :, 2] * 1.10
-    k_norm = np.sqrt((d2 * d2).sum(axis=1)).tolist()
-    dk_norm = np.sqrt((d3 * d3).sum(axis=1)).tolist()
+    k_norm = np.sqrt((d2 * d2).sum(axis=1))
+    dk_norm = np.sqrt((d3 * d3).sum(axis=1))
     controls = np.stack([-u_in, -(1 - SHAPE) * u_in, -(1 - 2 * SHAPE) * u_in,
                          (1 - 2 * SHAPE) * u_out, (1 - SHAPE) * u_out, u_out], axis=1)
     tables = speed_tables(5.0 * np.sqrt(_SPEED_SQUARES[0][:, None] + _SPEED_SQUARES[1][:, None] * cos_turn))
-    return [LineCorner(d1[i], d2[i], d3[i], k_norm[i], dk_norm[i], *devs[i], controls[i], tables[i])
-            if valid[i] else None for i in range(n)]
+    return LineCorners(valid, d1, d2, d3, k_norm, dk_norm, devs[:, 0], devs[:, 1], controls, tables)
+
+
+def line_corners(u_in: np.ndarray, u_out: np.ndarray) -> list[LineCorner | None]:
+    """:func:`line_corner_arrays` as one :class:`LineCorner` per corner (None where the table has
+    no valid curve)."""
+    c = line_corner_arrays(u_in, u_out)
+    k_norm, dk_norm = c.k_norm.tolist(), c.dk_norm.tolist()
+    devs = np.stack([c.dev_corner, c.dev_path], axis=1).tolist()
+    return [LineCorner(c.d1[i], c.d2[i], c.d3[i], k_norm[i], dk_norm[i], *devs[i], c.controls[i], c.table[i])
+            if ok else None for i, ok in enumerate(c.valid.tolist())]
+
+
+def line_corner_sizes(c: LineCorners, lim_p: np.ndarray, lim_q: np.ndarray, speed: float | None,
+                      tolerance: float | None, acc: float, jerk: float, corner: bool) -> np.ndarray:
+    """The sizes :func:`_line_corner` gives the corners ``c`` (rows), all at once and with the same
+    operations (so the same numbers); 0 where no curve fits."""
+    size = np.minimum(lim_p, lim_q)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if speed is not None:
+            need = c.k_norm * speed * speed / (CENTRIPETAL * acc)
+            if jerk != math.inf:
+                need = np.maximum(need, np.sqrt(c.dk_norm * speed ** 3 / (CURVE_JERK * jerk)))
+            size = np.minimum(size, np.maximum(need * 1.02, 1e-9))
+        if tolerance is not None:
+            dev = c.dev_corner if corner else c.dev_path
+            size = np.where(dev > 0, np.minimum(size, 0.95 * tolerance / dev), size)
+    return np.where(c.valid & (size > 1e-9), size, 0.0)
 
 
 def _line_corner(p: LinePiece, q: LinePiece, lim_p: float, lim_q: float, tolerance, speed, acc, jerk,

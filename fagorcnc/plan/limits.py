@@ -100,6 +100,20 @@ class TermArrays(NamedTuple):
     jerk: tuple
 
 
+def term_arrays(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray, lim: AxisLimits) -> TermArrays:
+    """The terms of :func:`axis_terms` of many pieces with the same limits (bounds as rows (n, D))
+    together, as arrays: the same terms, in another order (:func:`tangential_arrays` takes
+    their least, which the order does not change)."""
+    acc = np.broadcast_to(np.array(lim.acceleration), d1.shape)
+    jerk = np.broadcast_to(np.array(lim.jerk), d1.shape)
+    moves = d1 > 0
+    finite = np.isfinite(jerk)
+    both = moves & finite
+    cross = (d2 > 0) & finite
+    return TermArrays((acc[moves], d2[moves], d1[moves]), (jerk[cross], d3[cross], d2[cross]),
+                      (jerk[both], d2[both], d3[both], d1[both]))
+
+
 def axis_terms(d1, d2, d3, lim: AxisLimits) -> Terms:
     """The :class:`Terms` of a piece with derivative bounds ``d1, d2, d3``."""
     terms = Terms([], [], [])
@@ -201,4 +215,32 @@ def curve_limits(d1, d2, d3, lim: AxisLimits, feed: float, path_acc: float = 0.0
     for g, k, k3, _a, j in rows:
         if g > 0 and j != math.inf and (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
             jerk = x
+    return vc, acc, jerk
+
+
+def curve_limits_rows(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray, lim: AxisLimits, feed: float | np.ndarray,
+                      path_acc: float = 0.0, path_jerk: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`curve_limits` of many curves at once (bounds as rows (n, D), ``feed`` one or (n,)): the same
+    operations element by element, so the same numbers (``fmin``: a NaN term is skipped, as the
+    scalar comparison skips it)."""
+    inf = math.inf
+    vc = np.full(len(d1), feed, dtype=float)
+    acc = np.full(len(vc), path_acc if path_acc > 0 else inf)
+    jerk = np.full(len(vc), path_jerk if path_jerk > 0 else inf)
+    cols = [(d1[:, i], d2[:, i], d3[:, i], v, a, j)
+            for i, (v, a, j) in enumerate(zip(lim.velocity, lim.acceleration, lim.jerk, strict=True))]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for g, k, k3, v, a, j in cols:
+            np.fmin(vc, np.where(g > 0, v / g, inf), out=vc)
+            np.fmin(vc, np.where(k > 0, np.sqrt(CENTRIPETAL * a / k), inf), out=vc)
+            if j != inf:
+                np.fmin(vc, np.where(k3 > 0, (CURVE_JERK * j / k3) ** (1.0 / 3.0), inf), out=vc)
+        vc2, vc3 = vc * vc, vc ** 3
+        for g, k, k3, _v, a, j in cols:
+            np.fmin(acc, np.where(g > 0, (a - vc2 * k) / g, inf), out=acc)
+            if j != inf:
+                np.fmin(acc, np.where((vc > 0) & (k > 0), 0.5 * (j - vc3 * k3) / (3.0 * vc * k), inf), out=acc)
+        for g, k, k3, _v, _a, j in cols:
+            if j != inf:
+                np.fmin(jerk, np.where(g > 0, (j - 3.0 * vc * acc * k - vc3 * k3) / g, inf), out=jerk)
     return vc, acc, jerk

@@ -19,9 +19,9 @@ from itertools import accumulate, islice
 import numpy as np
 
 from ..machine import Machine, load_machine
-from .corners import SHAPE, TANGENT_EPS, LineCorner, included_angle, line_corners, make_blend, smooth
-from .geometry import ArcPiece, LinePiece, Piece, blends, corner_deviations
-from .limits import AxisLimits
+from .corners import SHAPE, TANGENT_EPS, included_angle, line_corner_arrays, line_corner_sizes, make_blend, smooth
+from .geometry import ArcPiece, BlendPiece, LinePiece, Piece, blends, corner_deviations
+from .limits import AxisLimits, curve_limits_rows
 from .lookahead import backward, distance
 from .profile import Profile, ProfileError, ProfileWindow, Solver
 from .span import Event, Group, Span
@@ -102,7 +102,7 @@ class Planner:
         self.solver = Solver()
         self._ahead: deque = deque()             # the corner stage's look-ahead
         self._candidates: dict[int, tuple] = {}  # batched HSC spline curves by the id of their second line
-        self._shapes: dict[tuple[int, int], tuple] = {}  # batched G05 line corners by their directions' ids
+        self._line_blends: dict[tuple[int, int], tuple] = {}  # batched G05 line corners by their directions' ids
         self._spline_used = False
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
         self._last_end: tuple = (None, None)    # the last record's end and its vector
@@ -209,7 +209,6 @@ class Planner:
         speed: float | None = feed
         distances = None
         corner_measure = False
-        shape = None
         if corner == "HSC":
             hsc = dyn.hsc
             if angle < hsc.corner:   # L13537: sharp edge
@@ -223,58 +222,100 @@ class Planner:
             if made is not None:
                 return self._blend_span(prev, nxt, made, feed)
         else:   # G05 / G61 with #ROUNDPAR
-            params = dyn.roundpar
-            kind = params[0]
             corner_measure = True
-            if kind == 5:
+            if dyn.roundpar[0] == 5:
                 prev.stop_after = True   # not modelled (INT115 was reported): a sharp corner
                 return None
-            if kind == 1:
-                tolerance = params[1]
-            elif kind == 2:
-                feed *= params[1] / 100.0
-                speed = feed
-            elif kind == 3:
-                distances, speed = (params[1], params[2]), None
-            elif kind == 4:
-                tolerance, speed = params[1], None
+            feed, speed, tolerance, distances = _roundpar(dyn.roundpar, feed)
             if distances is None and isinstance(p, LinePiece) and isinstance(q, LinePiece):
-                shape = self._line_shape(prev, nxt)
+                found = self._line_blend(prev, nxt, feed, speed, tolerance)
+                if found is not None:
+                    return self._blend_span(prev, nxt, found[0], feed, found[1])
         acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
         jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         # a span that starts on an HSC spline keeps room for its transition back to a straight line
         half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
         made = make_blend(p, q, half_p, nxt.orig_length / 2.0, tolerance=tolerance,
-                          speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure, shape=shape)
+                          speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure)
         if made is None:
             prev.stop_after = True
             return None
         return self._blend_span(prev, nxt, made, feed)
 
-    def _line_shape(self, prev: Span, nxt: Span) -> LineCorner | None:
-        """The unit blend of the G05 corner between the lines of ``prev`` and ``nxt``, computed in
-        one batch with those of the line corners after it in the look-ahead (:func:`line_corners`)."""
-        key = (id(prev.piece.u), id(nxt.piece.u))
-        found = self._shapes.get(key)
-        if found is None:
-            dirs = [prev.piece.u, nxt.piece.u]
-            for x in self._ahead:
-                if len(dirs) > LOOK or not (isinstance(x, Span) and _g05_line(x)):
-                    break
-                dirs.append(x.piece.u)
-            shapes = line_corners(np.array(dirs[:-1]), np.array(dirs[1:]))
-            # keyed by the identity of the two directions (a trimmed line keeps its direction
-            # array); the entries hold the arrays, so no other array can take their ids
-            self._shapes = {(id(a), id(b)): (a, b, shape)
-                            for a, b, shape in zip(dirs[:-1], dirs[1:], shapes, strict=True)}
-            found = self._shapes[key]
-        return found[2]
+    def _line_blend(self, prev: Span, nxt: Span, feed: float, speed: float | None,
+                    tolerance: float | None) -> tuple | None:
+        """The G05 corner curve between the lines of ``prev`` and ``nxt`` and its limits, computed in
+        one batch with those of the line corners after it in the look-ahead (see
+        :meth:`_line_blend_batch`); None where the batch has none for the corner as it now stands
+        (the corner is then made alone)."""
+        p, q = prev.piece, nxt.piece
+        inputs = (min(prev.orig_length / (4.0 if prev.mid_k is not None else 2.0), p.length),
+                  min(nxt.orig_length / 2.0, q.length), speed, tolerance,
+                  min(prev.lim.least_acceleration, nxt.lim.least_acceleration),
+                  min(prev.lim.least_jerk, nxt.lim.least_jerk), feed, prev.lim, prev.path_acc, prev.path_jerk)
+        key = (id(p.u), id(q.u))
+        for attempt in range(2):
+            found = self._line_blends.get(key)
+            if found is not None and found[2] is p.end and found[3] == inputs:
+                _, _, _, _, size, controls, d1, d2, d3, table, limits = found
+                if size == 0.0:
+                    return None
+                return (BlendPiece.from_controls(controls, d1, d2, d3, table), size, size), limits
+            if attempt == 0:
+                self._line_blend_batch(prev, nxt)
+        return None
 
-    def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float) -> Span | None:
-        """Trim both spans for the corner curve ``made`` = (piece, d1, d2); None (a stop) when
-        running through the curve would be slower than stopping."""
+    def _line_blend_batch(self, prev: Span, nxt: Span) -> None:
+        """The G05 curves of the line corners from prev -> nxt on through the look-ahead (lines of
+        the same feed and dynamics), all at once: unit blends (:func:`line_corner_arrays`), sizes
+        (:func:`line_corner_sizes`), curves and their limits (:func:`curve_limits_rows`), each with
+        what :meth:`_line_blend` asks of its corner.  A line after this corner still has its full
+        length then: the corner before it takes at most half of it, so the most the next corner
+        may take is half of it too."""
+        dyn, lim, feed = prev.dyn, prev.lim, prev.feed
+        chain = [prev, nxt]
+        if nxt.dyn is dyn and nxt.lim is lim and nxt.feed == feed:
+            for x in self._ahead:
+                if len(chain) > LOOK or not (isinstance(x, Span) and x.dyn is dyn and x.lim is lim and x.feed == feed
+                                             and _g05_line(x)):
+                    break
+                chain.append(x)
+        f = prev.feed if prev.feed <= nxt.feed else nxt.feed
+        f, speed, tolerance, _ = _roundpar(dyn.roundpar, f)
+        acc = min(lim.least_acceleration, nxt.lim.least_acceleration)
+        jerk = min(lim.least_jerk, nxt.lim.least_jerk)
+        halves = [s.orig_length / 2.0 for s in chain]
+        lim_p = [min(prev.orig_length / (4.0 if prev.mid_k is not None else 2.0), prev.piece.length), *halves[1:-1]]
+        lim_q = [h if h <= s.piece.length else s.piece.length for h, s in zip(halves[1:], chain[1:], strict=True)]
+        dirs = np.array([s.piece.u for s in chain])
+        unit = line_corner_arrays(dirs[:-1], dirs[1:])
+        size = line_corner_sizes(unit, np.array(lim_p), np.array(lim_q), speed, tolerance, acc, jerk, corner=True)
+        ends = [s.piece.end for s in chain[:-1]]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            controls = np.array(ends)[:, None, :] + size[:, None, None] * unit.controls
+            d2 = unit.d2 / size[:, None]
+            d3 = unit.d3 / (size * size)[:, None]
+            tables = size[:, None] * unit.table
+        limits = zip(*(x.tolist() for x in curve_limits_rows(unit.d1, d2, d3, lim, f, prev.path_acc, prev.path_jerk)),
+                     strict=True)
+        rest = (speed, tolerance, acc, jerk, f, lim, prev.path_acc, prev.path_jerk)
+        # keyed by the identity of the two directions (a trimmed line keeps its direction array);
+        # the entries hold the arrays, so no other array can take their ids
+        self._line_blends = {
+            (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, *rest), sz, controls[i], unit.d1[i],
+                                             d2[i], d3[i], tables[i], lm)
+            for i, (a, b, end, lp, lq, sz, lm) in enumerate(zip(chain, chain[1:], ends, lim_p, lim_q, size.tolist(),
+                                                                  limits, strict=False))}
+
+    def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None) -> Span | None:
+        """Trim both spans for the corner curve ``made`` = (piece, d1, d2) (with its ``limits`` when
+        already known); None (a stop) when running through the curve would be slower than stopping."""
         blend, d1, d2 = made
-        span = Span(blend, prev.record, feed, prev.lim, False, prev.dyn, prev.path_acc, prev.path_jerk, blend=True)
+        if limits is None:
+            span = Span(blend, prev.record, feed, prev.lim, False, prev.dyn, prev.path_acc, prev.path_jerk, blend=True)
+        else:
+            span = Span.with_limits(blend, prev.record, feed, prev.lim, prev.dyn, prev.path_acc, prev.path_jerk,
+                                    *limits)
         if _crawls(span):
             prev.stop_after = True   # stopping at the corner is faster than creeping round it
             nxt.mid_k = None
@@ -616,6 +657,23 @@ def _joins(group: Group, span: Span) -> bool:
     if not (span.vc <= 1.3 * group.vc and _short(span) and _short(members[0])):
         return False
     return span.vc * 1.3 >= max([m.vc for m in members[-4:]])
+
+
+def _roundpar(params: tuple, feed: float) -> tuple[float, float | None, float | None, tuple | None]:
+    """``(feed, speed, tolerance, distances)`` of a G05 corner under #ROUNDPAR ``params`` (seed 002
+    L8096-L8133): type 1 keeps F within the deviation e, type 2 runs at f % of F, type 3 takes
+    the distances a, b, type 4 keeps the deviation e and lowers F as needed."""
+    kind = params[0]
+    if kind == 1:
+        return feed, feed, params[1], None
+    if kind == 2:
+        feed *= params[1] / 100.0
+        return feed, feed, None, None
+    if kind == 3:
+        return feed, None, None, (params[1], params[2])
+    if kind == 4:
+        return feed, None, params[1], None
+    return feed, feed, None, None
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:

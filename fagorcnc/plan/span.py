@@ -5,10 +5,25 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .geometry import Piece
-from .limits import ARRAY_TERMS, AxisLimits, Terms, axis_terms, curve_limits, line_limits, tangential, tangential_arrays
+from .limits import (
+    ARRAY_TERMS,
+    AxisLimits,
+    Terms,
+    axis_terms,
+    curve_limits,
+    line_limits,
+    tangential,
+    tangential_arrays,
+    term_arrays,
+)
 from .lookahead import reachable
 
+#: Curves in a group from which their limits are taken from their bounds as arrays at once
+#: (:func:`~fagorcnc.plan.limits.term_arrays`) rather than from each curve's terms.
+ARRAY_CURVES = 4
 #: Lower caps tried on curves (fractions of the highest cap).
 LADDER = (0.85, 0.7, 0.55, 0.4, 0.25, 0.12, 0.05)
 
@@ -37,6 +52,20 @@ class Span:
         self.stop_after = False
         self.mid_k = None   # HSC spline: curvature the path has where this span now starts
         self.refresh()
+
+    @classmethod
+    def with_limits(cls, piece: Piece, record, feed: float, lim: AxisLimits, dyn, path_acc: float,
+                    path_jerk: float, vc: float, acc: float, jerk: float) -> Span:
+        """A corner curve's span whose limits ``vc, acc, jerk`` were already computed (with those of
+        other curves, :func:`~fagorcnc.plan.limits.curve_limits_rows`)."""
+        out = cls.__new__(cls)
+        out.piece, out.record, out.line = piece, record, record.src.line
+        out.feed, out.lim, out.rapid, out.dyn = feed, lim, False, dyn
+        out.path_acc, out.path_jerk, out.blend = path_acc, path_jerk, True
+        out.orig_length = out.length = piece.length
+        out.stop_after, out.mid_k, out._terms = False, None, None
+        out.vc, out.acc, out.jerk = vc, acc, jerk
+        return out
 
     def refresh(self) -> None:
         """Recompute the limits from the (possibly trimmed) piece."""
@@ -194,10 +223,15 @@ class Group:
         """Tangential acceleration and jerk below ``cap``: the limits of every curved member's
         axes together, and the lines' own."""
         if self._terms is None:
-            if len(self.curves) == 1:   # most groups with a curve: one corner curve alone
-                self._terms = self.curves[0].terms
+            curves = self.curves
+            if len(curves) == 1:   # most groups with a curve: one corner curve alone
+                self._terms = curves[0].terms
+            elif len(curves) >= ARRAY_CURVES and all(m.lim is curves[0].lim for m in curves):
+                pieces = [m.piece for m in curves]
+                self._terms = term_arrays(np.array([p.d1 for p in pieces]), np.array([p.d2 for p in pieces]),
+                                          np.array([p.d3 for p in pieces]), curves[0].lim)
             else:
-                terms = Terms.joined(m.terms for m in self.curves)
+                terms = Terms.joined(m.terms for m in curves)
                 self._terms = terms.arrays() if terms.total() > ARRAY_TERMS else terms
         first = self.members[0]
         path = (min(first.path_acc or math.inf, self.line_acc), min(first.path_jerk or math.inf, self.line_jerk))
