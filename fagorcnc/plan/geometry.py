@@ -73,7 +73,7 @@ class Piece(ABC):
 class LinePiece(Piece):
     """A straight segment."""
 
-    __slots__ = ("u", "ul")
+    __slots__ = ("length", "u", "ul")
 
     def __init__(self, start: np.ndarray, end: np.ndarray) -> None:
         self.start, self.end = start, end
@@ -138,7 +138,7 @@ class ArcPiece(Piece):
     ``theta = theta0 + w s``, radius ``rho = r0 + dr s``, other axes linear.
     """
 
-    __slots__ = ("center", "dr", "ia", "io", "lin", "r0", "theta0", "w")
+    __slots__ = ("center", "dr", "ia", "io", "length", "lin", "r0", "theta0", "w")
 
     curved = True
 
@@ -264,6 +264,17 @@ class BlendPiece(Piece):
             out._length = float(table[-1])
         return out
 
+    @classmethod
+    def made(cls, controls: np.ndarray, start: np.ndarray, end: np.ndarray, d1: np.ndarray, d2: np.ndarray,
+             d3: np.ndarray, table: np.ndarray, length: float) -> BlendPiece:
+        """:meth:`from_controls` with everything already computed (rows of a batch of curves made at
+        once, :func:`blends`): its end points and length too."""
+        out = cls.__new__(cls)
+        out.controls, out.start, out.end, out.d1, out.d2, out.d3 = controls, start, end, d1, d2, d3
+        out.table_s, out.table_u, out._length = table, _TABLE_NODES, length
+        out._coef = out.samples = None
+        return out
+
     def _d(self, u: np.ndarray, order: int) -> np.ndarray:
         """``order``-th derivative of B at the parameters u, shape (n, D)."""
         c = self.coef[order]
@@ -362,13 +373,14 @@ def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.einsum("id...,id...->i...", x, y)[:, None]
 
 
-def _frames(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray):
+def _frames(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray, square: np.ndarray | None = None):
     """Unit tangent, curvature vector and its arc-length derivative from the first three
     derivatives of B (vectors along axis 1).  With s = |B'|, a = B'.B'', c = B'.B''' and
     e = B''.B'':  t = B'/s,  k = (B'' - (a/s²) B')/s²  and
     dk/ds = (B''' - 3 (a/s²) B'' + (4 (a/s²)² - (c + e)/s²) B')/s³,
-    written with those dot products so that only a few passes run over the full arrays."""
-    inv2 = 1.0 / _dot(b1, b1)
+    written with those dot products so that only a few passes run over the full arrays.
+    ``square``: ``B'.B'`` when already computed."""
+    inv2 = 1.0 / (_dot(b1, b1) if square is None else square)
     inv1 = np.sqrt(inv2)
     inv3 = inv2 * inv1
     ai = _dot(b1, b2) * inv2
@@ -387,10 +399,11 @@ def _curve_bounds(controls: np.ndarray):
     b = _apply(_BOUND_B, controls)
     q, b1, b2, b3 = (b[r * m:(r + 1) * m] for r in range(4))
     q = q + controls[:, 0].T
-    sig = np.sqrt(_dot(b1, b1))
+    square = _dot(b1, b1)
+    sig = np.sqrt(square)
     degenerate = sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]
     with np.errstate(all="ignore"):   # a degenerate curve divides by zero; its bounds are set below
-        t, k, dk = _frames(b1, b2, b3)
+        t, k, dk = _frames(b1, b2, b3, square)
     d1 = np.minimum(np.abs(t, out=t).max(axis=0).T * 1.02, 1.0)
     d2 = np.abs(k, out=k).max(axis=0).T * 1.05
     d3 = np.abs(dk, out=dk).max(axis=0).T * 1.10
@@ -421,17 +434,22 @@ def blends(p0: np.ndarray, t0: np.ndarray, k0: np.ndarray, a: np.ndarray, p5: np
     controls = _controls(p0, t0, k0, a[:, None], p5, t5, k5, b[:, None])
     samples, d1, d2, d3, _ = _curve_bounds(controls)
     tables = arc_tables(controls)
-    return [BlendPiece.from_controls(controls[i], d1[i], d2[i], d3[i], tables[i]) for i in range(len(a))], samples
+    return [BlendPiece.made(*row) for row in zip(controls, controls[:, 0], controls[:, -1], d1, d2, d3, tables,
+                                                 tables[:, -1].tolist(), strict=True)], samples
 
 
 def corner_deviations(samples: np.ndarray, start: np.ndarray, vertex: np.ndarray, end: np.ndarray) -> np.ndarray:
     """Largest distance from the points ``samples`` (m, D, n) of each of n curves to the two segments
     ``start``-``vertex`` and ``vertex``-``end`` (rows of (n, D)) it replaces."""
     rel = samples - vertex.T
+    rr = np.einsum("idn,idn->in", rel, rel)
 
     def to_segment(w):   # squared distances (m, n) to the segments from the vertex to the vertex + w (D, n)
-        share = np.einsum("idn,dn->in", rel, w) / np.maximum(np.einsum("dn,dn->n", w, w), 1e-300)
-        gap = rel - np.minimum(np.maximum(share, 0.0), 1.0)[:, None] * w
-        return np.einsum("idn,idn->in", gap, gap)
+        # |rel - s w|² = |rel|² - 2 s rel.w + s² |w|², s the clipped share: passes over (m, n) only
+        ww = np.einsum("dn,dn->n", w, w)
+        rw = np.einsum("idn,dn->in", rel, w)
+        share = np.minimum(np.maximum(rw / np.maximum(ww, 1e-300), 0.0), 1.0)
+        return rr - share * (2.0 * rw - share * ww)
 
-    return np.sqrt(np.minimum(to_segment((start - vertex).T), to_segment((end - vertex).T)).max(axis=0))
+    gap = np.minimum(to_segment((start - vertex).T), to_segment((end - vertex).T))
+    return np.sqrt(np.maximum(gap, 0.0).max(axis=0))
