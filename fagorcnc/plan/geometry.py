@@ -96,11 +96,14 @@ class LinePiece(Piece):
     def direction(self, s):
         return self.u, self.d2
 
-    def sub(self, s0: float, s1: float) -> LinePiece:
+    def sub(self, s0: float, s1: float, start: np.ndarray | None = None) -> LinePiece:
         # the same direction and derivative bounds: only the ends move (no norm, no division), and
-        # an end that stays keeps its point
+        # an end that stays keeps its point; ``start``: the point at s0 when already computed
         out = LinePiece.__new__(LinePiece)
-        out.start = self.start if s0 == 0.0 else self.start + s0 * self.u
+        if start is not None:
+            out.start = start
+        else:
+            out.start = self.start if s0 == 0.0 else self.start + s0 * self.u
         out.end = self.end if s1 == self.length else self.start + s1 * self.u
         out.length = s1 - s0
         out.u, out.ul, out.d1, out.d2, out.d3 = self.u, self.ul, self.d1, self.d2, self.d3

@@ -11,6 +11,7 @@ without waiting (L5088) and D only selects an offset: they do not stop it.
 from __future__ import annotations
 
 import math
+import operator
 from collections import deque
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
@@ -99,6 +100,7 @@ class Planner:
         self.config = m.planner
         self.window = max(16, m.planner.lookahead)
         self._limits: dict = {}
+        self._last_limits: tuple = (None, None, None)   # the last (dynamics, rapid, limits) asked
         self.solver = Solver()
         self._ahead: deque = deque()             # the corner stage's look-ahead
         self._candidates: dict[int, tuple] = {}  # batched HSC spline curves by the id of their second line
@@ -110,6 +112,9 @@ class Planner:
 
     # ------------------------------------------------------------ records -> spans
     def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
+        last = self._last_limits
+        if dyn is last[0] and rapid is last[1]:   # the blocks of a run share their dynamics object
+            return last[2]
         key = (dyn, rapid)
         lim = self._limits.get(key)
         if lim is None:
@@ -125,6 +130,7 @@ class Planner:
                 acc.append(ax.max_acceleration * fa)
                 jerk.append(math.inf if (not self.jerk or linear_slope) else ax.max_jerk * fj)
             lim = self._limits[key] = AxisLimits(tuple(vel), tuple(acc), tuple(jerk))
+        self._last_limits = (dyn, rapid, lim)
         return lim
 
     def _vector(self, pos: dict) -> np.ndarray:
@@ -196,11 +202,14 @@ class Planner:
             t1, k1 = q.direction(0.0)
             if smooth(t0, k0, t1, k1):
                 return None
-        else:   # two lines: no curvature on either side (the test of smooth(), with the direction lists)
-            t0, t1 = p.u, q.u
-            if math.dist(p.ul, q.ul) <= TANGENT_EPS:
+            angle = included_angle(t0, t1)
+        else:   # two lines: no curvature on either side (the tests of smooth() and included_angle()
+            # on the direction lists)
+            pu, qu = p.ul, q.ul
+            if math.dist(pu, qu) <= TANGENT_EPS:
                 return None
-        angle = included_angle(t0, t1)
+            c = sum(map(operator.mul, pu, qu))
+            angle = 180.0 - math.degrees(math.acos(-1.0 if c < -1.0 else 1.0 if c > 1.0 else c))
         if angle < MIN_CORNER_ANGLE:
             prev.stop_after = True   # a reversal cannot be rounded
             return None
@@ -230,7 +239,7 @@ class Planner:
             if distances is None and isinstance(p, LinePiece) and isinstance(q, LinePiece):
                 found = self._line_blend(prev, nxt, feed, speed, tolerance)
                 if found is not None:
-                    return self._blend_span(prev, nxt, found[0], feed, found[1])
+                    return self._blend_span(prev, nxt, found[0], feed, found[1], found[2])
         acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
         jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         # a span that starts on an HSC spline keeps room for its transition back to a straight line
@@ -249,18 +258,21 @@ class Planner:
         :meth:`_line_blend_batch`); None where the batch has none for the corner as it now stands
         (the corner is then made alone)."""
         p, q = prev.piece, nxt.piece
-        inputs = (min(prev.orig_length / (4.0 if prev.mid_k is not None else 2.0), p.length),
-                  min(nxt.orig_length / 2.0, q.length), speed, tolerance,
-                  min(prev.lim.least_acceleration, nxt.lim.least_acceleration),
-                  min(prev.lim.least_jerk, nxt.lim.least_jerk), feed, prev.lim, prev.path_acc, prev.path_jerk)
+        lp, lq = prev.lim, nxt.lim
+        half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
+        half_q = nxt.orig_length / 2.0
+        inputs = (half_p if half_p <= p.length else p.length, half_q if half_q <= q.length else q.length, speed,
+                  tolerance, lp.least_acceleration if lp.least_acceleration <= lq.least_acceleration
+                  else lq.least_acceleration, lp.least_jerk if lp.least_jerk <= lq.least_jerk else lq.least_jerk,
+                  feed, lp, prev.path_acc, prev.path_jerk)
         key = (id(p.u), id(q.u))
         for attempt in range(2):
             found = self._line_blends.get(key)
             if found is not None and found[2] is p.end and found[3] == inputs:
-                _, _, _, _, size, controls, d1, d2, d3, table, limits = found
+                _, _, _, _, size, controls, d1, d2, d3, table, limits, start = found
                 if size == 0.0:
                     return None
-                return (BlendPiece.from_controls(controls, d1, d2, d3, table), size, size), limits
+                return (BlendPiece.from_controls(controls, d1, d2, d3, table), size, size), limits, start
             if attempt == 0:
                 self._line_blend_batch(prev, nxt)
         return None
@@ -291,11 +303,13 @@ class Planner:
         unit = line_corner_arrays(dirs[:-1], dirs[1:])
         size = line_corner_sizes(unit, np.array(lim_p), np.array(lim_q), speed, tolerance, acc, jerk, corner=True)
         ends = [s.piece.end for s in chain[:-1]]
+        vertices = np.array(ends)
         with np.errstate(divide="ignore", invalid="ignore"):
-            controls = np.array(ends)[:, None, :] + size[:, None, None] * unit.controls
+            controls = vertices[:, None, :] + size[:, None, None] * unit.controls
             d2 = unit.d2 / size[:, None]
             d3 = unit.d3 / (size * size)[:, None]
             tables = size[:, None] * unit.table
+            starts = vertices + size[:, None] * dirs[1:]   # where each next line starts once trimmed
         limits = zip(*(x.tolist() for x in curve_limits_rows(unit.d1, d2, d3, lim, f, prev.path_acc, prev.path_jerk)),
                      strict=True)
         rest = (speed, tolerance, acc, jerk, f, lim, prev.path_acc, prev.path_jerk)
@@ -303,13 +317,16 @@ class Planner:
         # the entries hold the arrays, so no other array can take their ids
         self._line_blends = {
             (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, *rest), sz, controls[i], unit.d1[i],
-                                             d2[i], d3[i], tables[i], lm)
+                                             d2[i], d3[i], tables[i], lm,
+                                             starts[i] if b.piece.start is end else None)
             for i, (a, b, end, lp, lq, sz, lm) in enumerate(zip(chain, chain[1:], ends, lim_p, lim_q, size.tolist(),
                                                                   limits, strict=False))}
 
-    def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None) -> Span | None:
-        """Trim both spans for the corner curve ``made`` = (piece, d1, d2) (with its ``limits`` when
-        already known); None (a stop) when running through the curve would be slower than stopping."""
+    def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
+                    start: np.ndarray | None = None) -> Span | None:
+        """Trim both spans for the corner curve ``made`` = (piece, d1, d2) (with its ``limits`` and the
+        point where ``nxt`` then starts when already known); None (a stop) when running through the
+        curve would be slower than stopping."""
         blend, d1, d2 = made
         if limits is None:
             span = Span(blend, prev.record, feed, prev.lim, False, prev.dyn, prev.path_acc, prev.path_jerk, blend=True)
@@ -321,7 +338,7 @@ class Planner:
             nxt.mid_k = None
             self._spline_used = False
             return None
-        nxt.trim(d2, nxt.piece.length)
+        nxt.trim(d2, nxt.piece.length, start)
         keep = prev.piece.length - d1
         if keep > MIN_LENGTH:
             prev.trim(0.0, keep)
@@ -492,7 +509,9 @@ class Planner:
         ahead = self._ahead = deque(islice(source, LOOK))
         while ahead:
             item = ahead.popleft()
-            ahead.extend(islice(source, 1))   # kept full: the batches of corner curves then span all of it
+            following = next(source, None)     # kept full: the batches of corner curves then span all of it
+            if following is not None:
+                ahead.append(following)
             if isinstance(item, Event):
                 if item.kind == "aux" and item.record.function in NO_SYNC and prev is not None:
                     pending.append(item)
@@ -511,6 +530,12 @@ class Planner:
                     yield from self._lead(prev)
                 if prev.stop_after:
                     yield from self._emit(prev, pending, settle)
+                elif not (_adapts(prev) or _adapts(item)):   # no feed adaptation: the usual case
+                    if prev.piece is not None:
+                        yield prev
+                    yield from pending
+                    if blend is not None:
+                        yield blend
                 else:
                     before, head, item = self._adapt(prev, item)
                     for span in before:

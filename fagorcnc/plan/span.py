@@ -88,10 +88,11 @@ class Span:
             self._terms = axis_terms(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim)
         return self._terms
 
-    def trim(self, s0: float, s1: float) -> None:
-        """Keep the stretch ``[s0, s1]`` of the piece.  A line's limits depend on its direction
-        alone, so a trimmed line only changes its length."""
-        self.piece = self.piece.sub(s0, s1)
+    def trim(self, s0: float, s1: float, start=None) -> None:
+        """Keep the stretch ``[s0, s1]`` of the piece (a line: ``start`` its point at s0 when already
+        known).  A line's limits depend on its direction alone, so a trimmed line only changes its
+        length."""
+        self.piece = self.piece.sub(s0, s1) if start is None else self.piece.sub(s0, s1, start)
         if self.piece.curved:
             self.refresh()
         else:
