@@ -221,26 +221,21 @@ def curve_limits(d1, d2, d3, lim: AxisLimits, feed: float, path_acc: float = 0.0
 def curve_limits_rows(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray, lim: AxisLimits, feed: float | np.ndarray,
                       path_acc: float = 0.0, path_jerk: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`curve_limits` of many curves at once (bounds as rows (n, D), ``feed`` one or (n,)): the same
-    operations element by element, so the same numbers (``fmin``: a NaN term is skipped, as the
-    scalar comparison skips it)."""
+    operations element by element, so the same numbers.  A term the scalar form skips (an axis
+    that does not move, has no curvature or no jerk limit) is infinite here, which no least
+    changes; ``fmin`` skips a NaN as the scalar comparison does."""
     inf = math.inf
-    vc = np.full(len(d1), feed, dtype=float)
-    acc = np.full(len(vc), path_acc if path_acc > 0 else inf)
-    jerk = np.full(len(vc), path_jerk if path_jerk > 0 else inf)
-    cols = [(d1[:, i], d2[:, i], d3[:, i], v, a, j)
-            for i, (v, a, j) in enumerate(zip(lim.velocity, lim.acceleration, lim.jerk, strict=True))]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for g, k, k3, v, a, j in cols:
-            np.fmin(vc, np.where(g > 0, v / g, inf), out=vc)
-            np.fmin(vc, np.where(k > 0, np.sqrt(CENTRIPETAL * a / k), inf), out=vc)
-            if j != inf:
-                np.fmin(vc, np.where(k3 > 0, (CURVE_JERK * j / k3) ** (1.0 / 3.0), inf), out=vc)
-        vc2, vc3 = vc * vc, vc ** 3
-        for g, k, k3, _v, a, j in cols:
-            np.fmin(acc, np.where(g > 0, (a - vc2 * k) / g, inf), out=acc)
-            if j != inf:
-                np.fmin(acc, np.where((vc > 0) & (k > 0), 0.5 * (j - vc3 * k3) / (3.0 * vc * k), inf), out=acc)
-        for g, k, k3, _v, _a, j in cols:
-            if j != inf:
-                np.fmin(jerk, np.where(g > 0, (j - 3.0 * vc * acc * k - vc3 * k3) / g, inf), out=jerk)
+    vel, acc_lim, jerk_lim = np.array(lim.velocity), np.array(lim.acceleration), np.array(lim.jerk)
+    finite = np.isfinite(jerk_lim)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        caps = np.fmin(np.where(d1 > 0, vel / d1, inf), np.where(d2 > 0, np.sqrt(CENTRIPETAL * acc_lim / d2), inf))
+        caps = np.fmin(caps, np.where((d3 > 0) & finite, (CURVE_JERK * jerk_lim / d3) ** (1.0 / 3.0), inf))
+        vc = np.fmin(np.fmin.reduce(caps, axis=1), feed)
+        vc2, vc3 = (vc * vc)[:, None], (vc ** 3)[:, None]
+        col = vc[:, None]
+        terms = np.fmin(np.where(d1 > 0, (acc_lim - vc2 * d2) / d1, inf),
+                        np.where((col > 0) & (d2 > 0) & finite, 0.5 * (jerk_lim - vc3 * d3) / (3.0 * col * d2), inf))
+        acc = np.fmin(np.fmin.reduce(terms, axis=1), path_acc if path_acc > 0 else inf)
+        terms = np.where((d1 > 0) & finite, (jerk_lim - 3.0 * col * acc[:, None] * d2 - vc3 * d3) / d1, inf)
+        jerk = np.fmin(np.fmin.reduce(terms, axis=1), path_jerk if path_jerk > 0 else inf)
     return vc, acc, jerk
