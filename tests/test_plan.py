@@ -45,6 +45,18 @@ def test_reachable_speed_worked_example():
     assert lookahead.reachable(0.0, 10.0, 1000.0, math.inf) == A(math.sqrt(20000.0), rel=1e-6)
 
 
+def test_reachable_speed_while_moving_worked_example():
+    # a pure jerk ramp from v0 = 1 mm/s over 3 µm with J = 1e6: (2 v0 + x²) x = L sqrt(J) = 3
+    # -> x³ + 2x - 3 = 0 -> x = 1 -> dv = 1 mm/s, reach 2 mm/s (A = 1e4: A²/J = 100 mm/s, never reached)
+    # check: T = 2 sqrt(1/1e6) = 2 ms at average 1.5 mm/s = 3 µm (dv less the 1e-7 safety margin)
+    assert lookahead.reachable(1.0, 0.003, 1e4, 1e6) == A(1.0 + (1.0 - lookahead.MARGIN), rel=1e-15)
+    assert lookahead.distance(1.0, 2.0, 1e4, 1e6) == A(0.003, rel=1e-12)
+    # fast and very short: the root is tiny against v0 (no cancellation in the closed form):
+    # x ≈ r / (2 v0) = 1e-6 * 1e3 / 400 -> dv ≈ 6.25e-12 mm/s (200 + dv keeps dv to 0.5 %)
+    dv = lookahead.reachable(200.0, 1e-6, 1e4, 1e6) - 200.0
+    assert dv == A(6.25e-12, rel=1e-2)
+
+
 @pytest.mark.parametrize("v0", [0.0, 3.0, 40.0, 200.0])
 @pytest.mark.parametrize("length", [1e-4, 0.05, 2.0, 30.0])
 def test_reachable_speed_agrees_with_ruckig(v0, length):

@@ -47,15 +47,14 @@ def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
         c = 2.0 * v0 * dc - 2.0 * length * acc
         dv = 0.5 * (-b + math.sqrt(b * b - 4.0 * c))
     else:
-        # (2 v0 + x²) x = L sqrt(J) with x = sqrt(dv): Newton from an upper bound
+        # (2 v0 + x²) x = L sqrt(J) with x = sqrt(dv): the real root of x³ + p x - r = 0 (p = 2 v0),
+        # Cardano's x = A - B with A = cbrt(r/2 + sqrt(r²/4 + p³/27)) and A B = p/3, written as
+        # r / (A² + A B + B²) (as A³ - B³ = r): a sum of positive terms, no cancellation
         rhs = length * math.sqrt(jerk)
-        x = min(rhs ** (1.0 / 3.0), rhs / (2.0 * v0) if v0 > 0 else math.inf)
-        for _ in range(40):
-            f = x ** 3 + 2.0 * v0 * x - rhs
-            step = f / (3.0 * x * x + 2.0 * v0)
-            x -= step
-            if abs(step) <= 1e-15 * (x if x > 1e-300 else 1e-300):
-                break
+        third = 2.0 * v0 / 3.0
+        a = (0.5 * rhs + math.sqrt(0.25 * rhs * rhs + third * third * third)) ** (1.0 / 3.0)
+        b = third / a
+        x = rhs / (a * a + third + b * b)
         dv = x * x
     return v0 + dv * (1.0 - MARGIN)
 
