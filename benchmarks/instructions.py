@@ -1,0 +1,78 @@
+"""Planner against interpreter in instructions per block (cachegrind): a measure that repeats.
+
+Run::
+
+    python benchmarks/instructions.py [--blocks 3000]
+
+Wall-clock times on a shared machine move by a quarter from run to run; instruction counts
+do not.  For the 3D finishing raster of ``plan_speed.py`` in each corner mode this runs,
+under ``valgrind --tool=cachegrind`` with address randomisation off, a fixed hash seed and
+OpenBLAS on one thread (its idle threads spin for a time that depends on the load):
+
+* the interpreter alone on ``--blocks`` and on 4x as many blocks: the difference over the
+  extra blocks is the interpreter's cost per block, start-up excluded;
+* the interpreter, then the planner over its records: the difference from the first run is
+  the planner's cost for those blocks.
+
+Both under a dry run's collector setting.  Needs valgrind (``apt install valgrind``); about
+a minute per mode.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+CHILD = """
+import sys
+sys.path.insert(0, {bench!r})
+from plan_speed import raster
+import fagorcnc
+from fagorcnc.plan import Planner
+from fagorcnc.runtime import fewer_collections
+from fagorcnc.simulate import Run
+machine = fagorcnc.load_machine(None)
+with fewer_collections():
+    records = list(Run(raster({blocks}, {mode!r}), "<raster>", machine))
+    if {plan}:
+        sum(1 for _ in Planner(machine).segments(iter(records)))
+"""
+
+
+def instructions(mode: str, blocks: int, plan: bool) -> int:
+    code = CHILD.format(bench=os.path.dirname(os.path.abspath(__file__)), blocks=blocks, mode=mode, plan=plan)
+    env = dict(os.environ, PYTHONHASHSEED="0", OPENBLAS_NUM_THREADS="1")
+    cmd = ["valgrind", "--tool=cachegrind", "--cache-sim=no", "--cachegrind-out-file=/dev/null",
+           sys.executable, "-c", code]
+    if shutil.which("setarch"):
+        cmd = ["setarch", os.uname().machine, "-R", *cmd]
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env, check=True).stderr
+    found = re.search(r"I\s+refs:\s+([\d,]+)", out)
+    if found is None:
+        raise RuntimeError(f"no instruction count in valgrind's output:\n{out[-2000:]}")
+    return int(found.group(1).replace(",", ""))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--blocks", type=int, default=3000)
+    args = ap.parse_args()
+    if shutil.which("valgrind") is None:
+        sys.exit("valgrind is not installed: this benchmark counts instructions with cachegrind")
+    n = args.blocks
+    print("| mode | interpreter (instructions per block) | planner (instructions per block) "
+          "| planner / interpreter |")
+    print("|---|---|---|---|")
+    for mode in ("G50", "G05", "HSC"):
+        alone = instructions(mode, n, False)
+        interp = (instructions(mode, 4 * n, False) - alone) / (3 * n)
+        planner = (instructions(mode, n, True) - alone) / n
+        print(f"| {mode} | {interp / 1e3:,.0f} k | {planner / 1e3:,.0f} k | {planner / interp:.2f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
