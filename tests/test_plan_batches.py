@@ -273,10 +273,10 @@ def test_term_arrays_give_the_limits_of_the_joined_terms():
 
 def _g05_program(roundpar: str, feeds: bool = False) -> list[str]:
     rows = []
-    for r in range(4):   # a 3D raster with a feed change in one row
+    for r in range(4):   # a 3D raster, with ``feeds`` a feed change at every block (CAM feed optimisation)
         xs = [i * 0.5 for i in range(60)]
         for j, x in enumerate(xs[::-1] if r % 2 else xs):
-            f = f" F{2000 + 1000 * (j % 3)}" if feeds and r == 2 else ""
+            f = f" F{2000 + 1000 * (j % 3)}" if feeds else ""
             rows.append(f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}{f}")
     return ["G90 G1 X0 Y0 Z0 F3000", roundpar, "G05", *rows, "G01 G108 X40 Y10", "G109 X45 Y10 F1000",
             "X50 Y12 F4000", "G193 X55 Y15 F2000", "X60 Y15", "#HSC ON [CONTERROR 0.01]", "X61 Y16", "X62 Y16.5",
@@ -287,7 +287,9 @@ def _g05_program(roundpar: str, feeds: bool = False) -> list[str]:
                                                  ("#ROUNDPAR [4, 0.002]", False), ("#ROUNDPAR [1, 0.05]", True)])
 def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, feeds):
     """The G05 curves of a chain of lines made in one batch (sizes, curves, limits) give the plan
-    the corners made one by one give; and the batch is used for (nearly) every line corner."""
+    the corners made one by one give; the batch is used for (nearly) every line corner, and a
+    feed change does not end a batch (each corner has its own feed: batches of one corner each
+    cost more than they save)."""
     import fagorcnc
     from fagorcnc.plan import Planner
     from fagorcnc.simulate import Run
@@ -302,9 +304,18 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
         used.append(found is not None)
         return found
 
+    batches = []
+    made = Planner._line_blend_batch
+
+    def counted_batch(self, *args):
+        batches.append(1)
+        return made(self, *args)
+
     monkeypatch.setattr(Planner, "_line_blend", counted)
+    monkeypatch.setattr(Planner, "_line_blend_batch", counted_batch)
     batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
     assert sum(used) >= 0.95 * len(used) > 200
+    assert len(batches) <= len(used) / 16
     monkeypatch.setattr(Planner, "_line_blend", lambda self, *args: None)
     alone = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
     assert len(alone) == len(batched)

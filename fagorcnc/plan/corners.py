@@ -241,10 +241,11 @@ def line_corners(u_in: np.ndarray, u_out: np.ndarray) -> list[LineCorner | None]
             if ok else None for i, ok in enumerate(c.valid.tolist())]
 
 
-def line_corner_sizes(c: LineCorners, lim_p: np.ndarray, lim_q: np.ndarray, speed: float | None,
+def line_corner_sizes(c: LineCorners, lim_p: np.ndarray, lim_q: np.ndarray, speed: float | np.ndarray | None,
                       tolerance: float | None, acc: float, jerk: float, corner: bool) -> np.ndarray:
     """The sizes :func:`_line_corner` gives the corners ``c`` (rows), all at once and with the same
-    operations (so the same numbers); 0 where no curve fits."""
+    operations (so the same numbers); ``speed`` one for all or one per corner; 0 where no curve
+    fits."""
     size = np.minimum(lim_p, lim_q)
     with np.errstate(divide="ignore", invalid="ignore"):
         if speed is not None:

@@ -15,7 +15,7 @@ import operator
 from collections import deque
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from itertools import accumulate, islice
+from itertools import accumulate, islice, pairwise
 
 import numpy as np
 
@@ -280,29 +280,33 @@ class Planner:
 
     def _line_blend_batch(self, prev: Span, nxt: Span) -> None:
         """The G05 curves of the line corners from prev -> nxt on through the look-ahead (lines of
-        the same feed and dynamics), all at once: unit blends (:func:`line_corner_arrays`), sizes
-        (:func:`line_corner_sizes`), curves and their limits (:func:`curve_limits_rows`), each with
-        what :meth:`_line_blend` asks of its corner.  A line after this corner still has its full
-        length then: the corner before it takes at most half of it, so the most the next corner
-        may take is half of it too."""
-        dyn, lim, feed = prev.dyn, prev.lim, prev.feed
+        the same dynamics and axis limits, each corner with its own feed), all at once: unit blends
+        (:func:`line_corner_arrays`), sizes (:func:`line_corner_sizes`), curves and their limits
+        (:func:`curve_limits_rows`), each with what :meth:`_line_blend` asks of its corner.  A line
+        after this corner still has its full length then: the corner before it takes at most half
+        of it, so the most the next corner may take is half of it too."""
+        dyn, lim = prev.dyn, prev.lim
         chain = [prev, nxt]
-        if nxt.dyn is dyn and nxt.lim is lim and nxt.feed == feed:
+        if nxt.dyn is dyn and nxt.lim is lim:
             for x in self._ahead:
-                if len(chain) > LOOK or not (isinstance(x, Span) and x.dyn is dyn and x.lim is lim and x.feed == feed
-                                             and _g05_line(x)):
+                if len(chain) > LOOK or not (isinstance(x, Span) and x.dyn is dyn and x.lim is lim and _g05_line(x)):
                     break
                 chain.append(x)
-        f = prev.feed if prev.feed <= nxt.feed else nxt.feed
-        f, speed, tolerance, _ = _roundpar(dyn.roundpar, f)
-        acc = min(lim.least_acceleration, nxt.lim.least_acceleration)
-        jerk = min(lim.least_jerk, nxt.lim.least_jerk)
+        if len(chain) < 3:
+            return   # one corner: made alone (a batch's fixed cost would be more than it saves)
+        # per corner: the lower feed of its two lines, then #ROUNDPAR's speed and tolerance
+        feeds = [s.feed for s in chain]
+        rows = [_roundpar(dyn.roundpar, a if a <= b else b) for a, b in pairwise(feeds)]
+        tolerance = rows[0][2]
+        speeds = None if rows[0][1] is None else np.array([r[1] for r in rows])
+        f = np.array([r[0] for r in rows])
+        acc, jerk = lim.least_acceleration, lim.least_jerk
         halves = [s.orig_length / 2.0 for s in chain]
         lim_p = [min(prev.orig_length / (4.0 if prev.mid_k is not None else 2.0), prev.piece.length), *halves[1:-1]]
         lim_q = [h if h <= s.piece.length else s.piece.length for h, s in zip(halves[1:], chain[1:], strict=True)]
         dirs = np.array([s.piece.u for s in chain])
         unit = line_corner_arrays(dirs[:-1], dirs[1:])
-        size = line_corner_sizes(unit, np.array(lim_p), np.array(lim_q), speed, tolerance, acc, jerk, corner=True)
+        size = line_corner_sizes(unit, np.array(lim_p), np.array(lim_q), speeds, tolerance, acc, jerk, corner=True)
         ends = [s.piece.end for s in chain[:-1]]
         vertices = np.array(ends)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -313,15 +317,16 @@ class Planner:
             starts = vertices + size[:, None] * dirs[1:]   # where each next line starts once trimmed
         limits = zip(*(x.tolist() for x in curve_limits_rows(unit.d1, d2, d3, lim, f, prev.path_acc, prev.path_jerk)),
                      strict=True)
-        rest = (speed, tolerance, acc, jerk, f, lim, prev.path_acc, prev.path_jerk)
+        path = (lim, prev.path_acc, prev.path_jerk)
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
         self._line_blends = {
-            (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, *rest), sz, controls[i], unit.d1[i],
-                                             d2[i], d3[i], tables[i], lm,
+            (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end,
+                                             (lp, lq, row[1], tolerance, acc, jerk, row[0], *path), sz, controls[i],
+                                             unit.d1[i], d2[i], d3[i], tables[i], lm,
                                              starts[i] if b.piece.start is end else None)
-            for i, (a, b, end, lp, lq, sz, lm) in enumerate(zip(chain, chain[1:], ends, lim_p, lim_q, size.tolist(),
-                                                                  limits, strict=False))}
+            for i, (a, b, end, lp, lq, row, sz, lm) in enumerate(zip(chain, chain[1:], ends, lim_p, lim_q, rows,
+                                                                       size.tolist(), limits, strict=False))}
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
                     start: np.ndarray | None = None) -> Span | None:
