@@ -40,6 +40,9 @@ ARC_PART = math.radians(30.0)
 #: (G05) and 10 % (HSC) fewer instructions than 32 at no loss in time; beyond that the batches'
 #: arrays leave the processor's caches and the time no longer falls.
 LOOK = 64
+#: G05 line corners made alone rather than in a batch when the chain has at most this many
+#: (a batch's fixed cost is that of about four corners made alone).
+BATCH_LEAST = 4
 #: Grouping of short spans into one motion: span length, group length (mm) and members at most.
 GROUP_SPAN = 2.0
 GROUP_LENGTH = 20.0
@@ -292,8 +295,8 @@ class Planner:
                 if len(chain) > LOOK or not (isinstance(x, Span) and x.dyn is dyn and x.lim is lim and _g05_line(x)):
                     break
                 chain.append(x)
-        if len(chain) < 3:
-            return   # one corner: made alone (a batch's fixed cost would be more than it saves)
+        if len(chain) - 1 <= BATCH_LEAST:
+            return   # a few corners: made alone (a batch's fixed cost would be more than it saves)
         # per corner: the lower feed of its two lines, then #ROUNDPAR's speed and tolerance
         feeds = [s.feed for s in chain]
         rows = [_roundpar(dyn.roundpar, a if a <= b else b) for a, b in pairwise(feeds)]
