@@ -321,3 +321,20 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
     assert len(alone) == len(batched)
     for a, b in zip(alone, batched, strict=True):
         assert a[4:] == b[4:] and close(a[:4], b[:4])
+
+
+def test_an_arcs_frame_and_trim_on_floats_equal_its_derivatives():
+    """An arc's single-point frame and trim (on floats) give what the general evaluation over
+    arrays gives: point, unit tangent and curvature vector (helix and spiral included)."""
+    from fagorcnc.plan.geometry import ArcPiece, Piece
+
+    start, end = np.array([10.0, 0.0, 0.0]), np.array([0.0, 10.05, 3.0])   # radius 10 -> 10.05, 3 mm of helix
+    arc = ArcPiece(start, end, 0, 1, (0.0, 0.0), np.pi / 2)
+    for s in (0.0, 0.3 * arc.length, arc.length):
+        for got, general in zip(arc.frame(s), Piece.frame(arc, s), strict=True):
+            assert close(got, general)
+        assert close(arc.point(s), arc.derivatives(np.array([s]))[0][0])
+    part = arc.sub(0.25 * arc.length, 0.75 * arc.length)
+    q = arc.derivatives(np.array([0.25 * arc.length, 0.75 * arc.length]))[0]
+    assert close(part.start, q[0]) and close(part.end, q[1])
+    assert close(part.length, 0.5 * arc.length)

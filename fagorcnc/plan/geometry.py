@@ -197,13 +197,38 @@ class ArcPiece(Piece):
         d3[:, io] = -3 * dr * w * w * sn - rho * w ** 3 * c
         return q, d1, d2, d3
 
+    def point(self, s: float) -> np.ndarray:
+        """The point at ``s``: :meth:`derivatives`' first row for one parameter, on floats (an
+        arc's trims and corner frames ask for single points)."""
+        th = self.theta0 + self.w * s
+        rho = self.r0 + self.dr * s
+        q = self.start + s * self.lin
+        q[self.ia] = self.center[0] + rho * math.cos(th)
+        q[self.io] = self.center[1] + rho * math.sin(th)
+        return q
+
+    def frame(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        th = self.theta0 + self.w * s
+        c, sn = math.cos(th), math.sin(th)
+        rho = self.r0 + self.dr * s
+        w, dr, ia, io = self.w, self.dr, self.ia, self.io
+        d1 = self.lin.copy()
+        d2 = np.zeros(len(d1))
+        d1[ia] = dr * c - rho * w * sn
+        d1[io] = dr * sn + rho * w * c
+        d2[ia] = -2 * dr * w * sn - rho * w * w * c
+        d2[io] = 2 * dr * w * c - rho * w * w * sn
+        speed = math.hypot(*d1.tolist())
+        t = d1 / speed
+        k = (d2 - float(np.dot(d2, t)) * t) / (speed * speed)
+        return self.point(s), t, k
+
     def speed_factor(self) -> float:
         rmax = max(self.r0, self.r0 + self.dr * self.length)
         return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + float(np.dot(self.lin, self.lin)))
 
     def sub(self, s0: float, s1: float) -> ArcPiece:
-        q, _, _, _ = self.derivatives(np.array([s0, s1]))
-        return ArcPiece(q[0], q[1], self.ia, self.io, self.center, self.w * (s1 - s0))
+        return ArcPiece(self.point(s0), self.point(s1), self.ia, self.io, self.center, self.w * (s1 - s0))
 
 
 class BlendPiece(Piece):
