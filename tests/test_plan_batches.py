@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 import pytest
 
@@ -338,3 +340,24 @@ def test_an_arcs_frame_and_trim_on_floats_equal_its_derivatives():
     q = arc.derivatives(np.array([0.25 * arc.length, 0.75 * arc.length]))[0]
     assert close(part.start, q[0]) and close(part.end, q[1])
     assert close(part.length, 0.5 * arc.length)
+
+
+def test_deviation_from_an_arc_is_the_distance_to_its_polyline():
+    """deviation() (products over the axes as matrix products) against the plain distance from
+    each of the curve's 97 points to each segment of the replaced path (a line then an arc)."""
+    from fagorcnc.plan.corners import _replaced, make_blend
+    from fagorcnc.plan.geometry import ArcPiece
+
+    p = LinePiece(np.array([100.0, 50.0, 0.0]), np.array([110.0, 50.0, 0.0]))
+    q = ArcPiece(np.array([110.0, 50.0, 0.0]), np.array([115.0, 55.0, 1.0]), 0, 1, (110.0, 55.0), np.pi / 2)
+    blend, d1, d2 = make_blend(p, q, 5.0, q.length / 2, tolerance=0.01, speed=50.0, acc=1000.0, jerk=20000.0)
+    ref = np.concatenate([_replaced(p, p.length - d1, p.length), _replaced(q, 0.0, d2)[1:]])
+    worst = 0.0
+    for x in blend.points(97):
+        best = np.inf
+        for a, b in pairwise(ref):
+            t = min(max(float(np.dot(x - a, b - a) / np.dot(b - a, b - a)), 0.0), 1.0)
+            best = min(best, float(np.linalg.norm(x - a - t * (b - a))))
+        worst = max(worst, best)
+    assert 0.0 < worst <= 0.95 * 0.01
+    assert deviation(blend, p, q, d1, d2, False) == pytest.approx(worst, rel=1e-9, abs=1e-12)

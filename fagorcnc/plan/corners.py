@@ -67,14 +67,18 @@ def deviation(blend: BlendPiece, p: Piece, q: Piece, d1: float, d2: float, corne
     pts = blend.points(97)
     if corner:
         return float(np.sqrt(((pts - p.end) ** 2).sum(axis=1)).min())
-    ref = np.concatenate([_replaced(p, p.length - d1, p.length), _replaced(q, 0.0, d2)[1:]])
-    a, b = ref[:-1], ref[1:]
-    ab = b - a
+    # relative to the corner point (small numbers), then the squared distance from each point x
+    # to each segment a + t (b - a) as |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), with every
+    # product over the axes a matrix product: no (points, segments, axes) array
+    ref = np.concatenate([_replaced(p, p.length - d1, p.length), _replaced(q, 0.0, d2)[1:]]) - p.end
+    pts = pts - p.end
+    a, ab = ref[:-1], ref[1:] - ref[:-1]
     den = np.maximum((ab * ab).sum(axis=1), 1e-300)
-    rel = pts[:, None, :] - a[None, :, :]
-    t = np.clip((rel * ab[None]).sum(axis=2) / den[None], 0.0, 1.0)
-    gap = rel - t[..., None] * ab[None]
-    return float(np.sqrt((gap * gap).sum(axis=2).min(axis=1).max()))
+    along = pts @ ab.T - (a * ab).sum(axis=1)                                   # (x - a).(b - a)
+    square = (pts * pts).sum(axis=1)[:, None] - 2.0 * (pts @ a.T) + (a * a).sum(axis=1)   # |x - a|²
+    t = np.clip(along / den, 0.0, 1.0)
+    gap = square - t * (2.0 * along - t * den)
+    return float(np.sqrt(max(float(gap.min(axis=1).max()), 0.0)))
 
 
 def _dynamic_scale(blend: BlendPiece, speed: float, acc: float, jerk: float) -> float:
