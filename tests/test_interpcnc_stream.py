@@ -89,7 +89,11 @@ def test_ten_thousand_segments_execute_exactly_as_planned_without_underrun():
     assert status.state == "idle" and status.executed == status.sent == len(segments)
     assert status.line == segments[-1].line
     assert backend.warnings == []
-    assert backend.stats["polls"] < len(segments) / 5          # polled far less than once per segment
+    # polled about once per poll interval while waiting for room, never once per segment: that is
+    # SEGMENT_TIME / (speed * poll_interval) polls per segment, 0.16 at x1.9 but 0.3 at x1 (a slow
+    # calibration; a fixed 1/5 failed there)
+    expected = len(segments) * SEGMENT_TIME / (speed * backend.options.poll_interval)
+    assert backend.stats["polls"] < min(1.5 * expected, len(segments) / 2)
     assert card.underruns == 0, (f"{card.underruns} planner underruns at speed x{speed:.1f} in {elapsed:.1f} s "
                                  f"(calibrated {rate:.0f} segments/s; {shortfall or 'the host kept up'})")
 
