@@ -35,6 +35,20 @@ def close(a, b) -> bool:
     return bool(np.all(np.abs(a - b) <= TOL * np.maximum(1.0, np.abs(b))))
 
 
+def _record_calls(monkeypatch, cls, name: str) -> list:
+    """Wrap the method ``cls.name`` for the test: the list it returns receives what each call returns."""
+    original = getattr(cls, name)
+    results: list = []
+
+    def recorded(self, *args):
+        result = original(self, *args)
+        results.append(result)
+        return result
+
+    monkeypatch.setattr(cls, name, recorded)
+    return results
+
+
 @pytest.mark.parametrize("spread", [0.002, 0.05, 0.6])
 def test_line_corners_in_a_batch_equal_one_by_one(spread):
     u = unit_rows(np.random.default_rng(1), 40, spread)
@@ -184,14 +198,7 @@ def test_a_rejected_hsc_spline_redoes_only_the_next_corner(monkeypatch):
     program = ["G90 G1 X0 Y0 Z0 F3000", "#HSC ON [CONTERROR 0.01]", *rows, "M30"]
     records = list(Run(iter(program), "<raster>", machine))
 
-    calls = []
-    original = Planner._single
-
-    def counted(self, *args):
-        calls.append(1)
-        return original(self, *args)
-
-    monkeypatch.setattr(Planner, "_single", counted)
+    calls = _record_calls(monkeypatch, Planner, "_single")
     alone = [(s.t0, s.duration, s.v0, s.v1, s.line) for s in Planner(machine).segments(iter(records))]
     assert calls   # some corners do not take their spline
 
@@ -298,24 +305,10 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
 
     machine = fagorcnc.load_machine(None)
     records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
-    used = []
-    original = Planner._line_blend
-
-    def counted(self, *args):
-        found = original(self, *args)
-        used.append(found is not None)
-        return found
-
-    batches = []
-    made = Planner._line_blend_batch
-
-    def counted_batch(self, *args):
-        batches.append(1)
-        return made(self, *args)
-
-    monkeypatch.setattr(Planner, "_line_blend", counted)
-    monkeypatch.setattr(Planner, "_line_blend_batch", counted_batch)
+    results = _record_calls(monkeypatch, Planner, "_line_blend")
+    batches = _record_calls(monkeypatch, Planner, "_line_blend_batch")
     batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
+    used = [found is not None for found in results]
     assert sum(used) >= 0.95 * len(used) > 200
     assert len(batches) <= len(used) / 16
     monkeypatch.setattr(Planner, "_line_blend", lambda self, *args: None)
