@@ -20,6 +20,7 @@ from itertools import accumulate, islice, pairwise
 import numpy as np
 
 from ..machine import Machine, load_machine
+from .corner_batch import make_blends
 from .corners import SHAPE, TANGENT_EPS, included_angle, line_corner_arrays, line_corner_sizes, make_blend, smooth
 from .geometry import ArcPiece, BlendPiece, LinePiece, Piece, blends, corner_deviations
 from .limits import AxisLimits, curve_limits_rows
@@ -51,6 +52,8 @@ GROUP_MEMBERS = 64
 TRANSITION_TRIES = 4
 #: Pieces shorter than this (mm) are dropped: nothing moves.
 MIN_LENGTH = 1e-9
+#: No batched corner curve for a corner as it now stands (see :meth:`Planner._arc_blend`).
+_MISSING = object()
 
 
 @dataclass(slots=True)
@@ -109,6 +112,7 @@ class Planner:
         self._ahead: deque = deque()             # the corner stage's look-ahead
         self._candidates: dict[int, tuple] = {}  # batched HSC spline curves by the id of their second line
         self._line_blends: dict[tuple[int, int], tuple] = {}  # batched G05 line corners by their directions' ids
+        self._arc_blends: dict[tuple[int, int], tuple] = {}   # batched corners at arcs by their spans' ids
         self._spline_used = False
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
         self._last_end: tuple = (None, None)    # the last record's end and its vector
@@ -248,8 +252,13 @@ class Planner:
         jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         # a span that starts on an HSC spline keeps room for its transition back to a straight line
         half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
-        made = make_blend(p, q, half_p, nxt.orig_length / 2.0, tolerance=tolerance,
-                          speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure)
+        inputs = (half_p, nxt.orig_length / 2.0, speed, tolerance, acc, jerk, corner_measure)
+        found = self._arc_blend(prev, nxt, inputs) if distances is None and (p.curved or q.curved) else _MISSING
+        if found is not _MISSING:
+            made = found
+        else:
+            made = make_blend(p, q, half_p, nxt.orig_length / 2.0, tolerance=tolerance,
+                              speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure)
         if made is None:
             prev.stop_after = True
             return None
@@ -330,6 +339,82 @@ class Planner:
                                              starts[i] if b.piece.start is end else None)
             for i, (a, b, end, lp, lq, row, sz, lm) in enumerate(zip(chain, chain[1:], ends, lim_p, lim_q, rows,
                                                                        size.tolist(), limits, strict=False))}
+
+    def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object | None:
+        """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits), computed in one
+        batch with the other corners at arcs in the look-ahead (see :meth:`_arc_batch`);
+        ``_MISSING`` where the batch has none for the corner as it now stands with ``inputs``
+        (half of each block, speed, tolerance, acceleration, jerk, corner measure): it is then
+        made alone."""
+        key = (id(prev), id(nxt))
+        for attempt in range(2):
+            found = self._arc_blends.get(key)
+            if found is not None:
+                fp, fn, q, end, made_with, lim_p, made = found
+                p = prev.piece
+                now = inputs[0] if inputs[0] <= p.length else p.length
+                if (fp is prev and fn is nxt and nxt.piece is q and made_with == inputs
+                        and abs(now - lim_p) <= 1e-12 * lim_p and math.dist(p.end.tolist(), end) <= 1e-9):
+                    return made
+                return _MISSING
+            if attempt == 0:
+                self._arc_batch(prev, nxt)
+        return _MISSING
+
+    def _arc_batch(self, prev: Span, nxt: Span) -> None:
+        """The corner curves at arcs from prev -> nxt on through the look-ahead (spans of the same
+        dynamics and axis limits), all at once (:func:`~fagorcnc.plan.corner_batch.make_blends`),
+        each with what :meth:`_junction` will ask of its corner: a block's half as it will stand
+        (a quarter after an HSC spline between two lines), the lower feed of its two blocks.  A
+        block after this corner still has its full length: the corner before it takes at most
+        half of it, so what the next corner may take is unchanged."""
+        dyn, lim = prev.dyn, prev.lim
+        chain = [prev, nxt]
+        if nxt.dyn is dyn and nxt.lim is lim and not _adapts(nxt):
+            for x in self._ahead:
+                if (len(chain) > LOOK or not isinstance(x, Span) or x.dyn is not dyn or x.lim is not lim
+                        or x.rapid or _adapts(x)):
+                    break
+                chain.append(x)
+        hsc = dyn.corner == "HSC"
+        tolerance = dyn.hsc.tolerance if hsc else None
+        rows, ps, qs, lim_p, lim_q, speeds, made_with = [], [], [], [], [], [], []
+        acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
+        jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
+        for i, (a, b) in enumerate(pairwise(chain)):
+            p, q = a.piece, b.piece
+            if a.record is b.record or not (p.curved or q.curved):
+                continue
+            feed = a.feed if a.feed <= b.feed else b.feed
+            if hsc:
+                if dyn.hsc.mode == "FAST":
+                    feed *= dyn.hsc.fast / 100.0
+                speed = feed
+            else:
+                if dyn.roundpar[0] in (3, 5):
+                    return   # fixed distances (cheap alone) or not modelled
+                _, speed, tolerance, _ = _roundpar(dyn.roundpar, feed)
+            # after the first corner: one between two HSC lines before this one is a spline, most likely
+            spline_before = a.mid_k is not None if i == 0 else hsc and not (chain[i - 1].piece.curved or p.curved)
+            half_p = a.orig_length / (4.0 if spline_before else 2.0)
+            half_q = b.orig_length / 2.0
+            rows.append(i)
+            ps.append(p)
+            qs.append(q)
+            lim_p.append(half_p if half_p <= p.length else p.length)
+            lim_q.append(half_q if half_q <= q.length else q.length)
+            speeds.append(speed)
+            made_with.append((half_p, half_q, speed, tolerance, acc, jerk, not hsc))
+        if not rows:
+            return
+        found = make_blends(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
+                            speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
+                            corner=not hsc)
+        # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
+        self._arc_blends = {
+            (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end.tolist(), made_with[j],
+                                               lim_p[j], found[j])
+            for j, i in enumerate(rows)}
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
                     start: np.ndarray | None = None) -> Span | None:

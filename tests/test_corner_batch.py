@@ -1,0 +1,156 @@
+"""Corner curves at arcs made many at once (fagorcnc.plan.corner_batch) give what the one-by-one
+construction (corners.make_blend) gives, and the planner plans the same with them."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fagorcnc.plan.corner_batch import PieceRows, make_blends
+from fagorcnc.plan.corners import make_blend
+from fagorcnc.plan.geometry import ArcPiece, LinePiece
+
+
+def close(a, b, tol: float = 1e-9) -> bool:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return bool(np.all(np.abs(a - b) <= tol * (1.0 + np.abs(b))))
+
+
+def _arc(rng: np.random.Generator, at: np.ndarray, starts_there: bool) -> ArcPiece:
+    """An arc (sometimes a helix or a spiral, in any of the three planes) that starts or ends at ``at``."""
+    ia, io = [(0, 1), (2, 0), (1, 2)][int(rng.integers(3))]
+    r = rng.uniform(0.5, 20.0)
+    th = rng.uniform(0.0, 2.0 * math.pi)
+    sweep = rng.uniform(0.1, 2.5) * rng.choice([-1.0, 1.0])
+    centre = (at[ia] - r * math.cos(th), at[io] - r * math.sin(th))
+    r1 = r * (1.0 + rng.uniform(-0.002, 0.002) * (rng.random() < 0.3))   # a spiral within CIRINERR
+    other = 3 - ia - io
+    rise = rng.uniform(-1.0, 1.0) * (rng.random() < 0.3)                 # a helix
+    far = at.copy()
+    th1 = th + (sweep if starts_there else -sweep)
+    far[ia], far[io] = centre[0] + r1 * math.cos(th1), centre[1] + r1 * math.sin(th1)
+    far[other] += rise if starts_there else -rise
+    if starts_there:
+        return ArcPiece(at.copy(), far, ia, io, centre, sweep)
+    # ending at ``at``: the radius goes from r1 at ``far`` to r at ``at``
+    return ArcPiece(far, at.copy(), ia, io, centre, sweep)
+
+
+def _corners(seed: int, n: int) -> tuple[list, list]:
+    """``n`` corners at a vertex: arc -> arc, line -> arc, arc -> line, in every plane."""
+    rng = np.random.default_rng(seed)
+    ps, qs = [], []
+    for i in range(n):
+        at = rng.uniform(-50.0, 50.0, 3)
+        kind = i % 3
+        ps.append(LinePiece(at - rng.uniform(-5.0, 5.0, 3), at.copy()) if kind == 1 else _arc(rng, at, False))
+        qs.append(LinePiece(at.copy(), at + rng.uniform(-5.0, 5.0, 3)) if kind == 2 else _arc(rng, at, True))
+    return ps, qs
+
+
+def test_piece_rows_evaluate_as_the_pieces():
+    """Points at many parameters and frames at one, over rows of lines and arcs (helices and
+    spirals in the three planes), against each piece's own evaluation."""
+    ps, qs = _corners(3, 30)
+    pieces = ps + qs
+    rows = PieceRows(pieces)
+    s = np.array([np.linspace(0.0, p.length, 7) for p in pieces])
+    points = rows.points(s)
+    for i, p in enumerate(pieces):
+        assert close(points[i], p.derivatives(s[i])[0])
+    at = np.array([0.37 * p.length for p in pieces])
+    q, t, k = rows.frames(at)
+    for i, p in enumerate(pieces):
+        for got, want in zip((q[i], t[i], k[i]), p.frame(float(at[i])), strict=True):
+            assert close(got, want)
+    some = np.array([3, 17, 31, 44])   # a subset of the rows
+    q, t, k = rows.frames(at[some], some)
+    assert close(t, np.array([pieces[i].frame(float(at[i]))[1] for i in some]))
+    assert close(rows.points(s[some], some), points[some])
+
+
+@pytest.mark.parametrize(("tolerance", "speed", "corner"), [(0.01, 50.0, False), (None, 80.0, True),
+                                                            (0.005, None, True), (0.02, 30.0, True)])
+def test_corners_at_arcs_in_a_batch_equal_one_by_one(tolerance, speed, corner):
+    """The HSC construction (tolerance on the replaced path, the feed's speed), G05 #ROUNDPAR
+    types 1, 2 and 4 (distance from the corner point, with or without a speed): the same curves,
+    the same sizes, the same bounds, including the corners where none fits."""
+    ps, qs = _corners(11, 90)
+    lim_p = np.array([p.length / 2.0 for p in ps])
+    lim_q = np.array([q.length / 2.0 for q in qs])
+    lim_p[5] = 0.0                                   # nothing left to round with: no curve
+    lim_q[6] = 1e-10
+    speeds = None if speed is None else np.full(len(ps), speed)
+    if speeds is not None:
+        speeds[::7] *= 3.0                           # each corner has its own speed
+    got = make_blends(ps, qs, lim_p, lim_q, tolerance=tolerance, speed=speeds, acc=1000.0, jerk=20000.0,
+                      corner=corner)
+    made = 0
+    for i, (p, q) in enumerate(zip(ps, qs, strict=True)):
+        want = make_blend(p, q, lim_p[i], lim_q[i], tolerance=tolerance,
+                          speed=None if speeds is None else float(speeds[i]), acc=1000.0, jerk=20000.0, corner=corner)
+        assert (got[i] is None) == (want is None), i
+        if want is None:
+            continue
+        made += 1
+        (b, d1, d2), (w, e1, e2) = got[i], want
+        assert close([d1, d2], [e1, e2]) and close(b.controls, w.controls)
+        assert close(b.d1, w.d1) and close(b.d2, w.d2) and close(b.d3, w.d3) and close(b.length, w.length)
+        assert close(b.derivatives(np.array([0.5 * b.length]))[0], w.derivatives(np.array([0.5 * w.length]))[0])
+    assert got[5] is None and got[6] is None
+    assert made >= 80
+
+
+def _contour(mode: str) -> list[str]:
+    """A CAM-like contour: lines and arcs that meet at corners (not tangent), some arcs long
+    enough to be planned in parts, a helix, a feed change."""
+    rows, z = [], 0.0
+    n = 48
+    for i in range(n):
+        a0, a1 = 2 * math.pi * i / n, 2 * math.pi * (i + 1) / n
+        r = 40.0 + 1.0 * (i % 3)
+        x, y = r * math.cos(a1), r * math.sin(a1)
+        if i % 2:
+            # the centre off the chord's middle: the arc meets its neighbours at a corner
+            px, py = (40.0 + (i - 1) % 3) * math.cos(a0), (40.0 + (i - 1) % 3) * math.sin(a0)
+            mx, my = (px + x) / 2.0, (py + y) / 2.0
+            cx, cy = mx - 2.0 * (y - py), my + 2.0 * (x - px)
+            z += 0.2 if i % 4 == 1 else 0.0
+            rows.append(f"G3 X{x:.4f} Y{y:.4f} Z{z:.4f} I{cx - px:.4f} J{cy - py:.4f}")
+        else:
+            if i % 6 == 0:   # a line in two with a kink: an HSC spline (slight) or a corner curve (0.3 mm)
+                am, kink = (a0 + a1) / 2.0, 0.3 if i % 12 else 0.004
+                mid = (40.0 + (i - 1) % 3 + r) / 2.0 * math.cos(math.pi / n) + kink   # off the chord's middle
+                rows.append(f"G1 X{mid * math.cos(am):.4f} Y{mid * math.sin(am):.4f}")
+            rows.append(f"G1 X{x:.4f} Y{y:.4f}" + (" F2500" if i == 24 else ""))
+    rows.append("G2 X46 Y-20 I-6 J-10")   # a long arc: planned in parts, no corner between them
+    head = ["#HSC ON [CONTERROR 0.01]"] if mode == "HSC" else [mode, "G05"]
+    return ["G90 G1 X40 Y0 Z0 F4000", *head, *rows, "M30"]
+
+
+@pytest.mark.parametrize("mode", ["HSC", "#ROUNDPAR [1, 0.01]", "#ROUNDPAR [2, 60]", "#ROUNDPAR [4, 0.005]"])
+def test_corners_at_arcs_in_a_batch_plan_as_one_by_one(monkeypatch, mode):
+    """A contour of lines and arcs planned with the corners at arcs made in batches is planned as
+    with every one made alone; every corner at an arc comes from a batch, a few batches in all."""
+    from test_plan_batches import _record_calls
+
+    import fagorcnc
+    from fagorcnc.plan import Planner
+    from fagorcnc.plan.planner import _MISSING
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    records = list(Run(iter(_contour(mode)), "<contour>", machine))
+    results = _record_calls(monkeypatch, Planner, "_arc_blend")
+    batches = _record_calls(monkeypatch, Planner, "_arc_batch")
+    batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
+    assert len(results) >= 20 and all(found is not _MISSING for found in results)
+    assert sum(found is not None for found in results) >= 20
+    assert len(batches) <= 3
+    monkeypatch.setattr(Planner, "_arc_blend", lambda self, *args: _MISSING)
+    alone = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
+    assert len(alone) == len(batched)
+    for a, b in zip(alone, batched, strict=True):
+        assert a[4:] == b[4:] and close(a[:4], b[:4])
