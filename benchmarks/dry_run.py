@@ -4,9 +4,10 @@ Run::
 
     python benchmarks/dry_run.py [--blocks 20000] [--repeat 3]
 
-For the 3D finishing raster of ``plan_speed.py`` in each corner mode, it runs
+For the 3D finishing raster of ``plan_speed.py`` in each corner mode, and its contour of arcs
+under G05 and HSC, it runs
 the pipeline of ``fagorcnc run part.nc`` (program file read lazily, interpreted,
-planned, sent to the embedded simulator, under the run's collector setting)
+planned, sent to the embedded simulator, under the run's collector and allocator settings)
 and splits its time by stage: the time spent getting the next record from the
 interpreter, sending segments to the back-end, and the rest, which is the
 planner.  A stage whose share is the largest is the dry run's bottleneck.
@@ -21,7 +22,10 @@ import tempfile
 import time
 from collections.abc import Iterator
 
-from plan_speed import raster
+from instructions import SHAPES
+from plan_speed import contour, raster
+
+PROGRAMS = {"raster": raster, "contour": contour}
 
 
 class Timed:
@@ -49,9 +53,10 @@ def dry_run(path: str) -> dict:
     import fagorcnc
     from fagorcnc.backends.sim import SimulatorBackend
     from fagorcnc.plan import Planner
-    from fagorcnc.runtime import fewer_collections
+    from fagorcnc.runtime import fewer_collections, keep_freed_memory
     from fagorcnc.simulate import interpret
 
+    keep_freed_memory()   # as the fagorcnc command does
     machine = fagorcnc.load_machine(None)
     with fewer_collections():
         t0 = time.perf_counter()
@@ -76,17 +81,18 @@ def main() -> None:
     ap.add_argument("--blocks", type=int, default=20_000)
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
-    print("| mode | records | dry run | interpreter | planner | back-end | interpreter (records/s) "
+    print("| program | mode | records | dry run | interpreter | planner | back-end | interpreter (records/s) "
           "| planner (records/s) | planner / interpreter time |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
-        for mode in ("G50", "G05", "HSC"):
-            path = os.path.join(tmp, f"raster_{mode}.nc")
+        for shape, mode in SHAPES:
+            path = os.path.join(tmp, f"{shape}_{mode}.nc")
             with open(path, "w", encoding="utf-8") as f:
-                f.writelines(line + "\n" for line in raster(args.blocks, mode))
+                f.writelines(line + "\n" for line in PROGRAMS[shape](args.blocks, mode))
             r = min((dry_run(path) for _ in range(args.repeat)), key=lambda x: x["total"])
             n = r["records"]
-            print(f"| {mode} | {n} | {r['total']:.2f} s | {r['interpret']:.2f} s ({r['interpret'] / r['total']:.0%}) "
+            print(f"| {shape} | {mode} | {n} | {r['total']:.2f} s "
+                  f"| {r['interpret']:.2f} s ({r['interpret'] / r['total']:.0%}) "
                   f"| {r['plan']:.2f} s ({r['plan'] / r['total']:.0%}) "
                   f"| {r['backend']:.2f} s ({r['backend'] / r['total']:.0%}) | {n / r['interpret']:,.0f} "
                   f"| {n / r['plan']:,.0f} | {r['plan'] / r['interpret']:.2f} |")

@@ -5,7 +5,8 @@ Run::
     python benchmarks/instructions.py [--blocks 3000]
 
 Wall-clock times on a shared machine move by a quarter from run to run; instruction counts
-do not.  For the 3D finishing raster of ``plan_speed.py`` in each corner mode this runs,
+do not.  For the 3D finishing raster of ``plan_speed.py`` in each corner mode, and its
+contour of arcs under G05 and HSC, this runs,
 under ``valgrind --tool=cachegrind`` with address randomisation off, a fixed hash seed and
 OpenBLAS on one thread (its idle threads spin for a time that depends on the load):
 
@@ -30,21 +31,28 @@ import sys
 CHILD = """
 import sys
 sys.path.insert(0, {bench!r})
-from plan_speed import raster
+from plan_speed import contour, raster
 import fagorcnc
 from fagorcnc.plan import Planner
-from fagorcnc.runtime import fewer_collections
+from fagorcnc.runtime import fewer_collections, keep_freed_memory
 from fagorcnc.simulate import Run
+keep_freed_memory()
 machine = fagorcnc.load_machine(None)
 with fewer_collections():
-    records = list(Run(raster({blocks}, {mode!r}), "<raster>", machine))
+    records = list(Run({shape}({blocks}, {mode!r}), "<{shape}>", machine))
     if {plan}:
         sum(1 for _ in Planner(machine).segments(iter(records)))
 """
 
 
-def instructions(mode: str, blocks: int, plan: bool) -> int:
-    code = CHILD.format(bench=os.path.dirname(os.path.abspath(__file__)), blocks=blocks, mode=mode, plan=plan)
+#: The programs measured: the 3D finishing raster (lines) in each corner mode, and the freeform
+#: contour of arcs and lines as CAM arc fitting writes it (``plan_speed.contour``).
+SHAPES = (("raster", "G50"), ("raster", "G05"), ("raster", "HSC"), ("contour", "G05"), ("contour", "HSC"))
+
+
+def instructions(shape: str, mode: str, blocks: int, plan: bool) -> int:
+    code = CHILD.format(bench=os.path.dirname(os.path.abspath(__file__)), shape=shape, blocks=blocks, mode=mode,
+                        plan=plan)
     env = dict(os.environ, PYTHONHASHSEED="0", OPENBLAS_NUM_THREADS="1")
     cmd = ["valgrind", "--tool=cachegrind", "--cache-sim=no", "--cachegrind-out-file=/dev/null",
            sys.executable, "-c", code]
@@ -64,14 +72,15 @@ def main() -> None:
     if shutil.which("valgrind") is None:
         sys.exit("valgrind is not installed: this benchmark counts instructions with cachegrind")
     n = args.blocks
-    print("| mode | interpreter (instructions per block) | planner (instructions per block) "
+    print("| program | mode | interpreter (instructions per block) | planner (instructions per block) "
           "| planner / interpreter |")
-    print("|---|---|---|---|")
-    for mode in ("G50", "G05", "HSC"):
-        alone = instructions(mode, n, False)
-        interp = (instructions(mode, 4 * n, False) - alone) / (3 * n)
-        planner = (instructions(mode, n, True) - alone) / n
-        print(f"| {mode} | {interp / 1e3:,.0f} k | {planner / 1e3:,.0f} k | {planner / interp:.2f} |", flush=True)
+    print("|---|---|---|---|---|")
+    for shape, mode in SHAPES:
+        alone = instructions(shape, mode, n, False)
+        interp = (instructions(shape, mode, 4 * n, False) - alone) / (3 * n)
+        planner = (instructions(shape, mode, n, True) - alone) / n
+        print(f"| {shape} | {mode} | {interp / 1e3:,.0f} k | {planner / 1e3:,.0f} k | {planner / interp:.2f} |",
+              flush=True)
 
 
 if __name__ == "__main__":

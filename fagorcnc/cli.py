@@ -22,6 +22,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from . import __version__
+from .runtime import keep_freed_memory
 from .syntax import parse_file
 
 
@@ -342,6 +343,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    keep_freed_memory()   # the planner's arrays: reused, not faulted in again (see fagorcnc.runtime)
     try:
         return args.func(args)
     except KeyboardInterrupt:

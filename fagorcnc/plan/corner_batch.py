@@ -20,6 +20,8 @@ from .limits import CENTRIPETAL, CURVE_JERK
 #: Points of the programmed path per side that a curve's deviation is measured against (as
 #: :func:`~fagorcnc.plan.corners.deviation`: a line's points are collinear, the same distance).
 REFERENCE = 17
+#: Corners whose deviations are measured at once: a few (rows, 97, 32) arrays of about 200 kB each.
+CHUNK = 64
 
 
 class PieceRows:
@@ -180,8 +182,21 @@ def _deviations(side_p: PieceRows, side_q: PieceRows, rows: np.ndarray, p_len: n
     ref = np.concatenate([ref_p, ref_q], axis=1) - vertex[:, None, :]   # (n, 33, D)
     a, ab = ref[:, :-1], ref[:, 1:] - ref[:, :-1]
     den = np.maximum((ab * ab).sum(axis=2), 1e-300)[:, None, :]
-    along = pts @ ab.transpose(0, 2, 1) - (a * ab).sum(axis=2)[:, None, :]
-    square = (pts * pts).sum(axis=2)[:, :, None] - 2.0 * (pts @ a.transpose(0, 2, 1)) + (a * a).sum(axis=2)[:, None, :]
-    t = np.clip(along / den, 0.0, 1.0)
-    gap = square - t * (2.0 * along - t * den)
+    # the squared distance from each point x to each segment a + t (b - a) as
+    # |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), t the clipped share: four (n, 97, 32) arrays
+    # worked on in place
+    along = pts @ ab.transpose(0, 2, 1)                                  # (x - a).(b - a)
+    along -= (a * ab).sum(axis=2)[:, None, :]
+    gap = pts @ a.transpose(0, 2, 1)                                     # becomes |x - a|²
+    gap *= -2.0
+    gap += (pts * pts).sum(axis=2)[:, :, None]
+    gap += (a * a).sum(axis=2)[:, None, :]
+    t = np.divide(along, den)
+    np.maximum(t, 0.0, out=t)
+    np.minimum(t, 1.0, out=t)
+    along *= 2.0
+    den = t * den
+    along -= den
+    along *= t
+    gap -= along
     return np.sqrt(np.maximum(gap.min(axis=2).max(axis=1), 0.0))
