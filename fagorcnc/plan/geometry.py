@@ -147,34 +147,41 @@ class ArcPiece(Piece):
 
     def __init__(self, start: np.ndarray, end: np.ndarray, ia: int, io: int, center: tuple[float, float],
                  sweep: float) -> None:
+        # on floats: an arc is made for every block and every trim of one
         self.start, self.end, self.ia, self.io = start, end, ia, io
         self.center = center
-        r0 = math.hypot(start[ia] - center[0], start[io] - center[1])
-        r1 = math.hypot(end[ia] - center[0], end[io] - center[1])
-        self.theta0 = math.atan2(start[io] - center[1], start[ia] - center[0])
-        other = end - start
+        cx, cy = center
+        a, b = start.tolist(), end.tolist()
+        r0 = math.hypot(a[ia] - cx, a[io] - cy)
+        r1 = math.hypot(b[ia] - cx, b[io] - cy)
+        self.theta0 = math.atan2(a[io] - cy, a[ia] - cx)
+        other = [y - x for x, y in zip(a, b, strict=True)]
         other[ia] = other[io] = 0.0
         planar = abs(sweep) * (r0 + r1) / 2.0
-        self.length = length = math.hypot(planar, float(np.linalg.norm(other)))
+        self.length = length = math.hypot(planar, math.hypot(*other))
         self.r0 = r0
         self.dr = (r1 - r0) / length
         self.w = sweep / length
-        self.lin = other / length
-        self._bounds(r0, r1, sweep)
+        lin = [x / length for x in other]
+        self.lin = np.array(lin)
+        self._bounds(r0, r1, sweep, lin)
 
-    def _bounds(self, r0: float, r1: float, sweep: float) -> None:
+    def _bounds(self, r0: float, r1: float, sweep: float, lin: list[float]) -> None:
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
         rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
-        d1, d2, d3 = np.abs(self.lin), np.zeros_like(self.lin), np.zeros_like(self.lin)
+        ia, io = self.ia, self.io
+        d1 = [abs(x) for x in lin]
+        d2 = [0.0] * len(lin)
+        d3 = [0.0] * len(lin)
         # q_a = rho cos(th): q' = dr cos - rho w sin; q'' = -2 dr w sin - rho w² cos;
         # q''' = -3 dr w² cos + rho w³ sin
-        d1[self.ia] = dr * mc + rmax * w * ms
-        d1[self.io] = dr * ms + rmax * w * mc
-        d2[self.ia] = 2 * dr * w * ms + rmax * w * w * mc
-        d2[self.io] = 2 * dr * w * mc + rmax * w * w * ms
-        d3[self.ia] = 3 * dr * w * w * mc + rmax * w ** 3 * ms
-        d3[self.io] = 3 * dr * w * w * ms + rmax * w ** 3 * mc
-        self.d1, self.d2, self.d3 = d1, d2, d3
+        d1[ia] = dr * mc + rmax * w * ms
+        d1[io] = dr * ms + rmax * w * mc
+        d2[ia] = 2 * dr * w * ms + rmax * w * w * mc
+        d2[io] = 2 * dr * w * mc + rmax * w * w * ms
+        d3[ia] = 3 * dr * w * w * mc + rmax * w ** 3 * ms
+        d3[io] = 3 * dr * w * w * ms + rmax * w ** 3 * mc
+        self.d1, self.d2, self.d3 = np.array(d1), np.array(d2), np.array(d3)
 
     def derivatives(self, s):
         th = self.theta0 + self.w * s
@@ -208,20 +215,27 @@ class ArcPiece(Piece):
         return q
 
     def frame(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return (self.point(s), *self.direction(s))
+
+    def direction(self, s: float) -> tuple[np.ndarray, np.ndarray]:
+        # the frame without its point, on floats: every corner at an arc asks for it (smooth? how sharp?)
         th = self.theta0 + self.w * s
         c, sn = math.cos(th), math.sin(th)
         rho = self.r0 + self.dr * s
         w, dr, ia, io = self.w, self.dr, self.ia, self.io
-        d1 = self.lin.copy()
-        d2 = np.zeros(len(d1))
+        d1 = self.lin.tolist()
         d1[ia] = dr * c - rho * w * sn
         d1[io] = dr * sn + rho * w * c
-        d2[ia] = -2 * dr * w * sn - rho * w * w * c
-        d2[io] = 2 * dr * w * c - rho * w * w * sn
-        speed = math.hypot(*d1.tolist())
-        t = d1 / speed
-        k = (d2 - float(np.dot(d2, t)) * t) / (speed * speed)
-        return self.point(s), t, k
+        da = -2 * dr * w * sn - rho * w * w * c     # q'' has no other component
+        do = 2 * dr * w * c - rho * w * w * sn
+        speed = math.hypot(*d1)
+        t = [x / speed for x in d1]
+        along = da * t[ia] + do * t[io]
+        square = speed * speed
+        k = [-along * x / square for x in t]
+        k[ia] = (da - along * t[ia]) / square
+        k[io] = (do - along * t[io]) / square
+        return np.array(t), np.array(k)
 
     def speed_factor(self) -> float:
         rmax = max(self.r0, self.r0 + self.dr * self.length)

@@ -252,17 +252,18 @@ class Planner:
         jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         # a span that starts on an HSC spline keeps room for its transition back to a straight line
         half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
-        inputs = (half_p, nxt.orig_length / 2.0, speed, tolerance, acc, jerk, corner_measure)
+        inputs = (half_p, nxt.orig_length / 2.0, speed, tolerance, acc, jerk, corner_measure, feed)
         found = self._arc_blend(prev, nxt, inputs) if distances is None and (p.curved or q.curved) else _MISSING
         if found is not _MISSING:
-            made = found
+            made, limits = found
         else:
             made = make_blend(p, q, half_p, nxt.orig_length / 2.0, tolerance=tolerance,
                               speed=speed, acc=acc, jerk=jerk, distances=distances, corner=corner_measure)
+            limits = None
         if made is None:
             prev.stop_after = True
             return None
-        return self._blend_span(prev, nxt, made, feed)
+        return self._blend_span(prev, nxt, made, feed, limits)
 
     def _line_blend(self, prev: Span, nxt: Span, feed: float, speed: float | None,
                     tolerance: float | None) -> tuple | None:
@@ -340,22 +341,22 @@ class Planner:
             for i, (a, b, end, lp, lq, row, sz, lm) in enumerate(zip(chain, chain[1:], ends, lim_p, lim_q, rows,
                                                                        size.tolist(), limits, strict=False))}
 
-    def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object | None:
-        """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits), computed in one
-        batch with the other corners at arcs in the look-ahead (see :meth:`_arc_batch`);
-        ``_MISSING`` where the batch has none for the corner as it now stands with ``inputs``
-        (half of each block, speed, tolerance, acceleration, jerk, corner measure): it is then
-        made alone."""
+    def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object:
+        """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits) and its limits,
+        computed in one batch with the other corners at arcs in the look-ahead (see
+        :meth:`_arc_batch`); ``_MISSING`` where the batch has none for the corner as it now stands
+        with ``inputs`` (half of each block, speed, tolerance, acceleration, jerk, corner measure,
+        feed): it is then made alone."""
         key = (id(prev), id(nxt))
         for attempt in range(2):
             found = self._arc_blends.get(key)
             if found is not None:
-                fp, fn, q, end, made_with, lim_p, made = found
+                fp, fn, q, end, made_with, lim_p, made, limits = found
                 p = prev.piece
                 now = inputs[0] if inputs[0] <= p.length else p.length
                 if (fp is prev and fn is nxt and nxt.piece is q and made_with == inputs
                         and abs(now - lim_p) <= 1e-12 * lim_p and math.dist(p.end.tolist(), end) <= 1e-9):
-                    return made
+                    return made, limits
                 return _MISSING
             if attempt == 0:
                 self._arc_batch(prev, nxt)
@@ -378,7 +379,7 @@ class Planner:
                 chain.append(x)
         hsc = dyn.corner == "HSC"
         tolerance = dyn.hsc.tolerance if hsc else None
-        rows, ps, qs, lim_p, lim_q, speeds, made_with = [], [], [], [], [], [], []
+        rows, ps, qs, lim_p, lim_q, speeds, feeds, made_with = [], [], [], [], [], [], [], []
         acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
         jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         for i, (a, b) in enumerate(pairwise(chain)):
@@ -393,7 +394,7 @@ class Planner:
             else:
                 if dyn.roundpar[0] in (3, 5):
                     return   # fixed distances (cheap alone) or not modelled
-                _, speed, tolerance, _ = _roundpar(dyn.roundpar, feed)
+                feed, speed, tolerance, _ = _roundpar(dyn.roundpar, feed)
             # after the first corner: one between two HSC lines before this one is a spline, most likely
             spline_before = a.mid_k is not None if i == 0 else hsc and not (chain[i - 1].piece.curved or p.curved)
             half_p = a.orig_length / (4.0 if spline_before else 2.0)
@@ -404,16 +405,27 @@ class Planner:
             lim_p.append(half_p if half_p <= p.length else p.length)
             lim_q.append(half_q if half_q <= q.length else q.length)
             speeds.append(speed)
-            made_with.append((half_p, half_q, speed, tolerance, acc, jerk, not hsc))
+            feeds.append(feed)
+            made_with.append((half_p, half_q, speed, tolerance, acc, jerk, not hsc, feed))
         if not rows:
             return
         found = make_blends(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
                             speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
                             corner=not hsc)
+        # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits)
+        limits: list[tuple | None] = [None] * len(found)
+        made = [j for j, m in enumerate(found) if m is not None]
+        if made:
+            curves = [found[j][0] for j in made]
+            rows_of = curve_limits_rows(np.array([c.d1 for c in curves]), np.array([c.d2 for c in curves]),
+                                        np.array([c.d3 for c in curves]), lim, np.array([feeds[j] for j in made]),
+                                        prev.path_acc, prev.path_jerk)
+            for j, row in zip(made, zip(*(x.tolist() for x in rows_of), strict=True), strict=True):
+                limits[j] = row
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
         self._arc_blends = {
             (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end.tolist(), made_with[j],
-                                               lim_p[j], found[j])
+                                               lim_p[j], found[j], limits[j])
             for j, i in enumerate(rows)}
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
