@@ -141,9 +141,23 @@ class ArcPiece(Piece):
     ``theta = theta0 + w s``, radius ``rho = r0 + dr s``, other axes linear.
     """
 
-    __slots__ = ("center", "dr", "ia", "io", "length", "lin", "r0", "theta0", "w")
+    __slots__ = ("_bounded", "_ends", "center", "dr", "ia", "io", "length", "lin", "r0", "theta0", "w")
 
     curved = True
+
+    # the derivative bounds, made on first use: a corner trims the start of an arc and the next
+    # corner its end, and only the arc left after both is planned
+    @property
+    def d1(self) -> np.ndarray:
+        return (self._bounded or self._bounds())[0]
+
+    @property
+    def d2(self) -> np.ndarray:
+        return (self._bounded or self._bounds())[1]
+
+    @property
+    def d3(self) -> np.ndarray:
+        return (self._bounded or self._bounds())[2]
 
     def __init__(self, start: np.ndarray, end: np.ndarray, ia: int, io: int, center: tuple[float, float],
                  sweep: float) -> None:
@@ -164,9 +178,11 @@ class ArcPiece(Piece):
         self.w = sweep / length
         lin = [x / length for x in other]
         self.lin = np.array(lin)
-        self._bounds(r0, r1, sweep, lin)
+        self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
+        self._bounded = None
 
-    def _bounds(self, r0: float, r1: float, sweep: float, lin: list[float]) -> None:
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r0, (r1, sweep), lin = self.r0, self._ends, self.lin.tolist()
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
         rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
         ia, io = self.ia, self.io
@@ -181,7 +197,8 @@ class ArcPiece(Piece):
         d2[io] = 2 * dr * w * mc + rmax * w * w * ms
         d3[ia] = 3 * dr * w * w * mc + rmax * w ** 3 * ms
         d3[io] = 3 * dr * w * w * ms + rmax * w ** 3 * mc
-        self.d1, self.d2, self.d3 = np.array(d1), np.array(d2), np.array(d3)
+        self._bounded = bounds = (np.array(d1), np.array(d2), np.array(d3))
+        return bounds
 
     def derivatives(self, s):
         th = self.theta0 + self.w * s
@@ -242,7 +259,18 @@ class ArcPiece(Piece):
         return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + float(np.dot(self.lin, self.lin)))
 
     def sub(self, s0: float, s1: float) -> ArcPiece:
-        return ArcPiece(self.point(s0), self.point(s1), self.ia, self.io, self.center, self.w * (s1 - s0))
+        # the same curve over [s0, s1] with the same parameter (angle and radius linear in it): only
+        # the ends, the start angle and radius move; an end that stays keeps its point
+        out = ArcPiece.__new__(ArcPiece)
+        out.ia, out.io, out.center, out.w, out.dr, out.lin = self.ia, self.io, self.center, self.w, self.dr, self.lin
+        out.start = self.start if s0 == 0.0 else self.point(s0)
+        out.end = self.end if s1 == self.length else self.point(s1)
+        out.theta0 = self.theta0 + self.w * s0
+        out.r0 = r0 = self.r0 + self.dr * s0
+        out.length = length = s1 - s0
+        out._ends = (r0 + self.dr * length, self.w * length)
+        out._bounded = None
+        return out
 
 
 class BlendPiece(Piece):

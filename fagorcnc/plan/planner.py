@@ -444,7 +444,7 @@ class Planner:
             nxt.mid_k = None
             self._spline_used = False
             return None
-        nxt.trim(d2, nxt.piece.length, start)
+        nxt.trim(d2, nxt.piece.length, start, later=True)   # settled once its own end is decided
         keep = prev.piece.length - d1
         if keep > MIN_LENGTH:
             prev.trim(0.0, keep)
@@ -624,6 +624,7 @@ class Planner:
                     continue
                 if prev is not None:
                     prev.stop_after = True
+                    prev.settle()
                     yield from self._lead(prev)
                     yield from self._emit(prev, pending, settle)
                     prev, pending = None, []
@@ -632,6 +633,7 @@ class Planner:
             if prev is not None:
                 self._spline_used = False
                 blend = self._junction(prev, item)
+                prev.settle()
                 if not self._spline_used and prev.mid_k is not None:
                     yield from self._lead(prev)
                 if prev.stop_after:
@@ -643,6 +645,7 @@ class Planner:
                     if blend is not None:
                         yield blend
                 else:
+                    item.settle()
                     before, head, item = self._adapt(prev, item)
                     for span in before:
                         if span.piece is not None:
@@ -655,6 +658,7 @@ class Planner:
             prev = item
         if prev is not None:
             prev.stop_after = True
+            prev.settle()
             yield from self._lead(prev)
             yield from self._emit(prev, pending, settle)
 

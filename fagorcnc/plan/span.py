@@ -34,7 +34,7 @@ class Span:
     must stop at its end."""
 
     __slots__ = ("_terms", "acc", "blend", "dyn", "feed", "jerk", "length", "lim", "line", "mid_k",
-                 "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stop_after", "vc")
+                 "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stale", "stop_after", "vc")
 
     def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
                  path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False) -> None:
@@ -63,7 +63,7 @@ class Span:
         out.feed, out.lim, out.rapid, out.dyn = feed, lim, False, dyn
         out.path_acc, out.path_jerk, out.blend = path_acc, path_jerk, True
         out.orig_length = out.length = piece.length
-        out.stop_after, out.mid_k, out._terms = False, None, None
+        out.stop_after, out.mid_k, out._terms, out.stale = False, None, None, False
         out.vc, out.acc, out.jerk = vc, acc, jerk
         return out
 
@@ -72,6 +72,7 @@ class Span:
         p = self.piece
         self.length = p.length
         self._terms = None
+        self.stale = False
         if p.curved:
             self.vc, self.acc, self.jerk = curve_limits(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim,
                                                         self.feed / p.speed_factor(), self.path_acc, self.path_jerk)
@@ -88,15 +89,25 @@ class Span:
             self._terms = axis_terms(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim)
         return self._terms
 
-    def trim(self, s0: float, s1: float, start=None) -> None:
+    def trim(self, s0: float, s1: float, start=None, later: bool = False) -> None:
         """Keep the stretch ``[s0, s1]`` of the piece (a line: ``start`` its point at s0 when already
         known).  A line's limits depend on its direction alone, so a trimmed line only changes its
-        length."""
+        length.  ``later``: a curved piece's limits are left stale until :meth:`settle` (a corner
+        trims the start of the next span, whose end the corner after it most often trims again)."""
         self.piece = self.piece.sub(s0, s1) if start is None else self.piece.sub(s0, s1, start)
-        if self.piece.curved:
-            self.refresh()
-        else:
+        if not self.piece.curved:
             self.length = self.piece.length
+        elif later:
+            self.length = self.piece.length
+            self._terms = None
+            self.stale = True
+        else:
+            self.refresh()
+
+    def settle(self) -> None:
+        """Recompute the limits a trim left stale (see :meth:`trim`)."""
+        if self.stale and self.piece is not None:
+            self.refresh()
 
     def part(self, s0: float, s1: float, feed: float | None = None) -> Span:
         """The stretch ``[s0, s1]`` of this span as a new span (optionally with another feed)."""
