@@ -354,3 +354,46 @@ def test_deviation_from_an_arc_is_the_distance_to_its_polyline():
         worst = max(worst, best)
     assert 0.0 < worst <= 0.95 * 0.01
     assert deviation(blend, p, q, d1, d2, False) == pytest.approx(worst, rel=1e-9, abs=1e-12)
+
+
+def test_an_arcs_trim_is_the_same_curve_over_the_same_parameter():
+    """ArcPiece.sub restricts the curve: at every parameter the trimmed arc is where the whole one is
+    at s0 + s (helix and spiral included), its length is s1 - s0, and its derivative bounds (made on
+    first use) are those of the arc rebuilt from its end points, within rounding."""
+    from fagorcnc.plan.geometry import ArcPiece
+
+    start, end = np.array([10.0, 0.0, 0.0]), np.array([0.0, 10.05, 3.0])
+    arc = ArcPiece(start, end, 0, 1, (0.0, 0.0), np.pi / 2)
+    s0, s1 = 0.2 * arc.length, 0.7 * arc.length
+    part = arc.sub(s0, s1)
+    assert part.length == s1 - s0
+    s = np.linspace(0.0, part.length, 9)
+    for got, whole in zip(part.derivatives(s), arc.derivatives(s0 + s), strict=True):
+        assert close(got, whole)
+    rebuilt = ArcPiece(part.start, part.end, 0, 1, (0.0, 0.0), part.w * part.length)
+    for got, want in zip((part.d1, part.d2, part.d3), (rebuilt.d1, rebuilt.d2, rebuilt.d3), strict=True):
+        assert np.allclose(got, want, rtol=1e-3)   # the rebuilt spiral's parameter runs 0.1 % faster
+    assert arc.sub(0.0, arc.length).end is arc.end and arc.sub(0.0, s1).start is arc.start
+
+
+def test_a_span_made_later_settles_to_the_limits_made_at_once():
+    """A curved span made or trimmed with ``later`` has no limits until settled; then it has those a
+    span made (or trimmed) at once has."""
+    import fagorcnc
+    from fagorcnc.plan import Planner
+    from fagorcnc.plan.geometry import ArcPiece
+    from fagorcnc.plan.span import Span
+
+    planner = Planner(fagorcnc.load_machine(None))
+    lim = planner._axis_limits(None, False)
+    arc = ArcPiece(np.array([10.0, 0.0, 0.0]), np.array([0.0, 10.0, 1.0]), 0, 1, (0.0, 0.0), np.pi / 2)
+    at_once = Span(arc, None, 80.0, lim, False, None, 0.0, 0.0)
+    later = Span(arc, None, 80.0, lim, False, None, 0.0, 0.0, later=True)
+    assert later.stale and not hasattr(later, "vc")
+    later.settle()
+    assert not later.stale and (later.vc, later.acc, later.jerk) == (at_once.vc, at_once.acc, at_once.jerk)
+    at_once.trim(1.0, arc.length)
+    later.trim(1.0, arc.length, later=True)
+    assert later.stale and later.length == at_once.length
+    later.settle()
+    assert (later.vc, later.acc, later.jerk) == (at_once.vc, at_once.acc, at_once.jerk)

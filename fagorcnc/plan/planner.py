@@ -171,8 +171,9 @@ class Planner:
                 feed *= cfg.feed_override / 100.0
         if feed <= 0:
             raise PlanningError("the feed override is 0 %: nothing moves", rec.src.line, rec)
+        # an arc's limits wait until the corners at its ends are decided (settled in _corners)
         return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn,
-                    cfg.max_path_acceleration, cfg.max_path_jerk)
+                    cfg.max_path_acceleration, cfg.max_path_jerk, later=True)
 
     def _spans(self, records: Iterable) -> Iterator[Span | Event]:
         for rec in records:
@@ -188,7 +189,7 @@ class Planner:
                 # long arcs in parts: each part picks its own cap (more tangential budget where slow)
                 cuts = [span.length * i / parts for i in range(parts + 1)]
                 for i in range(parts):
-                    yield span.part(cuts[i], cuts[i + 1])
+                    yield span.part(cuts[i], cuts[i + 1], later=True)
             elif kind == "dwell":
                 yield Event(rec, rec.seconds)
             elif kind == "aux":
@@ -698,6 +699,8 @@ class Planner:
                 yield Segment(item.kind, clock[0], item.duration, item.line, item.record)
                 clock[0] += item.duration
                 continue
+            if item.stale:   # settled in _corners: a guard, so that no span is timed without its limits
+                item.settle()
             last = item
             if group is not None and _joins(group, item):
                 group.add(item)

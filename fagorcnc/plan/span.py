@@ -37,7 +37,7 @@ class Span:
                  "orig_length", "path_acc", "path_jerk", "piece", "rapid", "record", "stale", "stop_after", "vc")
 
     def __init__(self, piece: Piece, record, feed: float, lim: AxisLimits, rapid: bool, dyn,
-                 path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False) -> None:
+                 path_acc: float = 0.0, path_jerk: float = 0.0, blend: bool = False, later: bool = False) -> None:
         self.piece = piece
         self.record = record
         self.line = record.src.line if record is not None else 0
@@ -51,7 +51,12 @@ class Span:
         self.orig_length = piece.length
         self.stop_after = False
         self.mid_k = None   # HSC spline: curvature the path has where this span now starts
-        self.refresh()
+        if later and piece.curved:   # limits once the corners at both ends are decided (see trim)
+            self.length = piece.length
+            self._terms = None
+            self.stale = True
+        else:
+            self.refresh()
 
     @classmethod
     def with_limits(cls, piece: Piece, record, feed: float, lim: AxisLimits, dyn, path_acc: float,
@@ -109,10 +114,11 @@ class Span:
         if self.stale and self.piece is not None:
             self.refresh()
 
-    def part(self, s0: float, s1: float, feed: float | None = None) -> Span:
-        """The stretch ``[s0, s1]`` of this span as a new span (optionally with another feed)."""
+    def part(self, s0: float, s1: float, feed: float | None = None, later: bool = False) -> Span:
+        """The stretch ``[s0, s1]`` of this span as a new span (optionally with another feed; ``later``:
+        its limits made when :meth:`settle` asks, as with :meth:`trim`)."""
         return Span(self.piece.sub(s0, s1), self.record, self.feed if feed is None else feed, self.lim, self.rapid,
-                    self.dyn, self.path_acc, self.path_jerk, self.blend)
+                    self.dyn, self.path_acc, self.path_jerk, self.blend, later)
 
 
 class Event:
