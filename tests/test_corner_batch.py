@@ -51,17 +51,19 @@ def _corners(seed: int, n: int) -> tuple[list, list]:
 
 
 def test_piece_rows_evaluate_as_the_pieces():
-    """Points at many parameters and frames at one, over rows of lines and arcs (helices and
-    spirals in the three planes), against each piece's own evaluation."""
+    """Points at many parameters and frames at one, over rows of lines (a plunge along Z among them)
+    and arcs (helices and spirals in the three planes), against each piece's own evaluation."""
     ps, qs = _corners(3, 30)
-    pieces = ps + qs
+    plunge = LinePiece(np.array([1.0, 2.0, 5.0]), np.array([1.0, 2.0, -3.0]))   # along Z alone: no plane direction
+    pieces = [*ps, *qs, plunge]
     rows = PieceRows(pieces)
+    every = np.arange(len(pieces))
     s = np.array([np.linspace(0.0, p.length, 7) for p in pieces])
-    points = rows.points(s)
+    points = rows.points(s, every)
     for i, p in enumerate(pieces):
         assert close(points[i], p.derivatives(s[i])[0])
     at = np.array([0.37 * p.length for p in pieces])
-    q, t, k = rows.frames(at)
+    q, t, k = rows.frames(at, every)
     for i, p in enumerate(pieces):
         for got, want in zip((q[i], t[i], k[i]), p.frame(float(at[i])), strict=True):
             assert close(got, want)

@@ -26,72 +26,66 @@ CHUNK = 64
 
 class PieceRows:
     """Lines and arcs as arrays (one row each), evaluated all at once: points at many parameters,
-    and the frame (point, unit tangent, curvature vector) at one parameter per row; the same
-    formulas as :class:`~fagorcnc.plan.geometry.ArcPiece` and
-    :class:`~fagorcnc.plan.geometry.LinePiece`."""
+    and the frame (point, unit tangent, curvature vector) at one parameter per row; the formulas
+    of :class:`~fagorcnc.plan.geometry.ArcPiece`, a line being an arc that does not turn and whose
+    radius grows along it from its start (its direction in the first two axes' plane, the rest
+    linear).  The plane's two axes are picked by one-hot rows, so that every row takes the same
+    array operations."""
 
     def __init__(self, pieces: list[Piece]) -> None:
-        n = len(pieces)
-        self.n = n
-        self.start = np.array([p.start for p in pieces])
-        self.lin = np.array([p.lin if isinstance(p, ArcPiece) else p.u for p in pieces])
-        arcs = [i for i, p in enumerate(pieces) if isinstance(p, ArcPiece)]
-        self.arc = np.array(arcs, dtype=np.intp)
-        rows = [pieces[i] for i in arcs]
-        self.theta0 = np.array([a.theta0 for a in rows])
-        self.w = np.array([a.w for a in rows])
-        self.r0 = np.array([a.r0 for a in rows])
-        self.dr = np.array([a.dr for a in rows])
-        self.cx = np.array([a.center[0] for a in rows])
-        self.cy = np.array([a.center[1] for a in rows])
-        self.ia = np.array([a.ia for a in rows], dtype=np.intp)
-        self.io = np.array([a.io for a in rows], dtype=np.intp)
+        dim = len(pieces[0].start)
+        base, lin, plane, shape = [], [], [], []
+        for p in pieces:
+            if isinstance(p, ArcPiece):
+                ia, io = p.ia, p.io
+                shape.append((*p.center, p.theta0, p.w, p.r0, p.dr))
+                direction = p.lin.tolist()
+            else:
+                ia, io = 0, 1
+                direction = p.u.tolist()
+                start = p.start.tolist()
+                shape.append((start[0], start[1], math.atan2(direction[1], direction[0]), 0.0, 0.0,
+                               math.hypot(direction[0], direction[1])))
+            row = p.start.tolist()
+            row[ia] = row[io] = direction[ia] = direction[io] = 0.0
+            base.append(row)
+            lin.append(direction)
+            plane.append((ia, io))
+        self.base, self.lin = np.array(base), np.array(lin)
+        self.cx, self.cy, self.theta0, self.w, self.r0, self.dr = np.array(shape).T
+        axes = np.array(plane)
+        self.ea = (axes[:, :1] == np.arange(dim)).astype(float)   # one-hot: the plane's first axis
+        self.eo = (axes[:, 1:] == np.arange(dim)).astype(float)   # ... and its second
 
-    def points(self, s: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
-        """Points (n, m, D) at the parameters ``s`` (n, m) of the pieces ``rows`` (all: None)."""
-        start, lin = (self.start, self.lin) if rows is None else (self.start[rows], self.lin[rows])
-        q = start[:, None, :] + s[:, :, None] * lin[:, None, :]
-        sel, at = self._arcs(rows)
-        if len(sel):
-            sa = s[at]
-            th = self.theta0[sel, None] + self.w[sel, None] * sa
-            rho = self.r0[sel, None] + self.dr[sel, None] * sa
-            cols = np.arange(s.shape[1])[None, :]
-            q[at[:, None], cols, self.ia[sel, None]] = self.cx[sel, None] + rho * np.cos(th)
-            q[at[:, None], cols, self.io[sel, None]] = self.cy[sel, None] + rho * np.sin(th)
+    def points(self, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """Points (n, m, D) at the parameters ``s`` (n, m) of the pieces ``rows``."""
+        th = self.theta0[rows, None] + self.w[rows, None] * s
+        rho = self.r0[rows, None] + self.dr[rows, None] * s
+        x = self.cx[rows, None] + rho * np.cos(th)
+        y = self.cy[rows, None] + rho * np.sin(th)
+        q = self.base[rows, None, :] + s[:, :, None] * self.lin[rows, None, :]
+        q += x[:, :, None] * self.ea[rows, None, :]
+        q += y[:, :, None] * self.eo[rows, None, :]
         return q
 
-    def frames(self, s: np.ndarray, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def frames(self, s: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Point, unit tangent and curvature vector (each (n, D)) at one parameter per row."""
-        q = self.points(s[:, None], rows)[:, 0]
-        d1 = (self.lin if rows is None else self.lin[rows]).copy()
-        d2 = np.zeros_like(d1)
-        sel, at = self._arcs(rows)
-        if len(sel):
-            sa = s[at]
-            th = self.theta0[sel] + self.w[sel] * sa
-            c, sn = np.cos(th), np.sin(th)
-            rho = self.r0[sel] + self.dr[sel] * sa
-            w, dr, ia, io = self.w[sel], self.dr[sel], self.ia[sel], self.io[sel]
-            d1[at, ia] = dr * c - rho * w * sn
-            d1[at, io] = dr * sn + rho * w * c
-            d2[at, ia] = -2 * dr * w * sn - rho * w * w * c
-            d2[at, io] = 2 * dr * w * c - rho * w * w * sn
+        th = self.theta0[rows] + self.w[rows] * s
+        c, sn = np.cos(th), np.sin(th)
+        rho = self.r0[rows] + self.dr[rows] * s
+        w, dr = self.w[rows], self.dr[rows]
+        ea, eo = self.ea[rows], self.eo[rows]
+        q = self.base[rows] + s[:, None] * self.lin[rows]
+        q += (self.cx[rows] + rho * c)[:, None] * ea
+        q += (self.cy[rows] + rho * sn)[:, None] * eo
+        d1 = self.lin[rows] + (dr * c - rho * w * sn)[:, None] * ea
+        d1 += (dr * sn + rho * w * c)[:, None] * eo
+        d2 = (-2 * dr * w * sn - rho * w * w * c)[:, None] * ea
+        d2 += (2 * dr * w * c - rho * w * w * sn)[:, None] * eo
         square = (d1 * d1).sum(axis=1)[:, None]
-        speed = np.sqrt(square)
-        t = d1 / speed
+        t = d1 / np.sqrt(square)
         k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
         return q, t, k
-
-    def _arcs(self, rows: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-        """The arcs among ``rows``: their indices in the arc arrays and their positions in ``rows``."""
-        if rows is None:
-            return np.arange(len(self.arc)), self.arc
-        where = np.full(self.n, -1, dtype=np.intp)
-        where[self.arc] = np.arange(len(self.arc))
-        sel = where[rows]
-        at = np.flatnonzero(sel >= 0)
-        return sel[at], at
 
 
 def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray, *,
@@ -102,7 +96,7 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
     the smaller of half its block and its length) and ``speed`` one per corner (or None): the
     same steps on every row at once, so the same curves up to rounding.  None where no curve fits."""
     n = len(ps)
-    side_p, side_q = PieceRows(ps), PieceRows(qs)
+    sides = PieceRows(ps + qs)   # rows 0 .. n - 1 the incoming pieces, n .. 2n - 1 the outgoing ones
     p_len = np.array([p.length for p in ps])
     vertex = np.array([p.end for p in ps])
     lim_p, lim_q = np.asarray(lim_p, dtype=float), np.asarray(lim_q, dtype=float)
@@ -111,8 +105,9 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
 
     def curves(rows: np.ndarray, size: np.ndarray):
         d1, d2 = np.minimum(size, lim_p[rows]), np.minimum(size, lim_q[rows])
-        p0, t0, k0 = side_p.frames(p_len[rows] - d1, rows)
-        p5, t5, k5 = side_q.frames(d2, rows)
+        q, t, k = sides.frames(np.concatenate([p_len[rows] - d1, d2]), np.concatenate([rows, rows + n]))
+        m = len(rows)
+        p0, t0, k0, p5, t5, k5 = q[:m], t[:m], k[:m], q[m:], t[m:], k[m:]
         controls = _controls(p0, t0, k0, (SHAPE * d1)[:, None], p5, t5, k5, (SHAPE * d2)[:, None])
         samples, b1, b2, b3, _ = _curve_bounds(controls)
         return d1, d2, controls, samples, b1, b2, b3, np.isfinite(b3).all(axis=1)
@@ -149,7 +144,7 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         if tolerance is None:
             ok = valid
         else:
-            dev = _deviations(side_p, side_q, rows, p_len[rows], d1, d2, samples, vertex[rows], corner)
+            dev = _deviations(sides, n, rows, p_len[rows], d1, d2, samples, vertex[rows], corner)
             ok = valid & (dev <= 0.95 * tolerance)
             shrink = valid & ~ok
             size[rows[shrink]] *= np.maximum(0.1, 0.9 * tolerance / dev[shrink])
@@ -168,18 +163,20 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
     return out
 
 
-def _deviations(side_p: PieceRows, side_q: PieceRows, rows: np.ndarray, p_len: np.ndarray, d1: np.ndarray,
+def _deviations(sides: PieceRows, n: int, rows: np.ndarray, p_len: np.ndarray, d1: np.ndarray,
                 d2: np.ndarray, samples: np.ndarray, vertex: np.ndarray, corner: bool) -> np.ndarray:
     """Per row, :func:`~fagorcnc.plan.corners.deviation` of the curve sampled at ``samples``
     (97, D, n): with ``corner`` the distance from the programmed corner point to the curve,
-    otherwise the largest distance from the curve to the stretch of path it replaces."""
+    otherwise the largest distance from the curve to the stretch of path it replaces (corner i's
+    pieces are the rows i and n + i of ``sides``)."""
     pts = samples.transpose(2, 0, 1) - vertex[:, None, :]              # (n, 97, D), from the corner
     if corner:
         return np.sqrt((pts * pts).sum(axis=2).min(axis=1))
     frac = np.linspace(0.0, 1.0, REFERENCE)[None, :]
-    ref_p = side_p.points(p_len[:, None] - d1[:, None] * (1.0 - frac), rows)
-    ref_q = side_q.points(d2[:, None] * frac[:, 1:], rows)
-    ref = np.concatenate([ref_p, ref_q], axis=1) - vertex[:, None, :]   # (n, 33, D)
+    m = len(rows)
+    both = sides.points(np.concatenate([p_len[:, None] - d1[:, None] * (1.0 - frac), d2[:, None] * frac]),
+                        np.concatenate([rows, rows + n]))   # each side's points (the vertex twice)
+    ref = np.concatenate([both[:m], both[m:, 1:]], axis=1) - vertex[:, None, :]   # (n, 33, D)
     a, ab = ref[:, :-1], ref[:, 1:] - ref[:, :-1]
     den = np.maximum((ab * ab).sum(axis=2), 1e-300)[:, None, :]
     # the squared distance from each point x to each segment a + t (b - a) as
