@@ -35,18 +35,6 @@ TANGENT_EPS = 1e-10
 CURVATURE_EPS = 1e-10
 
 
-def smooth(t0: np.ndarray, k0: np.ndarray, t1: np.ndarray, k1: np.ndarray) -> bool:
-    """True when the path is tangent- and curvature-continuous at the junction."""
-    return (math.dist(t0.tolist(), t1.tolist()) <= TANGENT_EPS
-            and math.dist(k0.tolist(), k1.tolist()) <= CURVATURE_EPS)
-
-
-def included_angle(t0: np.ndarray, t1: np.ndarray) -> float:
-    """Angle between the incoming and outgoing paths at a corner, degrees: 180 straight on."""
-    c = max(-1.0, min(1.0, float(np.dot(t0, t1))))
-    return 180.0 - math.degrees(math.acos(c))
-
-
 def _blend(p: Piece, q: Piece, d1: float, d2: float) -> BlendPiece:
     p0, t0, k0 = p.frame(p.length - d1)
     p5, t5, k5 = q.frame(d2)

@@ -96,6 +96,9 @@ class LinePiece(Piece):
     def direction(self, s):
         return self.u, self.d2
 
+    def direction_list(self, s: float) -> tuple[list[float], tuple[float, ...]]:
+        return self.ul, (0.0,) * len(self.ul)
+
     def sub(self, s0: float, s1: float, start: np.ndarray | None = None) -> LinePiece:
         # the same direction and derivative bounds: only the ends move (no norm, no division), and
         # an end that stays keeps its point; ``start``: the point at s0 when already computed
@@ -235,7 +238,12 @@ class ArcPiece(Piece):
         return (self.point(s), *self.direction(s))
 
     def direction(self, s: float) -> tuple[np.ndarray, np.ndarray]:
-        # the frame without its point, on floats: every corner at an arc asks for it (smooth? how sharp?)
+        t, k = self.direction_list(s)
+        return np.array(t), np.array(k)
+
+    def direction_list(self, s: float) -> tuple[list[float], list[float]]:
+        """The unit tangent and curvature vector at ``s`` as lists of floats: every corner at an arc
+        asks for them (smooth? how sharp?)."""
         th = self.theta0 + self.w * s
         c, sn = math.cos(th), math.sin(th)
         rho = self.r0 + self.dr * s
@@ -252,7 +260,7 @@ class ArcPiece(Piece):
         k = [-along * x / square for x in t]
         k[ia] = (da - along * t[ia]) / square
         k[io] = (do - along * t[io]) / square
-        return np.array(t), np.array(k)
+        return t, k
 
     def speed_factor(self) -> float:
         rmax = max(self.r0, self.r0 + self.dr * self.length)

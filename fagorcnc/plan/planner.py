@@ -21,7 +21,14 @@ import numpy as np
 
 from ..machine import Machine, load_machine
 from .corner_batch import make_blends
-from .corners import SHAPE, TANGENT_EPS, included_angle, line_corner_arrays, line_corner_sizes, make_blend, smooth
+from .corners import (
+    CURVATURE_EPS,
+    SHAPE,
+    TANGENT_EPS,
+    line_corner_arrays,
+    line_corner_sizes,
+    make_blend,
+)
 from .geometry import ArcPiece, BlendPiece, LinePiece, Piece, blends, corner_deviations
 from .limits import AxisLimits, curve_limits_rows
 from .lookahead import backward, distance
@@ -206,19 +213,18 @@ class Planner:
             prev.stop_after = True
             return None
         p, q = prev.piece, nxt.piece
+        # smooth (tangent and curvature continuous: nothing to round) or how sharp, on lists of floats
         if p.curved or q.curved:
-            t0, k0 = p.direction(p.length)
-            t1, k1 = q.direction(0.0)
-            if smooth(t0, k0, t1, k1):
+            pu, k0 = p.direction_list(p.length)
+            qu, k1 = q.direction_list(0.0)
+            if math.dist(pu, qu) <= TANGENT_EPS and math.dist(k0, k1) <= CURVATURE_EPS:
                 return None
-            angle = included_angle(t0, t1)
-        else:   # two lines: no curvature on either side (the tests of smooth() and included_angle()
-            # on the direction lists)
+        else:
             pu, qu = p.ul, q.ul
             if math.dist(pu, qu) <= TANGENT_EPS:
                 return None
-            c = sum(map(operator.mul, pu, qu))
-            angle = 180.0 - math.degrees(math.acos(-1.0 if c < -1.0 else 1.0 if c > 1.0 else c))
+        c = sum(map(operator.mul, pu, qu))
+        angle = 180.0 - math.degrees(math.acos(-1.0 if c < -1.0 else 1.0 if c > 1.0 else c))
         if angle < MIN_CORNER_ANGLE:
             prev.stop_after = True   # a reversal cannot be rounded
             return None
