@@ -178,9 +178,10 @@ class Planner:
                 feed *= cfg.feed_override / 100.0
         if feed <= 0:
             raise PlanningError("the feed override is 0 %: nothing moves", rec.src.line, rec)
-        # an arc's limits wait until the corners at its ends are decided (settled in _corners)
+        # an arc's limits wait until the corners at its ends are decided (``later``: settled in
+        # _corners; positional, as keywords cost a little on every block)
         return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn,
-                    cfg.max_path_acceleration, cfg.max_path_jerk, later=True)
+                    cfg.max_path_acceleration, cfg.max_path_jerk, False, piece.curved)
 
     def _spans(self, records: Iterable) -> Iterator[Span | Event]:
         for rec in records:
@@ -451,7 +452,7 @@ class Planner:
             nxt.mid_k = None
             self._spline_used = False
             return None
-        nxt.trim(d2, nxt.piece.length, start, later=True)   # settled once its own end is decided
+        nxt.trim(d2, nxt.piece.length, start, True)   # later: settled once its own end is decided
         keep = prev.piece.length - d1
         if keep > MIN_LENGTH:
             prev.trim(0.0, keep)
@@ -640,7 +641,8 @@ class Planner:
             if prev is not None:
                 self._spline_used = False
                 blend = self._junction(prev, item)
-                prev.settle()
+                if prev.stale:   # its end is decided: limits left for now can be made (see Span.trim)
+                    prev.settle()
                 if not self._spline_used and prev.mid_k is not None:
                     yield from self._lead(prev)
                 if prev.stop_after:

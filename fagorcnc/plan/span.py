@@ -51,7 +51,7 @@ class Span:
         self.orig_length = piece.length
         self.stop_after = False
         self.mid_k = None   # HSC spline: curvature the path has where this span now starts
-        if later and piece.curved:   # limits once the corners at both ends are decided (see trim)
+        if later:   # a curve's limits once the corners at both its ends are decided (see trim)
             self.length = piece.length
             self._terms = None
             self.stale = True
