@@ -4,6 +4,7 @@ construction (corners.make_blend) gives, and the planner plans the same with the
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -105,9 +106,9 @@ def test_corners_at_arcs_in_a_batch_equal_one_by_one(tolerance, speed, corner):
     assert made >= 80
 
 
-def _contour(mode: str) -> list[str]:
-    """A CAM-like contour: lines and arcs that meet at corners (not tangent), some arcs long
-    enough to be planned in parts, a helix, a feed change."""
+def _contour(mode: str, plane: str = "G17") -> list[str]:
+    """A CAM-like contour in ``plane``: lines and arcs that meet at corners (not tangent), some
+    arcs long enough to be planned in parts, a helix, a feed change."""
     rows, z = [], 0.0
     n = 48
     for i in range(n):
@@ -129,11 +130,19 @@ def _contour(mode: str) -> list[str]:
             rows.append(f"G1 X{x:.4f} Y{y:.4f}" + (" F2500" if i == 24 else ""))
     rows.append("G2 X46 Y-20 I-6 J-10")   # a long arc: planned in parts, no corner between them
     head = ["#HSC ON [CONTERROR 0.01]"] if mode == "HSC" else [mode, "G05"]
-    return ["G90 G1 X40 Y0 Z0 F4000", *head, *rows, "M30"]
+    program = ["G90 G1 X40 Y0 Z0 F4000", *head, *rows, "M30"]
+    if plane == "G17":
+        return program
+    # the same contour in the ZX (G18) or YZ (G19) plane: abscissa and ordinate keep their order
+    letters = {"G18": {"X": "Z", "Y": "X", "Z": "Y", "I": "K", "J": "I"},
+               "G19": {"X": "Y", "Y": "Z", "Z": "X", "I": "J", "J": "K"}}[plane]
+    moved = [re.sub(r"\b([XYZIJ])(?=-?[\d.])", lambda m: letters[m.group(1)], line) for line in program]
+    return [moved[0], plane, *moved[1:]]
 
 
+@pytest.mark.parametrize("plane", ["G17", "G18", "G19"])
 @pytest.mark.parametrize("mode", ["HSC", "#ROUNDPAR [1, 0.01]", "#ROUNDPAR [2, 60]", "#ROUNDPAR [4, 0.005]"])
-def test_corners_at_arcs_in_a_batch_plan_as_one_by_one(monkeypatch, mode):
+def test_corners_at_arcs_in_a_batch_plan_as_one_by_one(monkeypatch, mode, plane):
     """A contour of lines and arcs planned with the corners at arcs made in batches is planned as
     with every one made alone; every corner at an arc comes from a batch, a few batches in all."""
     from test_plan_batches import _record_calls
@@ -144,7 +153,7 @@ def test_corners_at_arcs_in_a_batch_plan_as_one_by_one(monkeypatch, mode):
     from fagorcnc.simulate import Run
 
     machine = fagorcnc.load_machine(None)
-    records = list(Run(iter(_contour(mode)), "<contour>", machine))
+    records = list(Run(iter(_contour(mode, plane)), "<contour>", machine))
     results = _record_calls(monkeypatch, Planner, "_arc_blend")
     batches = _record_calls(monkeypatch, Planner, "_arc_batch")
     batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]

@@ -59,9 +59,33 @@ def surface(n: int, step: float = 0.5, feed: int = 3000) -> str:
     return "\n".join(out) + "\n"
 
 
+def arc_contour(n: int = 60) -> str:
+    """A freeform contour as CAM arc fitting writes it: arcs through three points of the curve
+    r = 40 + 4 sin(5 t) (meeting at small kinks: corners at arcs), every fourth piece a line."""
+
+    def at(t: float) -> tuple[float, float]:
+        r = 40.0 + 4.0 * math.sin(5.0 * t)
+        return r * math.cos(t), r * math.sin(t)
+
+    out = ["G90 G1 X40 Y0 Z0 F3000"]
+    for i in range(n):
+        t0, t1 = 2.0 * math.pi * i / n, 2.0 * math.pi * (i + 1) / n
+        (x0, y0), (xm, ym), (x1, y1) = at(t0), at((t0 + t1) / 2.0), at(t1)
+        cross = (xm - x0) * (y1 - ym) - (ym - y0) * (x1 - xm)
+        if i % 4 == 3 or abs(cross) < 1e-3:
+            out.append(f"G1 X{x1:.4f} Y{y1:.4f}")
+            continue
+        d = 2.0 * (x0 * (ym - y1) + xm * (y1 - y0) + x1 * (y0 - ym))
+        s0, sm, s1 = x0 * x0 + y0 * y0, xm * xm + ym * ym, x1 * x1 + y1 * y1
+        cx = (s0 * (ym - y1) + sm * (y1 - y0) + s1 * (y0 - ym)) / d
+        cy = (s0 * (x1 - xm) + sm * (x0 - x1) + s1 * (xm - x0)) / d
+        out.append(f"{'G3' if cross > 0 else 'G2'} X{x1:.4f} Y{y1:.4f} I{cx - x0:.4f} J{cy - y0:.4f}")
+    return "\n".join(out) + "\n"
+
+
 MODES = {"G50": "", "G05": "G05\n", "HSC": "#HSC ON [CONTERROR 0.01]\n"}
 PATHS = {"square": square, "circle": small_circle, "zigzag": lambda: zigzag(60), "zigzag-gentle": lambda: zigzag(8),
-         "helix": helix}
+         "helix": helix, "arcs": arc_contour}
 
 
 def check_limits(result, jerk: bool = True) -> dict:
@@ -157,3 +181,39 @@ def test_hsc_path_stays_within_the_contour_error(path, tolerance):
         worst = max(worst, float(d.max()))
     assert worst <= tolerance + 1e-9
     assert worst > 1e-4   # the corners really are rounded
+
+
+def _programmed_points(move, per: int = 400) -> np.ndarray:
+    """Points along a programmed move (XY arcs and lines here), ``per`` of them: dense enough that
+    the polyline through them is within 1e-6 mm of the arc."""
+    a = np.array([move.start["X"], move.start["Y"], move.start["Z"]])
+    b = np.array([move.end["X"], move.end["Y"], move.end["Z"]])
+    f = np.linspace(0.0, 1.0, per)
+    if move.kind != "arc":
+        return a + f[:, None] * (b - a)
+    cx, cy = move.center["X"], move.center["Y"]
+    r0, r1 = math.hypot(a[0] - cx, a[1] - cy), math.hypot(b[0] - cx, b[1] - cy)
+    th = math.atan2(a[1] - cy, a[0] - cx) + math.radians(move.sweep) * f
+    r = r0 + (r1 - r0) * f
+    return np.stack([cx + r * np.cos(th), cy + r * np.sin(th), a[2] + f * (b[2] - a[2])], axis=1)
+
+
+def test_hsc_path_with_arcs_stays_within_the_contour_error():
+    """The corner curves at arcs (made in batches) keep the sampled path within E of the
+    programmed arcs and lines, and the corners really are rounded."""
+    tolerance = 0.01
+    r = run(f"#HSC ON [CONTERROR {tolerance}]\n" + arc_contour())
+    assert sum(1 for m in r.moves if m.kind == "arc") >= 40
+    tr = r.trajectory(PERIOD)
+    pts = np.stack([tr.position[a] for a in ("X", "Y", "Z")], axis=1)
+    moves = [m for m in r.moves if m.kind in ("linear", "arc")]
+    worst = 0.0
+    for line in np.unique(tr.line):
+        sel = tr.line == line
+        near = [m for m in moves if abs(m.line - line) <= 1]   # a corner curve spans its block and the next
+        ref = [_programmed_points(m) for m in near]
+        a = np.concatenate([p[:-1] for p in ref])
+        b = np.concatenate([p[1:] for p in ref])
+        worst = max(worst, float(_distance_to_polyline(pts[sel], a, b).min(axis=1).max()))
+    assert worst <= tolerance + 1e-6
+    assert worst > 1e-4
