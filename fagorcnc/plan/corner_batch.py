@@ -178,16 +178,18 @@ def _deviations(sides: PieceRows, n: int, rows: np.ndarray, p_len: np.ndarray, d
                         np.concatenate([rows, rows + n]))   # each side's points (the vertex twice)
     ref = np.concatenate([both[:m], both[m:, 1:]], axis=1) - vertex[:, None, :]   # (n, 33, D)
     a, ab = ref[:, :-1], ref[:, 1:] - ref[:, :-1]
-    den = np.maximum((ab * ab).sum(axis=2), 1e-300)[:, None, :]
     # the squared distance from each point x to each segment a + t (b - a) as
-    # |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), t the clipped share: four (n, 97, 32) arrays
-    # worked on in place
-    along = pts @ ab.transpose(0, 2, 1)                                  # (x - a).(b - a)
-    along -= (a * ab).sum(axis=2)[:, None, :]
-    gap = pts @ a.transpose(0, 2, 1)                                     # becomes |x - a|²
+    # |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), t the clipped share: four (n, 32, 97) arrays
+    # worked on in place, segments before points so that the least over the segments runs
+    # across whole rows of points
+    cols = np.ascontiguousarray(pts.transpose(0, 2, 1))                 # (n, D, 97)
+    den = np.maximum((ab * ab).sum(axis=2), 1e-300)[:, :, None]
+    along = ab @ cols                                                    # (x - a).(b - a)
+    along -= (a * ab).sum(axis=2)[:, :, None]
+    gap = a @ cols                                                       # becomes |x - a|²
     gap *= -2.0
-    gap += (pts * pts).sum(axis=2)[:, :, None]
-    gap += (a * a).sum(axis=2)[:, None, :]
+    gap += (pts * pts).sum(axis=2)[:, None, :]
+    gap += (a * a).sum(axis=2)[:, :, None]
     t = np.divide(along, den)
     np.maximum(t, 0.0, out=t)
     np.minimum(t, 1.0, out=t)
@@ -196,4 +198,4 @@ def _deviations(sides: PieceRows, n: int, rows: np.ndarray, p_len: np.ndarray, d
     along -= den
     along *= t
     gap -= along
-    return np.sqrt(np.maximum(gap.min(axis=2).max(axis=1), 0.0))
+    return np.sqrt(np.maximum(gap.min(axis=1).max(axis=1), 0.0))
