@@ -38,10 +38,13 @@ class AxisLimits:
     #: The tightest axis' acceleration and jerk (what a corner curve of unknown direction gets).
     least_acceleration: float = field(init=False)
     least_jerk: float = field(init=False)
+    #: (velocity, acceleration, jerk) of each axis: what a line's limits run over
+    rows: tuple[tuple[float, float, float], ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "least_acceleration", min(self.acceleration))
         object.__setattr__(self, "least_jerk", min(self.jerk))
+        object.__setattr__(self, "rows", tuple(zip(self.velocity, self.acceleration, self.jerk, strict=True)))
 
 
 def piece_cap(d1, d2, d3, lim: AxisLimits, feed: float) -> float:
@@ -182,17 +185,18 @@ def line_limits(d1, lim: AxisLimits, feed: float, path_acc: float = 0.0,
     """``(vc, A_s, J_s)`` of a line, its cap (:func:`piece_cap`) and :func:`tangential` limits
     with ``d2 = d3 = 0``: without curvature terms every axis bounds the cap, the acceleration and
     the jerk by its own limit over its share ``d1``."""
-    # plain comparisons, no min() calls: this runs for every line planned
+    # plain comparisons, no min() calls: this runs for every line planned (an axis without a jerk
+    # limit gives inf / g = inf, which lowers nothing)
     vc = feed
     acc = path_acc if path_acc > 0 else math.inf
     jerk = path_jerk if path_jerk > 0 else math.inf
-    for g, v, a, j in zip(d1, lim.velocity, lim.acceleration, lim.jerk, strict=True):
+    for g, (v, a, j) in zip(d1, lim.rows, strict=True):
         if g > 0:
             if (x := v / g) < vc:
                 vc = x
             if (x := a / g) < acc:
                 acc = x
-            if j != math.inf and (x := j / g) < jerk:
+            if (x := j / g) < jerk:
                 jerk = x
     return vc, acc, jerk
 
