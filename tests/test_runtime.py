@@ -74,7 +74,7 @@ print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
 def test_freed_memory_is_kept_for_reuse():
     """With keep_freed_memory() (glibc), arrays of a few megabytes made and freed again and again
     reuse the same pages: no page faults after the first round (without it, every round faults
-    its 1.2k pages in again)."""
+    its pages in again)."""
     import platform
     import subprocess
     import sys
@@ -90,5 +90,8 @@ def test_freed_memory_is_kept_for_reuse():
         return int(out.stdout)
 
     assert keep_freed_memory() is True
-    assert faults("keep") < 100
-    assert faults("plain") > 20 * 1000
+    kept, plain = faults("keep"), faults("plain")
+    assert kept < 100
+    # every round faults in again without it: at least once each (one fault per huge page where
+    # the system maps them), 1.2k times each here
+    assert plain >= 20 and plain > 10 * max(kept, 1)
