@@ -35,32 +35,38 @@ def raster(n: int, mode: str):
     yield "M30"
 
 
-def contour(n: int, mode: str):
-    """A freeform finishing contour as CAM arc fitting writes it: arcs through three points of
-    the curve r = 40 + 4 sin(5 t) (2 mm long, meeting at small kinks), every fourth piece a line
-    (and a line where the curve is nearly straight), passes 0.2 mm apart in Z."""
+def contour_pass(per: int = 120):
+    """One closed pass of a freeform finishing contour as CAM arc fitting writes it, from X40 Y0:
+    arcs through three points of the curve r = 40 + 4 sin(5 t), ``per`` pieces round (2 mm long
+    at 120, meeting at small kinks), every fourth piece a line (and a line where the curve is
+    nearly straight).  The planner's tests use it too."""
 
     def at(t: float) -> tuple[float, float]:
         r = 40.0 + 4.0 * math.sin(5.0 * t)
         return r * math.cos(t), r * math.sin(t)
 
+    for i in range(per):
+        t0, t1 = 2.0 * math.pi * i / per, 2.0 * math.pi * (i + 1) / per
+        (x0, y0), (xm, ym), (x1, y1) = at(t0), at((t0 + t1) / 2.0), at(t1)
+        cross = (xm - x0) * (y1 - ym) - (ym - y0) * (x1 - xm)
+        if i % 4 == 3 or abs(cross) < 1e-3:
+            yield f"G1 X{x1:.4f} Y{y1:.4f}"
+        else:   # the circle through the three points
+            d = 2.0 * (x0 * (ym - y1) + xm * (y1 - y0) + x1 * (y0 - ym))
+            s0, sm, s1 = x0 * x0 + y0 * y0, xm * xm + ym * ym, x1 * x1 + y1 * y1
+            cx = (s0 * (ym - y1) + sm * (y1 - y0) + s1 * (y0 - ym)) / d
+            cy = (s0 * (x1 - xm) + sm * (x0 - x1) + s1 * (xm - x0)) / d
+            yield f"{'G3' if cross > 0 else 'G2'} X{x1:.4f} Y{y1:.4f} I{cx - x0:.4f} J{cy - y0:.4f}"
+
+
+def contour(n: int, mode: str):
+    """At least ``n`` blocks of :func:`contour_pass` passes of 120 pieces, 0.2 mm apart in Z."""
     yield "G90 G1 X40 Y0 Z0 F3000"
     yield {"G50": "G50", "G05": "G05", "HSC": "#HSC ON [CONTERROR 0.01]"}[mode]
-    per, k, z = 120, 0, 0.0
+    k, z = 0, 0.0
     while k < n:
-        for i in range(per):
-            t0, t1 = 2.0 * math.pi * i / per, 2.0 * math.pi * (i + 1) / per
-            (x0, y0), (xm, ym), (x1, y1) = at(t0), at((t0 + t1) / 2.0), at(t1)
-            cross = (xm - x0) * (y1 - ym) - (ym - y0) * (x1 - xm)
-            if i % 4 == 3 or abs(cross) < 1e-3:
-                yield f"G1 X{x1:.4f} Y{y1:.4f}"
-            else:   # the circle through the three points
-                d = 2.0 * (x0 * (ym - y1) + xm * (y1 - y0) + x1 * (y0 - ym))
-                s0, sm, s1 = x0 * x0 + y0 * y0, xm * xm + ym * ym, x1 * x1 + y1 * y1
-                cx = (s0 * (ym - y1) + sm * (y1 - y0) + s1 * (y0 - ym)) / d
-                cy = (s0 * (x1 - xm) + sm * (x0 - x1) + s1 * (xm - x0)) / d
-                yield f"{'G3' if cross > 0 else 'G2'} X{x1:.4f} Y{y1:.4f} I{cx - x0:.4f} J{cy - y0:.4f}"
-            k += 1
+        yield from contour_pass()
+        k += 120
         z -= 0.2
         yield f"G1 Z{z:.4f}"
     yield "M30"

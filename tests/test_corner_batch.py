@@ -5,18 +5,18 @@ from __future__ import annotations
 
 import math
 import re
+from functools import partial
 
 import numpy as np
 import pytest
+from test_plan_batches import close as close_to
 
 from fagorcnc.plan.corner_batch import PieceRows, make_blends
 from fagorcnc.plan.corners import make_blend
 from fagorcnc.plan.geometry import ArcPiece, LinePiece
 
-
-def close(a, b, tol: float = 1e-9) -> bool:
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    return bool(np.all(np.abs(a - b) <= tol * (1.0 + np.abs(b))))
+#: batched and one-by-one corners agree up to rounding: within 1e-9 relative (1e-13 seen)
+close = partial(close_to, tol=1e-9)
 
 
 def _arc(rng: np.random.Generator, at: np.ndarray, starts_there: bool) -> ArcPiece:

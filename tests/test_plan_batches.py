@@ -30,9 +30,9 @@ def unit_rows(rng: np.random.Generator, n: int, spread: float) -> np.ndarray:
     return u / np.linalg.norm(u, axis=1)[:, None]
 
 
-def close(a, b) -> bool:
+def close(a, b, tol: float = TOL) -> bool:
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    return bool(np.all(np.abs(a - b) <= TOL * np.maximum(1.0, np.abs(b))))
+    return bool(np.all(np.abs(a - b) <= tol * np.maximum(1.0, np.abs(b))))
 
 
 def _record_calls(monkeypatch, cls, name: str) -> list:

@@ -9,12 +9,20 @@ programmed polyline.
 
 from __future__ import annotations
 
+import importlib
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import fagorcnc
+
+_BENCH = Path(__file__).resolve().parents[1] / "benchmarks"   # the benchmarks' programs, planned here too
+if str(_BENCH) not in sys.path:
+    sys.path.insert(0, str(_BENCH))
+contour_pass = importlib.import_module("plan_speed").contour_pass
 
 PERIOD = 0.001
 TOL = 1e-6
@@ -59,28 +67,10 @@ def surface(n: int, step: float = 0.5, feed: int = 3000) -> str:
     return "\n".join(out) + "\n"
 
 
-def arc_contour(n: int = 60) -> str:
-    """A freeform contour as CAM arc fitting writes it: arcs through three points of the curve
-    r = 40 + 4 sin(5 t) (meeting at small kinks: corners at arcs), every fourth piece a line."""
-
-    def at(t: float) -> tuple[float, float]:
-        r = 40.0 + 4.0 * math.sin(5.0 * t)
-        return r * math.cos(t), r * math.sin(t)
-
-    out = ["G90 G1 X40 Y0 Z0 F3000"]
-    for i in range(n):
-        t0, t1 = 2.0 * math.pi * i / n, 2.0 * math.pi * (i + 1) / n
-        (x0, y0), (xm, ym), (x1, y1) = at(t0), at((t0 + t1) / 2.0), at(t1)
-        cross = (xm - x0) * (y1 - ym) - (ym - y0) * (x1 - xm)
-        if i % 4 == 3 or abs(cross) < 1e-3:
-            out.append(f"G1 X{x1:.4f} Y{y1:.4f}")
-            continue
-        d = 2.0 * (x0 * (ym - y1) + xm * (y1 - y0) + x1 * (y0 - ym))
-        s0, sm, s1 = x0 * x0 + y0 * y0, xm * xm + ym * ym, x1 * x1 + y1 * y1
-        cx = (s0 * (ym - y1) + sm * (y1 - y0) + s1 * (y0 - ym)) / d
-        cy = (s0 * (x1 - xm) + sm * (x0 - x1) + s1 * (xm - x0)) / d
-        out.append(f"{'G3' if cross > 0 else 'G2'} X{x1:.4f} Y{y1:.4f} I{cx - x0:.4f} J{cy - y0:.4f}")
-    return "\n".join(out) + "\n"
+def arc_contour(per: int = 60) -> str:
+    """The benchmarks' freeform contour as CAM arc fitting writes it (``plan_speed.contour_pass``):
+    arcs meeting at small kinks (corners at arcs), every fourth piece a line."""
+    return "\n".join(["G90 G1 X40 Y0 Z0 F3000", *contour_pass(per)]) + "\n"
 
 
 MODES = {"G50": "", "G05": "G05\n", "HSC": "#HSC ON [CONTERROR 0.01]\n"}
