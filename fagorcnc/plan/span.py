@@ -52,9 +52,7 @@ class Span:
         self.stop_after = False
         self.mid_k = None   # HSC spline: curvature the path has where this span now starts
         if later:   # a curve's limits once the corners at both its ends are decided (see trim)
-            self.length = piece.length
-            self._terms = None
-            self.stale = True
+            self._leave_stale()
         else:
             self.refresh()
 
@@ -103,11 +101,15 @@ class Span:
         if not self.piece.curved:
             self.length = self.piece.length
         elif later:
-            self.length = self.piece.length
-            self._terms = None
-            self.stale = True
+            self._leave_stale()
         else:
             self.refresh()
+
+    def _leave_stale(self) -> None:
+        """The piece's length now, its limits when :meth:`settle` asks."""
+        self.length = self.piece.length
+        self._terms = None
+        self.stale = True
 
     def settle(self) -> None:
         """Recompute the limits a trim left stale (see :meth:`trim`)."""
