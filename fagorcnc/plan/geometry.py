@@ -500,8 +500,14 @@ def arc_tables(controls: np.ndarray) -> np.ndarray:
 
 def speed_tables(speed: np.ndarray) -> np.ndarray:
     """Arc-length tables (n, 33) from the speeds ``|B'|`` of n curves at :data:`TABLE_GAUSS` (256, n)."""
-    seg = np.einsum("ikn,k->in", speed.reshape(32, len(_GL_X), -1), _GL_W / 32.0)
-    return np.concatenate([np.zeros((1, seg.shape[1])), np.cumsum(seg, axis=0)]).T
+    seg = _GL_W32 @ speed.reshape(32, len(_GL_X), -1)                 # (32, n): each interval's length
+    out = np.empty((seg.shape[1], 33))                                  # rows: one curve each, contiguous
+    out[:, 0] = 0.0
+    np.cumsum(seg.T, axis=1, out=out[:, 1:])
+    return out
+
+
+_GL_W32 = _GL_W / 32.0
 
 
 def blends(p0: np.ndarray, t0: np.ndarray, k0: np.ndarray, a: np.ndarray, p5: np.ndarray, t5: np.ndarray,

@@ -316,11 +316,10 @@ class Planner:
         if len(chain) - 1 <= BATCH_LEAST:
             return   # a few corners: made alone (a batch's fixed cost would be more than it saves)
         # per corner: the lower feed of its two lines, then #ROUNDPAR's speed and tolerance
-        feeds = [s.feed for s in chain]
-        rows = [_roundpar(dyn.roundpar, a if a <= b else b) for a, b in pairwise(feeds)]
-        tolerance = rows[0][2]
-        speeds = None if rows[0][1] is None else np.array([r[1] for r in rows])
-        f = np.array([r[0] for r in rows])
+        feeds = np.array([s.feed for s in chain])
+        f, speeds, tolerance = _roundpar_rows(dyn.roundpar, np.minimum(feeds[:-1], feeds[1:]))
+        f_list = f.tolist()
+        speed_list = f_list if speeds is not None else [None] * len(f_list)
         acc, jerk = lim.least_acceleration, lim.least_jerk
         halves = [s.orig_length / 2.0 for s in chain]
         lim_p = [min(prev.orig_length / (4.0 if prev.mid_k is not None else 2.0), prev.piece.length), *halves[1:-1]]
@@ -342,12 +341,11 @@ class Planner:
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
         self._line_blends = {
-            (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end,
-                                             (lp, lq, row[1], tolerance, acc, jerk, row[0], *path), sz, controls[i],
-                                             unit.d1[i], d2[i], d3[i], tables[i], lm,
-                                             starts[i] if b.piece.start is end else None)
-            for i, (a, b, end, lp, lq, row, sz, lm) in enumerate(zip(chain, chain[1:], ends, lim_p, lim_q, rows,
-                                                                       size.tolist(), limits, strict=False))}
+            (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, sp, tolerance, acc, jerk, fd, *path),
+                                             sz, c, d1, d_2, d_3, tb, lm, st if b.piece.start is end else None)
+            for a, b, end, lp, lq, sp, fd, sz, c, d1, d_2, d_3, tb, lm, st in zip(
+                chain, chain[1:], ends, lim_p, lim_q, speed_list, f_list, size.tolist(), list(controls), list(unit.d1),
+                list(d2), list(d3), list(tables), limits, list(starts), strict=False)}
 
     def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object:
         """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits) and its limits,
@@ -820,6 +818,17 @@ def _roundpar(params: tuple, feed: float) -> tuple[float, float | None, float | 
     if kind == 4:
         return feed, None, params[1], None
     return feed, feed, None, None
+
+
+def _roundpar_rows(params: tuple, feed: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, float | None]:
+    """:func:`_roundpar` of many G05 corners between lines at once (``feed``: each corner's lower
+    feed; types 1, 2 and 4, as type 3 and 5 corners are not batched): (feeds, speeds or None,
+    tolerance), with the same operations so the same numbers."""
+    kind = params[0]
+    if kind == 2:
+        feed = feed * (params[1] / 100.0)
+    tolerance = params[1] if kind in (1, 4) else None
+    return feed, (None if kind == 4 else feed), tolerance
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
