@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from fagorcnc.plan.corners import SHAPE, deviation, line_corners
-from fagorcnc.plan.geometry import BlendPiece, LinePiece, arc_tables, blends, corner_deviations
+from fagorcnc.plan.geometry import ArcPiece, BlendPiece, LinePiece, arc_tables, blends, corner_deviations
 from fagorcnc.plan.limits import (
     AxisLimits,
     Terms,
@@ -321,7 +321,7 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
 def test_an_arcs_frame_and_trim_on_floats_equal_its_derivatives():
     """An arc's single-point frame and trim (on floats) give what the general evaluation over
     arrays gives: point, unit tangent and curvature vector (helix and spiral included)."""
-    from fagorcnc.plan.geometry import ArcPiece, Piece
+    from fagorcnc.plan.geometry import Piece
 
     start, end = np.array([10.0, 0.0, 0.0]), np.array([0.0, 10.05, 3.0])   # radius 10 -> 10.05, 3 mm of helix
     arc = ArcPiece(start, end, 0, 1, (0.0, 0.0), np.pi / 2)
@@ -335,16 +335,88 @@ def test_an_arcs_frame_and_trim_on_floats_equal_its_derivatives():
     assert close(part.length, 0.5 * arc.length)
 
 
-def test_deviation_from_an_arc_is_the_distance_to_its_polyline():
-    """deviation() (products over the axes as matrix products) against the plain distance from
-    each of the curve's 97 points to each segment of the replaced path (a line then an arc)."""
-    from fagorcnc.plan.corners import _replaced, make_blend
-    from fagorcnc.plan.geometry import ArcPiece
+def test_distances_to_an_arc_and_a_line_worked_by_hand():
+    """The distance from a point to the stretch of an arc in XY of radius 5 about the origin from
+    0 to 90 degrees: along the radius where the point's angle is within the stretch ((6, 0, 0): 1;
+    (3, 4, 2): on the circle's radius, 2 above its plane), else to the nearer end ((0, -6, 0):
+    sqrt(5² + 6²) to (5, 0); (-1, -1, 0): sqrt(37) to either end).  The same arc run clockwise
+    from 90 to 0 degrees gives the same; a line from (0, 0, 0) to (4, 0, 0) gives sqrt(2² + 3²)
+    at (6, 3, 0), 3 at (2, -3, 0)."""
+    from fagorcnc.plan.stretch import PieceRows, _gaps
+
+    ccw = ArcPiece(np.array([5.0, 0.0, 0.0]), np.array([0.0, 5.0, 0.0]), 0, 1, (0.0, 0.0), np.pi / 2)
+    cw = ArcPiece(np.array([0.0, 5.0, 0.0]), np.array([5.0, 0.0, 0.0]), 0, 1, (0.0, 0.0), -np.pi / 2)
+    line = LinePiece(np.array([0.0, 0.0, 0.0]), np.array([4.0, 0.0, 0.0]))
+    sides = PieceRows([ccw, cw, line])
+    assert sides.circular.tolist() == [True, True, False] and sides.straight.tolist() == [False, False, True]
+
+    def distances(row, s1, pts, vertex):
+        rel = (np.array(pts) - vertex)[None]   # the distances do not depend on the point they are taken from
+        square = (rel * rel).sum(axis=2)
+        return np.sqrt(_gaps(sides, np.array([row]), np.array([0.0]), np.array([s1]), rel, square, vertex[None])[0])
+
+    pts = [[6.0, 0.0, 0.0], [3.0, 4.0, 2.0], [0.0, -6.0, 0.0], [-1.0, -1.0, 0.0]]
+    for row, arc in ((0, ccw), (1, cw)):
+        got = distances(row, arc.length, pts, np.array([0.0, 5.0, 0.0]))
+        assert got == pytest.approx([1.0, 2.0, np.sqrt(61.0), np.sqrt(37.0)], abs=1e-12)
+    # half the stretch: (6, 0, 0) is then beyond its end at 45 degrees (clockwise: 90 down to 45)
+    half = distances(1, cw.length / 2, pts[:1], np.array([5.0, 0.0, 0.0]))
+    assert half[0] == pytest.approx(np.hypot(6.0 - 5.0 / np.sqrt(2.0), 5.0 / np.sqrt(2.0)), abs=1e-12)
+    # three quarters of a turn (0 to 270 degrees): (0, -6, 0) at its end, 1 from it; (-1, -1, 0) at
+    # 225 degrees now inside, 5 - sqrt(2) from the circle
+    big = ArcPiece(np.array([5.0, 0.0, 0.0]), np.array([0.0, -5.0, 0.0]), 0, 1, (0.0, 0.0), 1.5 * np.pi)
+    sides = PieceRows([big])
+    assert distances(0, big.length, pts[2:], np.zeros(3)) == pytest.approx([1.0, 5.0 - np.sqrt(2.0)], abs=1e-12)
+    sides = PieceRows([line])
+    assert distances(0, 4.0, [[6.0, 3.0, 0.0], [2.0, -3.0, 0.0]], np.zeros(3)) == pytest.approx(
+        [np.sqrt(13.0), 3.0], abs=1e-12)
+
+
+def test_deviation_from_arcs_is_the_distance_to_the_arcs():
+    """HSC's deviation of corner curves at circular arcs (line -> arc, arc -> arc, in XY) is the
+    distance to the arcs themselves: against the distance to 20 001 points of the replaced stretch
+    (whose spacing overstates it by less than 1e-6)."""
+    from fagorcnc.plan.corners import make_blend
+
+    rng = np.random.default_rng(6)
+
+    def arc_at(at, starts_there):
+        r, th = rng.uniform(0.5, 10.0), rng.uniform(0.0, 2.0 * np.pi)
+        sweep = rng.uniform(0.2, 2.5) * rng.choice([-1.0, 1.0])
+        centre = (at[0] - r * np.cos(th), at[1] - r * np.sin(th))
+        far = at.copy()
+        th1 = th + (sweep if starts_there else -sweep)
+        far[0], far[1] = centre[0] + r * np.cos(th1), centre[1] + r * np.sin(th1)
+        return ArcPiece(at.copy(), far, 0, 1, centre, sweep) if starts_there else ArcPiece(far, at.copy(), 0, 1,
+                                                                                            centre, sweep)
+    checked = 0
+    for i in range(40):
+        at = rng.uniform(-20.0, 20.0, 3)
+        p = LinePiece(at - rng.uniform(-5.0, 5.0, 3) * [1.0, 1.0, 0.0], at.copy()) if i % 2 else arc_at(at, False)
+        q = arc_at(at, True)
+        made = make_blend(p, q, p.length / 2, q.length / 2, tolerance=0.01, speed=None, acc=1000.0, jerk=20000.0)
+        if made is None:
+            continue
+        blend, d1, d2 = made
+        ref = np.concatenate([p.derivatives(np.linspace(p.length - d1, p.length, 20001))[0],
+                              q.derivatives(np.linspace(0.0, d2, 20001))[0]])
+        pts = blend.points(97)
+        dense = max(float(np.sqrt(((ref - x) ** 2).sum(axis=1)).min()) for x in pts)
+        assert deviation(blend, p, q, d1, d2, False) == pytest.approx(dense, abs=1e-6)
+        checked += 1
+    assert checked >= 30
+
+
+def test_deviation_from_a_helix_is_the_distance_to_its_polyline():
+    """A helix has no closed-form distance: deviation() measures it against 17 points through the
+    replaced stretch (the line before it exactly): against the plain distance from each of the
+    curve's 97 points to each segment of that polyline."""
+    from fagorcnc.plan.corners import make_blend
 
     p = LinePiece(np.array([100.0, 50.0, 0.0]), np.array([110.0, 50.0, 0.0]))
     q = ArcPiece(np.array([110.0, 50.0, 0.0]), np.array([115.0, 55.0, 1.0]), 0, 1, (110.0, 55.0), np.pi / 2)
     blend, d1, d2 = make_blend(p, q, 5.0, q.length / 2, tolerance=0.01, speed=50.0, acc=1000.0, jerk=20000.0)
-    ref = np.concatenate([_replaced(p, p.length - d1, p.length), _replaced(q, 0.0, d2)[1:]])
+    ref = np.concatenate([[p.start + (p.length - d1) * p.u], q.derivatives(np.linspace(0.0, d2, 17))[0]])
     worst = 0.0
     for x in blend.points(97):
         best = np.inf

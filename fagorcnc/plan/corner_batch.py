@@ -14,78 +14,9 @@ import math
 import numpy as np
 
 from .corners import SHAPE
-from .geometry import ArcPiece, BlendPiece, Piece, _controls, _curve_bounds, arc_tables
+from .geometry import BlendPiece, Piece, _controls, _curve_bounds, arc_tables
 from .limits import CENTRIPETAL, CURVE_JERK
-
-#: Points of the programmed path per side that a curve's deviation is measured against (as
-#: :func:`~fagorcnc.plan.corners.deviation`: a line's points are collinear, the same distance).
-REFERENCE = 17
-#: Corners whose deviations are measured at once: a few (rows, 97, 32) arrays of about 200 kB each.
-CHUNK = 64
-
-
-class PieceRows:
-    """Lines and arcs as arrays (one row each), evaluated all at once: points at many parameters,
-    and the frame (point, unit tangent, curvature vector) at one parameter per row; the formulas
-    of :class:`~fagorcnc.plan.geometry.ArcPiece`, a line being an arc that does not turn and whose
-    radius grows along it from its start (its direction in the first two axes' plane, the rest
-    linear).  The plane's two axes are picked by one-hot rows, so that every row takes the same
-    array operations."""
-
-    def __init__(self, pieces: list[Piece]) -> None:
-        dim = len(pieces[0].start)
-        base, lin, plane, shape = [], [], [], []
-        for p in pieces:
-            if isinstance(p, ArcPiece):
-                ia, io = p.ia, p.io
-                shape.append((*p.center, p.theta0, p.w, p.r0, p.dr))
-                direction = p.lin.tolist()
-            else:
-                ia, io = 0, 1
-                direction = p.u.tolist()
-                start = p.start.tolist()
-                shape.append((start[0], start[1], math.atan2(direction[1], direction[0]), 0.0, 0.0,
-                               math.hypot(direction[0], direction[1])))
-            row = p.start.tolist()
-            row[ia] = row[io] = direction[ia] = direction[io] = 0.0
-            base.append(row)
-            lin.append(direction)
-            plane.append((ia, io))
-        self.base, self.lin = np.array(base), np.array(lin)
-        self.cx, self.cy, self.theta0, self.w, self.r0, self.dr = np.array(shape).T
-        axes = np.array(plane)
-        self.ea = (axes[:, :1] == np.arange(dim)).astype(float)   # one-hot: the plane's first axis
-        self.eo = (axes[:, 1:] == np.arange(dim)).astype(float)   # ... and its second
-
-    def points(self, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        """Points (n, m, D) at the parameters ``s`` (n, m) of the pieces ``rows``."""
-        th = self.theta0[rows, None] + self.w[rows, None] * s
-        rho = self.r0[rows, None] + self.dr[rows, None] * s
-        x = self.cx[rows, None] + rho * np.cos(th)
-        y = self.cy[rows, None] + rho * np.sin(th)
-        q = self.base[rows, None, :] + s[:, :, None] * self.lin[rows, None, :]
-        q += x[:, :, None] * self.ea[rows, None, :]
-        q += y[:, :, None] * self.eo[rows, None, :]
-        return q
-
-    def frames(self, s: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Point, unit tangent and curvature vector (each (n, D)) at one parameter per row."""
-        th = self.theta0[rows] + self.w[rows] * s
-        c, sn = np.cos(th), np.sin(th)
-        rho = self.r0[rows] + self.dr[rows] * s
-        w, dr = self.w[rows], self.dr[rows]
-        ea, eo = self.ea[rows], self.eo[rows]
-        q = self.base[rows] + s[:, None] * self.lin[rows]
-        q += (self.cx[rows] + rho * c)[:, None] * ea
-        q += (self.cy[rows] + rho * sn)[:, None] * eo
-        d1 = self.lin[rows] + (dr * c - rho * w * sn)[:, None] * ea
-        d1 += (dr * sn + rho * w * c)[:, None] * eo
-        d2 = (-2 * dr * w * sn - rho * w * w * c)[:, None] * ea
-        d2 += (2 * dr * w * c - rho * w * w * sn)[:, None] * eo
-        square = (d1 * d1).sum(axis=1)[:, None]
-        t = d1 / np.sqrt(square)
-        k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
-        return q, t, k
+from .stretch import PieceRows, stretch_deviations
 
 
 def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray, *,
@@ -144,7 +75,7 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         if tolerance is None:
             ok = valid
         else:
-            dev = _deviations(sides, n, rows, p_len[rows], d1, d2, samples, vertex[rows], corner)
+            dev = stretch_deviations(sides, n, rows, p_len[rows], d1, d2, samples, vertex[rows], corner)
             ok = valid & (dev <= 0.95 * tolerance)
             shrink = valid & ~ok
             size[rows[shrink]] *= np.maximum(0.1, 0.9 * tolerance / dev[shrink])
@@ -161,41 +92,3 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
             out[row] = (BlendPiece.made(c, c[0], c[-1], b1[i], b2[i], b3[i], tables[i], float(tables[i, -1])),
                         float(d1[i]), float(d2[i]))
     return out
-
-
-def _deviations(sides: PieceRows, n: int, rows: np.ndarray, p_len: np.ndarray, d1: np.ndarray,
-                d2: np.ndarray, samples: np.ndarray, vertex: np.ndarray, corner: bool) -> np.ndarray:
-    """Per row, :func:`~fagorcnc.plan.corners.deviation` of the curve sampled at ``samples``
-    (97, D, n): with ``corner`` the distance from the programmed corner point to the curve,
-    otherwise the largest distance from the curve to the stretch of path it replaces (corner i's
-    pieces are the rows i and n + i of ``sides``)."""
-    pts = samples.transpose(2, 0, 1) - vertex[:, None, :]              # (n, 97, D), from the corner
-    if corner:
-        return np.sqrt((pts * pts).sum(axis=2).min(axis=1))
-    frac = np.linspace(0.0, 1.0, REFERENCE)[None, :]
-    m = len(rows)
-    both = sides.points(np.concatenate([p_len[:, None] - d1[:, None] * (1.0 - frac), d2[:, None] * frac]),
-                        np.concatenate([rows, rows + n]))   # each side's points (the vertex twice)
-    ref = np.concatenate([both[:m], both[m:, 1:]], axis=1) - vertex[:, None, :]   # (n, 33, D)
-    a, ab = ref[:, :-1], ref[:, 1:] - ref[:, :-1]
-    # the squared distance from each point x to each segment a + t (b - a) as
-    # |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), t the clipped share: four (n, 32, 97) arrays
-    # worked on in place, segments before points so that the least over the segments runs
-    # across whole rows of points
-    cols = np.ascontiguousarray(pts.transpose(0, 2, 1))                 # (n, D, 97)
-    den = np.maximum((ab * ab).sum(axis=2), 1e-300)[:, :, None]
-    along = ab @ cols                                                    # (x - a).(b - a)
-    along -= (a * ab).sum(axis=2)[:, :, None]
-    gap = a @ cols                                                       # becomes |x - a|²
-    gap *= -2.0
-    gap += (pts * pts).sum(axis=2)[:, None, :]
-    gap += (a * a).sum(axis=2)[:, :, None]
-    t = np.divide(along, den)
-    np.maximum(t, 0.0, out=t)
-    np.minimum(t, 1.0, out=t)
-    along *= 2.0
-    den = t * den
-    along -= den
-    along *= t
-    gap -= along
-    return np.sqrt(np.maximum(gap.min(axis=1).max(axis=1), 0.0))

@@ -27,6 +27,7 @@ import numpy as np
 
 from .geometry import _BOUND_U, TABLE_GAUSS, BlendPiece, LinePiece, Piece, speed_tables
 from .limits import CENTRIPETAL, CURVE_JERK
+from .stretch import PieceRows, stretch_deviations
 
 #: Control-point spacing of a blend as a fraction of its length on each side.
 SHAPE = 0.375
@@ -41,32 +42,18 @@ def _blend(p: Piece, q: Piece, d1: float, d2: float) -> BlendPiece:
     return BlendPiece(p0, t0, k0, SHAPE * d1, p5, t5, k5, SHAPE * d2)
 
 
-def _replaced(piece: Piece, s0: float, s1: float) -> np.ndarray:
-    """Points of the programmed path between s0 and s1 (its two ends for a line)."""
-    if isinstance(piece, LinePiece):
-        return piece.start + np.outer([s0, s1], piece.u)
-    return piece.derivatives(np.linspace(s0, s1, 17))[0]
-
-
 def deviation(blend: BlendPiece, p: Piece, q: Piece, d1: float, d2: float, corner: bool) -> float:
     """Largest distance from the blend to the stretch of programmed path it replaces
     (HSC), or with ``corner`` the distance from the programmed corner point to the
-    curve (#ROUNDPAR e, L8124)."""
+    curve (#ROUNDPAR e, L8124): :func:`~fagorcnc.plan.stretch.stretch_deviations` of one corner."""
     pts = blend.points(97)
     if corner:
         return float(np.sqrt(((pts - p.end) ** 2).sum(axis=1)).min())
-    # relative to the corner point (small numbers), then the squared distance from each point x
-    # to each segment a + t (b - a) as |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), with every
-    # product over the axes a matrix product: no (points, segments, axes) array
-    ref = np.concatenate([_replaced(p, p.length - d1, p.length), _replaced(q, 0.0, d2)[1:]]) - p.end
-    pts = pts - p.end
-    a, ab = ref[:-1], ref[1:] - ref[:-1]
-    den = np.maximum((ab * ab).sum(axis=1), 1e-300)
-    along = pts @ ab.T - (a * ab).sum(axis=1)                                   # (x - a).(b - a)
-    square = (pts * pts).sum(axis=1)[:, None] - 2.0 * (pts @ a.T) + (a * a).sum(axis=1)   # |x - a|²
-    t = np.clip(along / den, 0.0, 1.0)
-    gap = square - t * (2.0 * along - t * den)
-    return float(np.sqrt(max(float(gap.min(axis=1).max()), 0.0)))
+    return float(stretch_deviations(PieceRows([p, q]), 1, _FIRST, np.array([p.length]), np.array([d1]),
+                                    np.array([d2]), pts[:, :, None], p.end[None], False)[0])
+
+
+_FIRST = np.zeros(1, dtype=np.intp)
 
 
 def _dynamic_scale(blend: BlendPiece, speed: float, acc: float, jerk: float) -> float:
@@ -126,8 +113,9 @@ def _bounds(k: np.ndarray, w: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.nd
     at most the same combination of the support values at a and b: a bound, never below the
     samples' largest component, above it by about 1 - cos(1/2 degree) in direction."""
     tau = 2.0 * math.pi
-    phi = np.arctan2(y, x) % tau
-    phi = np.stack([phi, (phi + math.pi) % tau])                          # towards, away (2, n, D)
+    phi = np.empty((2, *x.shape))                                         # towards, away (2, n, D)
+    np.remainder(np.arctan2(y, x), tau, out=phi[0])
+    np.remainder(phi[0] + math.pi, tau, out=phi[1])
     j = np.minimum((phi / _PHI).astype(np.intp), _PHIS - 1)
     wa = np.sin((j + 1) * _PHI - phi)
     wb = np.sin(phi - j * _PHI)
@@ -201,7 +189,7 @@ def line_corner_arrays(u_in: np.ndarray, u_out: np.ndarray) -> LineCorners:
     """The unit blends of the corners turning from the unit directions ``u_in`` to ``u_out``
     (rows), all at once: the unit curves of the table interpolated by turning angle, turned into
     each corner's plane, and each curve's arc length."""
-    cos_turn = np.clip((u_in * u_out).sum(axis=1), -1.0, 1.0)
+    cos_turn = np.minimum(np.maximum((u_in * u_out).sum(axis=1), -1.0), 1.0)
     f = np.degrees(np.arccos(cos_turn)) / _STEP
     k = f.astype(np.intp)
     valid = _units(k)
@@ -219,7 +207,10 @@ def line_corner_arrays(u_in: np.ndarray, u_out: np.ndarray) -> LineCorners:
     dk_norm = np.sqrt((d3 * d3).sum(axis=1))
     controls = np.stack([-u_in, -(1 - SHAPE) * u_in, -(1 - 2 * SHAPE) * u_in,
                          (1 - 2 * SHAPE) * u_out, (1 - SHAPE) * u_out, u_out], axis=1)
-    tables = speed_tables(5.0 * np.sqrt(_SPEED_SQUARES[0][:, None] + _SPEED_SQUARES[1][:, None] * cos_turn))
+    speed = np.multiply.outer(_SPEED_SQUARES[1], cos_turn)              # |B'|² / 25 at the table's nodes
+    speed += _SPEED_SQUARES[0][:, None]
+    tables = speed_tables(np.sqrt(speed, out=speed))
+    tables *= 5.0
     return LineCorners(valid, d1, d2, d3, k_norm, dk_norm, devs[:, 0], devs[:, 1], controls, tables)
 
 

@@ -1,0 +1,207 @@
+"""The stretch of programmed path a corner curve replaces, and how far the curve strays from it.
+
+The end of the incoming piece and the start of the outgoing one, for many corners at once: the
+pieces as arrays (:class:`PieceRows`), and the largest distance from a curve's points to that
+stretch (:func:`stretch_deviations`, what HSC's contour error bounds, seed 002 L13486-L13537).
+The distance is exact for lines and for circular arcs (a point's nearest point on a circle lies
+along its radius); spirals (an end radius within the arc tolerance of the start's) and helices
+have no such form and are measured against a polyline of 17 points through them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .geometry import ArcPiece, Piece
+
+#: Points per side of the polyline a spiral or a helix is measured against (16 chords).
+REFERENCE = 17
+#: An arc whose radius changes by less than this (mm) over its length is a circle to the distance
+#: formula: the interpreter's end radius differs from the start's by rounding.
+ROUND = 1e-9
+
+
+class PieceRows:
+    """Lines and arcs as arrays (one row each), evaluated all at once: points at many parameters,
+    and the frame (point, unit tangent, curvature vector) at one parameter per row; the formulas
+    of :class:`~fagorcnc.plan.geometry.ArcPiece`, a line being an arc that does not turn and whose
+    radius grows along it from its start (its direction in the first two axes' plane, the rest
+    linear).  The plane's two axes are picked by one-hot rows, so that every row takes the same
+    array operations."""
+
+    def __init__(self, pieces: list[Piece]) -> None:
+        dim = len(pieces[0].start)
+        base, lin, plane, shape, circular = [], [], [], [], []
+        for p in pieces:
+            if isinstance(p, ArcPiece):
+                ia, io = p.ia, p.io
+                shape.append((*p.center, p.theta0, p.w, p.r0, p.dr))
+                direction = p.lin.tolist()
+                circular.append(abs(p.dr) * p.length <= ROUND and not any(direction))
+            else:
+                circular.append(False)
+                ia, io = 0, 1
+                direction = p.u.tolist()
+                start = p.start.tolist()
+                shape.append((start[0], start[1], math.atan2(direction[1], direction[0]), 0.0, 0.0,
+                               math.hypot(direction[0], direction[1])))
+            row = p.start.tolist()
+            row[ia] = row[io] = direction[ia] = direction[io] = 0.0
+            base.append(row)
+            lin.append(direction)
+            plane.append((ia, io))
+        self.base, self.lin = np.array(base), np.array(lin)
+        self.cx, self.cy, self.theta0, self.w, self.r0, self.dr = np.array(shape).T
+        axes = self.axes = np.array(plane, dtype=np.intp)          # the plane's two axes
+        self.ea = (axes[:, :1] == np.arange(dim)).astype(float)   # one-hot: the plane's first axis
+        self.eo = (axes[:, 1:] == np.arange(dim)).astype(float)   # ... and its second
+        self.straight = self.w == 0.0                               # lines (an arc always turns)
+        self.circular = np.array(circular, dtype=bool)              # arcs in their plane of constant radius
+
+    def points(self, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """Points (n, m, D) at the parameters ``s`` (n, m) of the pieces ``rows``."""
+        th = self.theta0[rows, None] + self.w[rows, None] * s
+        rho = self.r0[rows, None] + self.dr[rows, None] * s
+        x = self.cx[rows, None] + rho * np.cos(th)
+        y = self.cy[rows, None] + rho * np.sin(th)
+        q = self.base[rows, None, :] + s[:, :, None] * self.lin[rows, None, :]
+        q += x[:, :, None] * self.ea[rows, None, :]
+        q += y[:, :, None] * self.eo[rows, None, :]
+        return q
+
+    def frames(self, s: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Point, unit tangent and curvature vector (each (n, D)) at one parameter per row."""
+        th = self.theta0[rows] + self.w[rows] * s
+        c, sn = np.cos(th), np.sin(th)
+        rho = self.r0[rows] + self.dr[rows] * s
+        w, dr = self.w[rows], self.dr[rows]
+        ea, eo = self.ea[rows], self.eo[rows]
+        q = self.base[rows] + s[:, None] * self.lin[rows]
+        q += (self.cx[rows] + rho * c)[:, None] * ea
+        q += (self.cy[rows] + rho * sn)[:, None] * eo
+        d1 = self.lin[rows] + (dr * c - rho * w * sn)[:, None] * ea
+        d1 += (dr * sn + rho * w * c)[:, None] * eo
+        d2 = (-2 * dr * w * sn - rho * w * w * c)[:, None] * ea
+        d2 += (2 * dr * w * c - rho * w * w * sn)[:, None] * eo
+        square = (d1 * d1).sum(axis=1)[:, None]
+        t = d1 / np.sqrt(square)
+        k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
+        return q, t, k
+
+
+def stretch_deviations(sides: PieceRows, n: int, rows: np.ndarray, p_len: np.ndarray, d1: np.ndarray,
+                       d2: np.ndarray, samples: np.ndarray, vertex: np.ndarray, corner: bool) -> np.ndarray:
+    """Per corner ``rows`` (its pieces the rows i and n + i of ``sides``), the deviation of its curve
+    sampled at ``samples`` (97, D, m), which takes ``d1`` from the end of the incoming piece (of
+    length ``p_len``) and ``d2`` from the start of the outgoing one: with ``corner`` the distance
+    from the programmed corner point ``vertex`` to the curve (#ROUNDPAR e, seed 002 L8124),
+    otherwise the largest distance from the curve to the stretch of path it replaces."""
+    pts = samples.transpose(2, 0, 1) - vertex[:, None, :]              # (m, 97, D), from the corner
+    square = np.einsum("mkd,mkd->mk", pts, pts)                         # |x|², (m, 97)
+    if corner:
+        return np.sqrt(square.min(axis=1))
+    gap = _gaps(sides, rows, p_len - d1, p_len, pts, square, vertex)
+    np.minimum(gap, _gaps(sides, rows + n, np.zeros_like(d2), d2, pts, square, vertex), out=gap)
+    return np.sqrt(np.maximum(gap.max(axis=1), 0.0))
+
+
+def _gaps(sides: PieceRows, rows: np.ndarray, s0: np.ndarray, s1: np.ndarray, pts: np.ndarray,
+          square: np.ndarray, vertex: np.ndarray) -> np.ndarray:
+    """Squared distances (m, k) from the points ``pts`` (m, k, D, relative to each row's ``vertex``;
+    ``square`` their squared norms) to the stretch ``[s0, s1]`` of the pieces ``rows``."""
+    ends = sides.points(np.stack([s0, s1], axis=1), rows) - vertex[:, None, :]   # (m, 2, D)
+    straight, circular = sides.straight[rows], sides.circular[rows]
+    if straight.all():
+        return _to_segments(pts, square, ends)
+    if circular.all():
+        return _to_arcs(sides, rows, pts, square, vertex, ends)
+    gap = np.empty(pts.shape[:2])
+    if straight.any():
+        gap[straight] = _to_segments(pts[straight], square[straight], ends[straight])
+    if circular.any():
+        pick = circular
+        gap[pick] = _to_arcs(sides, rows[pick], pts[pick], square[pick], vertex[pick], ends[pick])
+    other = ~(straight | circular)
+    if other.any():
+        gap[other] = _to_chords(sides, rows[other], s0[other], s1[other], pts[other], vertex[other])
+    return gap
+
+
+def _dots(pts: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """``x . v`` of every point (m, k, D) with its row's vector (m, D): (m, k)."""
+    return (pts @ vectors[:, :, None])[:, :, 0]
+
+
+def _to_segments(pts: np.ndarray, square: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Squared distances from the points (m, k, D) to the segments a + t (b - a) between ``ends``
+    (m, 2, D): |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), t the clipped share."""
+    a, ab = ends[:, 0], ends[:, 1] - ends[:, 0]
+    den = np.maximum((ab * ab).sum(axis=1), 1e-300)[:, None]
+    along = _dots(pts, ab) - (a * ab).sum(axis=1)[:, None]            # (x - a).(b - a)
+    gap = square - 2.0 * _dots(pts, a) + (a * a).sum(axis=1)[:, None]   # |x - a|²
+    t = np.minimum(np.maximum(along / den, 0.0), 1.0)
+    gap -= t * (2.0 * along - t * den)
+    return gap
+
+
+def _to_arcs(sides: PieceRows, rows: np.ndarray, pts: np.ndarray, square: np.ndarray, vertex: np.ndarray,
+             ends: np.ndarray) -> np.ndarray:
+    """Squared distances from the points (m, k, D) to circular arcs in their planes, between their
+    ``ends`` (m, 2, D): where a point lies within the stretch's sector round the centre, its nearest
+    point is on its radius ((rho - r)² and the offset from the plane); elsewhere the distance to a
+    point of the circle grows with the angle between them, so the nearest is one of the ends.  The
+    sector is tested with cross products of radius vectors, not angles."""
+    axes = sides.axes[rows]                                             # (m, 2)
+    va, vo = (np.take_along_axis(vertex, axes[:, i:i + 1], axis=1) for i in (0, 1))
+    ca, co = sides.cx[rows, None] - va, sides.cy[rows, None] - vo      # the centre, from the vertex (m, 1)
+    xa, xo = (np.take_along_axis(pts, axes[:, None, i:i + 1], axis=2)[:, :, 0] for i in (0, 1))
+    ra, ro = xa - ca, xo - co                                           # each point from the centre (m, k)
+    ea, eo = (np.take_along_axis(ends, axes[:, None, i:i + 1], axis=2)[:, :, 0] for i in (0, 1))
+    ea, eo = ea - ca, eo - co                                           # the ends' radius vectors A, B (m, 2)
+    # the arc's plane passes through its ends: the points' squared offset from it
+    lift = ends[:, 0].copy()
+    np.put_along_axis(lift, axes, 0.0, axis=1)
+    radial = square - xa * xa - xo * xo - 2.0 * _dots(pts, lift) + (lift * lift).sum(axis=1)[:, None]
+    rho = np.sqrt(ra * ra + ro * ro)
+    rho -= np.sqrt(ea[:, :1] * ea[:, :1] + eo[:, :1] * eo[:, :1])
+    radial += rho * rho
+    # within the sector from A to B, turning the arc's way (more than half a turn: outside neither half-plane)
+    sign = np.sign(sides.w[rows])[:, None]
+    after_a = sign * (ea[:, :1] * ro - eo[:, :1] * ra) >= 0.0
+    before_b = sign * (ra * eo[:, 1:] - ro * ea[:, 1:]) >= 0.0
+    wide = sign * (ea[:, :1] * eo[:, 1:] - eo[:, :1] * ea[:, 1:]) < 0.0
+    inside = np.where(wide, after_a | before_b, after_a & before_b)
+    to_a = square - 2.0 * _dots(pts, ends[:, 0]) + (ends[:, 0] * ends[:, 0]).sum(axis=1)[:, None]
+    to_b = square - 2.0 * _dots(pts, ends[:, 1]) + (ends[:, 1] * ends[:, 1]).sum(axis=1)[:, None]
+    return np.where(inside, radial, np.minimum(to_a, to_b))
+
+
+def _to_chords(sides: PieceRows, rows: np.ndarray, s0: np.ndarray, s1: np.ndarray, pts: np.ndarray,
+               vertex: np.ndarray) -> np.ndarray:
+    """Squared distances from the points (m, k, D) to the polylines of :data:`REFERENCE` points
+    through the stretches [s0, s1] (spirals and helices)."""
+    frac = np.linspace(0.0, 1.0, REFERENCE)[None, :]
+    ref = sides.points(s0[:, None] + (s1 - s0)[:, None] * frac, rows) - vertex[:, None, :]   # (m, 17, D)
+    a, ab = ref[:, :-1], ref[:, 1:] - ref[:, :-1]
+    # |x - a|² - t (2 (x - a).(b - a) - t |b - a|²) from each point x to each segment a + t (b - a),
+    # t the clipped share: (m, 16, k) arrays worked on in place, the products over the axes as
+    # matrix products
+    cols = np.ascontiguousarray(pts.transpose(0, 2, 1))                 # (m, D, k)
+    den = np.maximum((ab * ab).sum(axis=2), 1e-300)[:, :, None]
+    along = ab @ cols                                                    # (x - a).(b - a)
+    along -= (a * ab).sum(axis=2)[:, :, None]
+    gap = a @ cols                                                       # becomes |x - a|²
+    gap *= -2.0
+    gap += (pts * pts).sum(axis=2)[:, None, :]
+    gap += (a * a).sum(axis=2)[:, :, None]
+    t = np.divide(along, den)
+    np.maximum(t, 0.0, out=t)
+    np.minimum(t, 1.0, out=t)
+    along *= 2.0
+    den = t * den
+    along -= den
+    along *= t
+    gap -= along
+    return gap.min(axis=1)
