@@ -57,6 +57,9 @@ class PieceRows:
         axes = self.axes = np.array(plane, dtype=np.intp)          # the plane's two axes
         self.ea = (axes[:, :1] == np.arange(dim)).astype(float)   # one-hot: the plane's first axis
         self.eo = (axes[:, 1:] == np.arange(dim)).astype(float)   # ... and its second
+        self.off = 1.0 - self.ea - self.eo                          # one-hot: the axes off the plane
+        #: the plane's axes when every row has the same (lines count as in the first two axes')
+        self.plane = plane[0] if plane.count(plane[0]) == len(plane) else None
         self.straight = self.w == 0.0                               # lines (an arc always turns)
         self.circular = np.array(circular, dtype=bool)              # arcs in their plane of constant radius
 
@@ -102,68 +105,78 @@ def stretch_deviations(sides: PieceRows, n: int, rows: np.ndarray, p_len: np.nda
     square = np.einsum("mkd,mkd->mk", pts, pts)                         # |x|², (m, 97)
     if corner:
         return np.sqrt(square.min(axis=1))
-    gap = _gaps(sides, rows, p_len - d1, p_len, pts, square, vertex)
-    np.minimum(gap, _gaps(sides, rows + n, np.zeros_like(d2), d2, pts, square, vertex), out=gap)
-    return np.sqrt(np.maximum(gap.max(axis=1), 0.0))
+    # both sides of every corner at once: the incoming pieces' rows, then the outgoing ones'
+    m = len(rows)
+    gap = _gaps(sides, np.concatenate([rows, rows + n]), np.concatenate([p_len - d1, np.zeros(m)]),
+                np.concatenate([p_len, d2]), np.concatenate([pts, pts]), np.concatenate([square, square]),
+                np.concatenate([vertex, vertex]))
+    return np.sqrt(np.maximum(np.minimum(gap[:m], gap[m:]).max(axis=1), 0.0))
 
 
 def _gaps(sides: PieceRows, rows: np.ndarray, s0: np.ndarray, s1: np.ndarray, pts: np.ndarray,
           square: np.ndarray, vertex: np.ndarray) -> np.ndarray:
     """Squared distances (m, k) from the points ``pts`` (m, k, D, relative to each row's ``vertex``;
-    ``square`` their squared norms) to the stretch ``[s0, s1]`` of the pieces ``rows``."""
-    ends = sides.points(np.stack([s0, s1], axis=1), rows) - vertex[:, None, :]   # (m, 2, D)
+    ``square`` their squared norms) to the stretch ``[s0, s1]`` of the pieces ``rows``.  Lines and
+    circular arcs side by side each take both formulas over all the rows (cheaper than splitting
+    the arrays), and keep their own."""
+    ends = sides.points(np.stack([s0, s1], axis=1), rows) - vertex[:, None, :]   # (m, 2, D): a, b
+    dots = pts @ ends.transpose(0, 2, 1)                                # x.a, x.b (m, k, 2)
+    lengths = np.einsum("mjd,mjd->mj", ends, ends)                      # |a|², |b|² (m, 2)
+    to_a = square - 2.0 * dots[:, :, 0] + lengths[:, :1]                # |x - a|²
     straight, circular = sides.straight[rows], sides.circular[rows]
     if straight.all():
-        return _to_segments(pts, square, ends)
-    if circular.all():
-        return _to_arcs(sides, rows, pts, square, vertex, ends)
-    gap = np.empty(pts.shape[:2])
+        return _to_segments(to_a, dots, ends)
+    gap = _to_arcs(sides, rows, pts, square, vertex, ends, dots, lengths, to_a)
     if straight.any():
-        gap[straight] = _to_segments(pts[straight], square[straight], ends[straight])
-    if circular.any():
-        pick = circular
-        gap[pick] = _to_arcs(sides, rows[pick], pts[pick], square[pick], vertex[pick], ends[pick])
+        gap = np.where(straight[:, None], _to_segments(to_a, dots, ends), gap)
     other = ~(straight | circular)
     if other.any():
         gap[other] = _to_chords(sides, rows[other], s0[other], s1[other], pts[other], vertex[other])
     return gap
 
 
-def _dots(pts: np.ndarray, vectors: np.ndarray) -> np.ndarray:
-    """``x . v`` of every point (m, k, D) with its row's vector (m, D): (m, k)."""
-    return (pts @ vectors[:, :, None])[:, :, 0]
-
-
-def _to_segments(pts: np.ndarray, square: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """Squared distances from the points (m, k, D) to the segments a + t (b - a) between ``ends``
-    (m, 2, D): |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), t the clipped share."""
+def _to_segments(to_a: np.ndarray, dots: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Squared distances from the points to the segments a + t (b - a) between ``ends`` (m, 2, D):
+    |x - a|² - t (2 (x - a).(b - a) - t |b - a|²), t the clipped share (``to_a``: |x - a|²,
+    ``dots``: x.a and x.b)."""
     a, ab = ends[:, 0], ends[:, 1] - ends[:, 0]
     den = np.maximum((ab * ab).sum(axis=1), 1e-300)[:, None]
-    along = _dots(pts, ab) - (a * ab).sum(axis=1)[:, None]            # (x - a).(b - a)
-    gap = square - 2.0 * _dots(pts, a) + (a * a).sum(axis=1)[:, None]   # |x - a|²
+    along = dots[:, :, 1] - dots[:, :, 0]
+    along -= (a * ab).sum(axis=1)[:, None]                              # (x - a).(b - a)
     t = np.minimum(np.maximum(along / den, 0.0), 1.0)
-    gap -= t * (2.0 * along - t * den)
-    return gap
+    along *= 2.0
+    along -= t * den
+    along *= t
+    return to_a - along
+
+
+def _in_plane(sides: PieceRows, rows: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The coordinates of ``x`` (m, ..., D) along the plane axes of each row: two (m, ...) arrays."""
+    if sides.plane is not None:
+        ia, io = sides.plane
+        return x[..., ia], x[..., io]
+    axes = sides.axes[rows].reshape(len(rows), *([1] * (x.ndim - 2)), 2)
+    return tuple(np.take_along_axis(x, axes[..., i:i + 1], axis=-1)[..., 0] for i in (0, 1))
 
 
 def _to_arcs(sides: PieceRows, rows: np.ndarray, pts: np.ndarray, square: np.ndarray, vertex: np.ndarray,
-             ends: np.ndarray) -> np.ndarray:
+             ends: np.ndarray, dots: np.ndarray, lengths: np.ndarray, to_a: np.ndarray) -> np.ndarray:
     """Squared distances from the points (m, k, D) to circular arcs in their planes, between their
-    ``ends`` (m, 2, D): where a point lies within the stretch's sector round the centre, its nearest
-    point is on its radius ((rho - r)² and the offset from the plane); elsewhere the distance to a
-    point of the circle grows with the angle between them, so the nearest is one of the ends.  The
-    sector is tested with cross products of radius vectors, not angles."""
-    axes = sides.axes[rows]                                             # (m, 2)
-    va, vo = (np.take_along_axis(vertex, axes[:, i:i + 1], axis=1) for i in (0, 1))
-    ca, co = sides.cx[rows, None] - va, sides.cy[rows, None] - vo      # the centre, from the vertex (m, 1)
-    xa, xo = (np.take_along_axis(pts, axes[:, None, i:i + 1], axis=2)[:, :, 0] for i in (0, 1))
+    ``ends`` a, b (m, 2, D; ``dots``: x.a and x.b, ``lengths``: |a|² and |b|², ``to_a``: |x - a|²):
+    where a point lies within the stretch's sector round the centre, its nearest point is on its
+    radius ((rho - r)² and the offset from the plane); elsewhere the distance to a point of the
+    circle grows with the angle between them, so the nearest is one of the ends.  The sector is
+    tested with cross products of radius vectors, not angles."""
+    va, vo = _in_plane(sides, rows, vertex)
+    ca, co = (sides.cx[rows] - va)[:, None], (sides.cy[rows] - vo)[:, None]   # the centre, from the vertex
+    xa, xo = _in_plane(sides, rows, pts)
+    ea, eo = _in_plane(sides, rows, ends)                               # the ends in the plane (m, 2)
+    # off the plane, every point of the arc is where a is: |x - a|² less its part in the plane
+    da, do = xa - ea[:, :1], xo - eo[:, :1]
+    radial = to_a - da * da
+    radial -= do * do
     ra, ro = xa - ca, xo - co                                           # each point from the centre (m, k)
-    ea, eo = (np.take_along_axis(ends, axes[:, None, i:i + 1], axis=2)[:, :, 0] for i in (0, 1))
-    ea, eo = ea - ca, eo - co                                           # the ends' radius vectors A, B (m, 2)
-    # the arc's plane passes through its ends: the points' squared offset from it
-    lift = ends[:, 0].copy()
-    np.put_along_axis(lift, axes, 0.0, axis=1)
-    radial = square - xa * xa - xo * xo - 2.0 * _dots(pts, lift) + (lift * lift).sum(axis=1)[:, None]
+    ea, eo = ea - ca, eo - co                                           # the ends' radius vectors A, B
     rho = np.sqrt(ra * ra + ro * ro)
     rho -= np.sqrt(ea[:, :1] * ea[:, :1] + eo[:, :1] * eo[:, :1])
     radial += rho * rho
@@ -173,8 +186,7 @@ def _to_arcs(sides: PieceRows, rows: np.ndarray, pts: np.ndarray, square: np.nda
     before_b = sign * (ra * eo[:, 1:] - ro * ea[:, 1:]) >= 0.0
     wide = sign * (ea[:, :1] * eo[:, 1:] - eo[:, :1] * ea[:, 1:]) < 0.0
     inside = np.where(wide, after_a | before_b, after_a & before_b)
-    to_a = square - 2.0 * _dots(pts, ends[:, 0]) + (ends[:, 0] * ends[:, 0]).sum(axis=1)[:, None]
-    to_b = square - 2.0 * _dots(pts, ends[:, 1]) + (ends[:, 1] * ends[:, 1]).sum(axis=1)[:, None]
+    to_b = square - 2.0 * dots[:, :, 1] + lengths[:, 1:]
     return np.where(inside, radial, np.minimum(to_a, to_b))
 
 
