@@ -27,7 +27,17 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
     the smaller of half its block and its length) and ``speed`` one per corner (or None): the
     same steps on every row at once, so the same curves up to rounding.  None where no curve fits."""
     n = len(ps)
-    sides = PieceRows(ps + qs)   # rows 0 .. n - 1 the incoming pieces, n .. 2n - 1 the outgoing ones
+    # each piece once (a chain's outgoing piece is the next corner's incoming one): the rows of
+    # each corner's incoming piece and of its outgoing one
+    pieces: list[Piece] = []
+    at: dict[int, int] = {}
+    for p in (*ps, *qs):
+        if id(p) not in at:
+            at[id(p)] = len(pieces)
+            pieces.append(p)
+    sides = PieceRows(pieces)
+    incoming = np.array([at[id(p)] for p in ps], dtype=np.intp)
+    outgoing = np.array([at[id(q)] for q in qs], dtype=np.intp)
     p_len = np.array([p.length for p in ps])
     vertex = np.array([p.end for p in ps])
     lim_p, lim_q = np.asarray(lim_p, dtype=float), np.asarray(lim_q, dtype=float)
@@ -36,7 +46,7 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
 
     def curves(rows: np.ndarray, size: np.ndarray):
         d1, d2 = np.minimum(size, lim_p[rows]), np.minimum(size, lim_q[rows])
-        q, t, k = sides.frames(np.concatenate([p_len[rows] - d1, d2]), np.concatenate([rows, rows + n]))
+        q, t, k = sides.frames(np.concatenate([p_len[rows] - d1, d2]), np.concatenate([incoming[rows], outgoing[rows]]))
         m = len(rows)
         p0, t0, k0, p5, t5, k5 = q[:m], t[:m], k[:m], q[m:], t[m:], k[m:]
         controls = _controls(p0, t0, k0, (SHAPE * d1)[:, None], p5, t5, k5, (SHAPE * d2)[:, None])
@@ -75,7 +85,8 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         if tolerance is None:
             ok = valid
         else:
-            dev = stretch_deviations(sides, n, rows, p_len[rows], d1, d2, samples, vertex[rows], corner)
+            dev = stretch_deviations(sides, incoming[rows], outgoing[rows], p_len[rows], d1, d2, samples,
+                                     vertex[rows], corner)
             ok = valid & (dev <= 0.95 * tolerance)
             shrink = valid & ~ok
             size[rows[shrink]] *= np.maximum(0.1, 0.9 * tolerance / dev[shrink])

@@ -49,11 +49,11 @@ def deviation(blend: BlendPiece, p: Piece, q: Piece, d1: float, d2: float, corne
     pts = blend.points(97)
     if corner:
         return float(np.sqrt(((pts - p.end) ** 2).sum(axis=1)).min())
-    return float(stretch_deviations(PieceRows([p, q]), 1, _FIRST, np.array([p.length]), np.array([d1]),
+    return float(stretch_deviations(PieceRows([p, q]), _FIRST, _SECOND, np.array([p.length]), np.array([d1]),
                                     np.array([d2]), pts[:, :, None], p.end[None], False)[0])
 
 
-_FIRST = np.zeros(1, dtype=np.intp)
+_FIRST, _SECOND = np.array([0]), np.array([1])
 
 
 def _dynamic_scale(blend: BlendPiece, speed: float, acc: float, jerk: float) -> float:

@@ -94,20 +94,21 @@ class PieceRows:
         return q, t, k
 
 
-def stretch_deviations(sides: PieceRows, n: int, rows: np.ndarray, p_len: np.ndarray, d1: np.ndarray,
-                       d2: np.ndarray, samples: np.ndarray, vertex: np.ndarray, corner: bool) -> np.ndarray:
-    """Per corner ``rows`` (its pieces the rows i and n + i of ``sides``), the deviation of its curve
-    sampled at ``samples`` (97, D, m), which takes ``d1`` from the end of the incoming piece (of
-    length ``p_len``) and ``d2`` from the start of the outgoing one: with ``corner`` the distance
-    from the programmed corner point ``vertex`` to the curve (#ROUNDPAR e, seed 002 L8124),
-    otherwise the largest distance from the curve to the stretch of path it replaces."""
+def stretch_deviations(sides: PieceRows, incoming: np.ndarray, outgoing: np.ndarray, p_len: np.ndarray,
+                       d1: np.ndarray, d2: np.ndarray, samples: np.ndarray, vertex: np.ndarray,
+                       corner: bool) -> np.ndarray:
+    """Per corner (its pieces the rows ``incoming`` and ``outgoing`` of ``sides``), the deviation of
+    its curve sampled at ``samples`` (97, D, m), which takes ``d1`` from the end of the incoming
+    piece (of length ``p_len``) and ``d2`` from the start of the outgoing one: with ``corner`` the
+    distance from the programmed corner point ``vertex`` to the curve (#ROUNDPAR e, seed 002
+    L8124), otherwise the largest distance from the curve to the stretch of path it replaces."""
     pts = samples.transpose(2, 0, 1) - vertex[:, None, :]              # (m, 97, D), from the corner
     square = np.einsum("mkd,mkd->mk", pts, pts)                         # |x|², (m, 97)
     if corner:
         return np.sqrt(square.min(axis=1))
     # both sides of every corner at once: the incoming pieces' rows, then the outgoing ones'
-    m = len(rows)
-    gap = _gaps(sides, np.concatenate([rows, rows + n]), np.concatenate([p_len - d1, np.zeros(m)]),
+    m = len(d1)
+    gap = _gaps(sides, np.concatenate([incoming, outgoing]), np.concatenate([p_len - d1, np.zeros(m)]),
                 np.concatenate([p_len, d2]), np.concatenate([pts, pts]), np.concatenate([square, square]),
                 np.concatenate([vertex, vertex]))
     return np.sqrt(np.maximum(np.minimum(gap[:m], gap[m:]).max(axis=1), 0.0))
