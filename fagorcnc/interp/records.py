@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..path.arcs import sweep as _sweep
+
 
 @dataclass(frozen=True, slots=True)
 class Source:
@@ -87,10 +89,8 @@ class Arc:
     @property
     def sweep(self) -> float:
         """Signed sweep angle in degrees (negative clockwise), full turns included."""
-        from ..path.arcs import sweep
-
         a, o = self.plane[0], self.plane[1]
-        d = sweep((self.start[a], self.start[o]), (self.end[a], self.end[o]),
+        d = _sweep((self.start[a], self.start[o]), (self.end[a], self.end[o]),
                   (self.center[a], self.center[o]), self.direction == "ccw")
         return d + math.copysign(360.0 * self.turns, d)
 

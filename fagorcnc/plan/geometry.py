@@ -51,6 +51,10 @@ class Piece(ABC):
     def derivatives(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``q, q', q'', q'''`` at the parameters ``s`` (arrays of shape (n, axes))."""
 
+    def bound_lists(self) -> tuple[list[float], list[float], list[float]]:
+        """The bounds ``d1, d2, d3`` as lists of floats (what the limits run over)."""
+        return self.d1.tolist(), self.d2.tolist(), self.d3.tolist()
+
 
     def frame(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Point, unit tangent and curvature vector (geometric, any parameterisation) at ``s``."""
@@ -126,15 +130,12 @@ def _zeros(dim: int) -> np.ndarray:
 
 
 def _range_max(theta0: float, theta1: float) -> tuple[float, float]:
-    """Max of |sin| and |cos| over the angle interval between theta0 and theta1."""
-    lo, hi = min(theta0, theta1), max(theta0, theta1)
-
-    def hits(offset: float) -> bool:   # does [lo, hi] contain offset + k*pi ?
-        k = math.ceil((lo - offset) / math.pi)
-        return offset + k * math.pi <= hi
-
-    ms = 1.0 if hits(math.pi / 2) else max(abs(math.sin(lo)), abs(math.sin(hi)))
-    mc = 1.0 if hits(0.0) else max(abs(math.cos(lo)), abs(math.cos(hi)))
+    """Max of |sin| and |cos| over the angle interval between theta0 and theta1: 1 where the
+    interval holds an odd multiple of pi/2 (|sin|) or a multiple of pi (|cos|), else the larger end."""
+    lo, hi = (theta0, theta1) if theta0 <= theta1 else (theta1, theta0)
+    half = math.pi / 2
+    ms = 1.0 if half + math.ceil((lo - half) / math.pi) * math.pi <= hi else max(abs(math.sin(lo)), abs(math.sin(hi)))
+    mc = 1.0 if math.ceil(lo / math.pi) * math.pi <= hi else max(abs(math.cos(lo)), abs(math.cos(hi)))
     return ms, mc
 
 
@@ -149,18 +150,19 @@ class ArcPiece(Piece):
     curved = True
 
     # the derivative bounds, made on first use: a corner trims the start of an arc and the next
-    # corner its end, and only the arc left after both is planned
+    # corner its end, and only the arc left after both is planned (as lists: what the limits run
+    # over; arrays when asked)
     @property
     def d1(self) -> np.ndarray:
-        return (self._bounded or self._bounds())[0]
+        return np.array(self.bound_lists()[0])
 
     @property
     def d2(self) -> np.ndarray:
-        return (self._bounded or self._bounds())[1]
+        return np.array(self.bound_lists()[1])
 
     @property
     def d3(self) -> np.ndarray:
-        return (self._bounded or self._bounds())[2]
+        return np.array(self.bound_lists()[2])
 
     def __init__(self, start: np.ndarray, end: np.ndarray, ia: int, io: int, center: tuple[float, float],
                  sweep: float) -> None:
@@ -184,7 +186,10 @@ class ArcPiece(Piece):
         self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
         self._bounded = None
 
-    def _bounds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def bound_lists(self) -> tuple[list[float], list[float], list[float]]:
+        """The bounds ``d1, d2, d3`` as lists of floats, made on first use."""
+        if self._bounded is not None:
+            return self._bounded
         r0, (r1, sweep), lin = self.r0, self._ends, self.lin.tolist()
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
         rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
@@ -200,7 +205,7 @@ class ArcPiece(Piece):
         d2[io] = 2 * dr * w * mc + rmax * w * w * ms
         d3[ia] = 3 * dr * w * w * mc + rmax * w ** 3 * ms
         d3[io] = 3 * dr * w * w * ms + rmax * w ** 3 * mc
-        self._bounded = bounds = (np.array(d1), np.array(d2), np.array(d3))
+        self._bounded = bounds = (d1, d2, d3)
         return bounds
 
     def derivatives(self, s):
@@ -264,7 +269,7 @@ class ArcPiece(Piece):
 
     def speed_factor(self) -> float:
         rmax = max(self.r0, self.r0 + self.dr * self.length)
-        return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + float(np.dot(self.lin, self.lin)))
+        return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + sum(x * x for x in self.lin.tolist()))
 
     def sub(self, s0: float, s1: float) -> ArcPiece:
         # the same curve over [s0, s1] with the same parameter (angle and radius linear in it): only

@@ -77,8 +77,8 @@ class Span:
         self._terms = None
         self.stale = False
         if p.curved:
-            self.vc, self.acc, self.jerk = curve_limits(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim,
-                                                        self.feed / p.speed_factor(), self.path_acc, self.path_jerk)
+            self.vc, self.acc, self.jerk = curve_limits(*p.bound_lists(), self.lim, self.feed / p.speed_factor(),
+                                                        self.path_acc, self.path_jerk)
         else:
             self.vc, self.acc, self.jerk = line_limits(p.d1.tolist(), self.lim, self.feed, self.path_acc,
                                                        self.path_jerk)
@@ -89,7 +89,7 @@ class Span:
         group of curves below a lower cap needs them (most corner curves are never asked)."""
         if self._terms is None:
             p = self.piece
-            self._terms = axis_terms(p.d1.tolist(), p.d2.tolist(), p.d3.tolist(), self.lim)
+            self._terms = axis_terms(*p.bound_lists(), self.lim)
         return self._terms
 
     def trim(self, s0: float, s1: float, start=None, later: bool = False) -> None:
