@@ -299,3 +299,19 @@ def test_planner_streams_its_input():
     gen = Planner(r.machine).segments(records())
     next(gen)
     assert len(pulled) < len(r.moves) / 2   # the first segment comes long before the end of the input
+
+
+def test_planned_segments_pickle_with_their_pieces():
+    """Segments go through pickle (a process pool checking programs, a cache of plans): lines,
+    corner curves and arcs, whose derivative bounds are made on first use, come back the same."""
+    import pickle
+
+    segs, _ = motions("G90 G1 X0 Y0 F3000\nG05\nG2 X10 Y0 I5 J0\nG1 X20\nG3 X30 Y0 I5 J0 Z2\nM30")
+    assert {type(s.piece).__name__ for s in segs} == {"ArcPiece", "BlendPiece", "LinePiece"}
+    for seg in segs:
+        back = pickle.loads(pickle.dumps(seg))
+        assert (back.t0, back.duration, back.v0, back.v1) == (seg.t0, seg.duration, seg.v0, seg.v1)
+        for a, b in ((back.piece.start, seg.piece.start), (back.piece.end, seg.piece.end),
+                     (back.piece.d1, seg.piece.d1), (back.piece.d3, seg.piece.d3)):
+            assert np.array_equal(a, b)
+        assert back.piece.length == seg.piece.length

@@ -186,6 +186,10 @@ class ArcPiece(Piece):
         self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
         self._bounded = None
 
+    def __getstate__(self) -> tuple[None, dict]:
+        # its slots, not the d1/d2/d3 properties (which pickle's default would try to set back)
+        return None, {name: getattr(self, name) for name in ("start", "end", *ArcPiece.__slots__)}
+
     def bound_lists(self) -> tuple[list[float], list[float], list[float]]:
         """The bounds ``d1, d2, d3`` as lists of floats, made on first use."""
         if self._bounded is not None:
