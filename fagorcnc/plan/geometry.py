@@ -447,8 +447,10 @@ def _apply(basis: np.ndarray, controls: np.ndarray) -> np.ndarray:
     several threads, whose start-up costs more than it saves at these sizes (and takes a core)."""
     n, _, dim = controls.shape
     rel = (controls - controls[:, :1]).transpose(1, 2, 0)
-    out = np.empty((len(basis), dim, n))
     chunk = max(1, _SINGLE_THREAD // (len(basis) * 6 * dim))
+    if n <= chunk:   # one product, laid out as it comes
+        return (basis @ rel.reshape(6, -1)).reshape(len(basis), dim, n)
+    out = np.empty((len(basis), dim, n))
     for i in range(0, n, chunk):
         part = rel[:, :, i:i + chunk]
         out[:, :, i:i + chunk] = (basis @ part.reshape(6, -1)).reshape(len(basis), dim, part.shape[2])
@@ -485,7 +487,7 @@ def _curve_bounds(controls: np.ndarray):
     m = len(_BOUND_U)
     b = _apply(_BOUND_B, controls)
     q, b1, b2, b3 = (b[r * m:(r + 1) * m] for r in range(4))
-    q = q + controls[:, 0].T
+    q += controls[:, 0].T   # b is the product's own array
     square = _dot(b1, b1)
     sig = np.sqrt(square)
     degenerate = sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]

@@ -10,8 +10,6 @@ have no such form and are measured against a polyline of 17 points through them.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .geometry import ArcPiece, Piece
@@ -32,36 +30,38 @@ class PieceRows:
     array operations."""
 
     def __init__(self, pieces: list[Piece]) -> None:
-        dim = len(pieces[0].start)
-        base, lin, plane, shape, circular = [], [], [], [], []
-        for p in pieces:
-            if isinstance(p, ArcPiece):
-                ia, io = p.ia, p.io
-                shape.append((*p.center, p.theta0, p.w, p.r0, p.dr))
-                direction = p.lin.tolist()
-                circular.append(abs(p.dr) * p.length <= ROUND and not any(direction))
-            else:
-                circular.append(False)
-                ia, io = 0, 1
-                direction = p.u.tolist()
-                start = p.start.tolist()
-                shape.append((start[0], start[1], math.atan2(direction[1], direction[0]), 0.0, 0.0,
-                               math.hypot(direction[0], direction[1])))
-            row = p.start.tolist()
-            row[ia] = row[io] = direction[ia] = direction[io] = 0.0
-            base.append(row)
-            lin.append(direction)
-            plane.append((ia, io))
-        self.base, self.lin = np.array(base), np.array(lin)
-        self.cx, self.cy, self.theta0, self.w, self.r0, self.dr = np.array(shape).T
-        axes = self.axes = np.array(plane, dtype=np.intp)          # the plane's two axes
+        n, dim = len(pieces), len(pieces[0].start)
+        arc = [isinstance(p, ArcPiece) for p in pieces]
+        start = np.array([p.start for p in pieces])
+        direction = np.array([p.lin if a else p.u for p, a in zip(pieces, arc)])  # noqa: B905 (one flag a piece)
+        shape = np.empty((n, 6))                                    # cx, cy, theta0, w, r0, dr
+        axes = np.empty((n, 2), dtype=np.intp)
+        arcs = np.array(arc, dtype=bool)
+        if arcs.any():
+            rows = np.array([(*p.center, p.theta0, p.w, p.r0, p.dr, p.length, p.ia, p.io)
+                             for p, a in zip(pieces, arc) if a])  # noqa: B905
+            shape[arcs] = rows[:, :6]
+            axes[arcs] = rows[:, 7:]
+            length = rows[:, 6]
+        lines = ~arcs
+        if lines.any():   # a line: in the first two axes' plane, its angle there and its speed in it
+            u, at = direction[lines], start[lines]
+            shape[lines] = np.stack([at[:, 0], at[:, 1], np.arctan2(u[:, 1], u[:, 0]), np.zeros(len(u)),
+                                     np.zeros(len(u)), np.hypot(u[:, 0], u[:, 1])], axis=1)
+            axes[lines] = (0, 1)
+        self.cx, self.cy, self.theta0, self.w, self.r0, self.dr = shape.T
+        self.axes = axes                                            # the plane's two axes
         self.ea = (axes[:, :1] == np.arange(dim)).astype(float)   # one-hot: the plane's first axis
         self.eo = (axes[:, 1:] == np.arange(dim)).astype(float)   # ... and its second
         self.off = 1.0 - self.ea - self.eo                          # one-hot: the axes off the plane
+        self.base, self.lin = start * self.off, direction * self.off
         #: the plane's axes when every row has the same (lines count as in the first two axes')
-        self.plane = plane[0] if plane.count(plane[0]) == len(plane) else None
-        self.straight = self.w == 0.0                               # lines (an arc always turns)
-        self.circular = np.array(circular, dtype=bool)              # arcs in their plane of constant radius
+        same = (axes == axes[0]).all()
+        self.plane = (int(axes[0, 0]), int(axes[0, 1])) if same else None
+        self.straight = lines                                       # a line: an arc that does not turn
+        self.circular = np.zeros(n, dtype=bool)                     # arcs in their plane of constant radius
+        if arcs.any():
+            self.circular[arcs] = (np.abs(self.dr[arcs]) * length <= ROUND) & ~self.lin[arcs].any(axis=1)
 
     def points(self, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """Points (n, m, D) at the parameters ``s`` (n, m) of the pieces ``rows``."""
