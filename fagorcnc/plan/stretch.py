@@ -2,7 +2,8 @@
 
 The end of the incoming piece and the start of the outgoing one, for many corners at once: the
 pieces as arrays (:class:`PieceRows`), and the largest distance from a curve's points to that
-stretch (:func:`stretch_deviations`, what HSC's contour error bounds, seed 002 L13486-L13537).
+stretch (:func:`stretch_deviations`): what HSC's CONTERROR bounds, the error between the programmed
+path and the one run (seed 002 L13506).
 The distance is exact for lines and for circular arcs (a point's nearest point on a circle lies
 along its radius); spirals (an end radius within the arc tolerance of the start's) and helices
 have no such form and are measured against a polyline of 17 points through them.
