@@ -469,3 +469,17 @@ def test_a_span_made_later_settles_to_the_limits_made_at_once():
     assert later.stale and later.length == at_once.length
     later.settle()
     assert (later.vc, later.acc, later.jerk) == (at_once.vc, at_once.acc, at_once.jerk)
+
+
+@pytest.mark.parametrize("params", [(1, 0.01), (2, 37.0), (2, 100.0), (4, 0.002)])
+def test_roundpar_of_a_line_batch_is_roundpar_of_each_corner(params):
+    """The G05 line batch takes #ROUNDPAR's feed, speed and tolerance for all its corners at once:
+    the very numbers _roundpar gives each corner (its entries are matched against them)."""
+    from fagorcnc.plan.planner import _roundpar, _roundpar_rows
+
+    feeds = np.array([50.0, 100.0 / 3.0, 17.1, 0.123456789])
+    f, speeds, tolerance = _roundpar_rows(params, feeds)
+    for i, feed in enumerate(feeds.tolist()):
+        one = _roundpar(params, feed)
+        assert f[i] == one[0] and tolerance == one[2]
+        assert (speeds is None and one[1] is None) or speeds[i] == one[1]

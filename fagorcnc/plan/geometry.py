@@ -55,7 +55,6 @@ class Piece(ABC):
         """The bounds ``d1, d2, d3`` as lists of floats (what the limits run over)."""
         return self.d1.tolist(), self.d2.tolist(), self.d3.tolist()
 
-
     def frame(self, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Point, unit tangent and curvature vector (geometric, any parameterisation) at ``s``."""
         q, d1, d2, _ = self.derivatives(np.array([s]))

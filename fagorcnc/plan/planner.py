@@ -822,13 +822,13 @@ def _roundpar(params: tuple, feed: float) -> tuple[float, float | None, float | 
 
 def _roundpar_rows(params: tuple, feed: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, float | None]:
     """:func:`_roundpar` of many G05 corners between lines at once (``feed``: each corner's lower
-    feed; types 1, 2 and 4, as type 3 and 5 corners are not batched): (feeds, speeds or None,
-    tolerance), with the same operations so the same numbers."""
-    kind = params[0]
-    if kind == 2:
-        feed = feed * (params[1] / 100.0)
-    tolerance = params[1] if kind in (1, 4) else None
-    return feed, (None if kind == 4 else feed), tolerance
+    feed): (feeds, speeds or None, tolerance).  The types batched (1, 2 and 4; 3 and 5 are made
+    alone) scale the feed, so _roundpar of a unit feed gives the factor, and ``feed * factor``
+    is the very product it makes for each corner."""
+    factor, speed, tolerance, _ = _roundpar(params, 1.0)
+    if factor != 1.0:
+        feed = feed * factor
+    return feed, (None if speed is None else feed), tolerance
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
