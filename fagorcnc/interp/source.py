@@ -62,8 +62,9 @@ def _spans(structure: dict, get) -> list:
 class StreamSource:
     """The main program of a file, read lazily (see the module docstring)."""
 
-    def __init__(self, lines: Iterator, builder: RoutineBuilder, diagnostics: list) -> None:
+    def __init__(self, lines: Iterator, builder: RoutineBuilder, diagnostics: list, header: bool = True) -> None:
         self._lines = lines
+        self._header = header            # a program header was read (a first one may follow body blocks)
         self._builder = builder
         self.diagnostics = diagnostics   # shared with the program; grows as lines are read
         self.name, self.kind = builder.name, "program"
@@ -81,6 +82,11 @@ class StreamSource:
             if type(node) is Block:
                 self._builder.add(node)
                 return True
+            if type(node) is ProgramHeader and not self._header:
+                # the first header after blocks of the body names the program, as in assemble()
+                self._header = True
+                self._builder.name = self.name = node.name
+                continue
             # a header inside the body: let assemble-style rules report it
             self.diagnostics.extend(_late_header(node, self._builder.file))
         if not self._done:
@@ -171,9 +177,11 @@ def stream_program(lines: Iterable[str], file: str) -> tuple[Program, StreamSour
     it = iter_lines(lines, file)
     head: list = []
     first_block = None
+    header = False
     for node, diags in it:
         head.append((node, diags))
         if type(node) is ProgramHeader:
+            header = True
             break
         if type(node) is Block and not any(type(n) is SubroutineHeader for n, _ in head):
             first_block = head.pop()
@@ -183,7 +191,7 @@ def stream_program(lines: Iterable[str], file: str) -> tuple[Program, StreamSour
     for block in program.main.blocks:
         builder.add(block)
     diagnostics = list(program.diagnostics)
-    source = StreamSource(it, builder, diagnostics)
+    source = StreamSource(it, builder, diagnostics, header)
     if first_block is not None:
         diagnostics.extend(first_block[1])
         builder.add(first_block[0])

@@ -63,6 +63,7 @@ class RoutineBuilder:
         self.stack: list = []
         self.diagnostics: list = []
         self.offset = 0  # index of blocks[0] (a streamed routine drops blocks it no longer needs)
+        self._target_lines: dict[int, int] = {}  # line of each jump target, by block index (for STR004)
 
     def _err(self, block: Block, col: int, code: str, message: str) -> None:
         self.diagnostics.append(error(self.file, block.line, col, code, message, block.text))
@@ -76,6 +77,7 @@ class RoutineBuilder:
                 self._err(block, 1, "STR004", f"jump target N{block.number}: is already defined on line {first}")
             else:
                 self.numbers[block.number] = index
+                self._target_lines[index] = block.line
         if block.label is not None:
             key = block.label.upper()
             if key in self.labels:
@@ -83,13 +85,14 @@ class RoutineBuilder:
                 self._err(block, 1, "STR004", f"label [{block.label}] is already defined on line {first}")
             else:
                 self.labels[key] = index
+                self._target_lines[index] = block.line
         items = block.items
         if items and type(items[-1]) is Flow:  # a $ instruction is the block's last item
             self._flow(block, index, items[-1])
 
     def _line(self, index: int) -> int:
-        i = index - self.offset
-        return self.blocks[i].line if 0 <= i < len(self.blocks) else 0
+        # kept apart from the blocks: a whole-file syntax check drops every block once read
+        return self._target_lines.get(index, 0)
 
     # ------------------------------------------------------------------ $ nesting
     def _flow(self, block: Block, index: int, node: Flow) -> None:
@@ -180,8 +183,12 @@ class RoutineBuilder:
                        self.numbers, self.labels, self.structure)
 
 
-def assemble(lines: Iterable, file: str) -> Program:
-    """Build a :class:`Program` from ``(node, diagnostics)`` pairs of one file."""
+def assemble(lines: Iterable, file: str, keep_body: bool = True) -> Program:
+    """Build a :class:`Program` from ``(node, diagnostics)`` pairs of one file.
+
+    ``keep_body=False`` checks the file without keeping the blocks of its main program (each is
+    dropped once its structure is noted): the diagnostics of the whole file in constant memory,
+    and a program whose main routine is empty."""
     diagnostics: list[Diagnostic] = []
     subroutines: dict = {}
     name = None
@@ -209,8 +216,11 @@ def assemble(lines: Iterable, file: str) -> Program:
         t = type(node)
         if t is Block:
             current.add(node)
+            if not keep_body and current is main:
+                main.offset += 1
+                main.blocks.clear()
         elif t is SubroutineHeader:
-            if header_seen or main.blocks:
+            if header_seen or main.offset + len(main.blocks):
                 diagnostics.append(error(
                     file, node.line, 1, "STR002",
                     f"local subroutine {node.name} must be defined before the program header and body "
