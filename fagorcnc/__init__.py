@@ -11,7 +11,7 @@
 from .diagnostics import CODES, Diagnostic
 from .machine import Machine, load_machine
 from .runner import RunReport, run
-from .simulate import Result, Run, interpret, simulate
+from .simulate import DryRun, Result, Run, dry_run, interpret, simulate
 from .syntax import Program, iter_lines, parse_file, parse_text
 
 __version__ = "0.1.0"
@@ -23,6 +23,6 @@ def parse(source: str, file: str = "<string>") -> Program:
 
 
 __all__ = [
-    "CODES", "Diagnostic", "Machine", "Program", "Result", "Run", "RunReport", "__version__", "interpret",
-    "iter_lines", "load_machine", "parse", "parse_file", "parse_text", "run", "simulate",
+    "CODES", "Diagnostic", "DryRun", "Machine", "Program", "Result", "Run", "RunReport", "__version__", "dry_run",
+    "interpret", "iter_lines", "load_machine", "parse", "parse_file", "parse_text", "run", "simulate",
 ]

@@ -1,7 +1,8 @@
 """``fagorcnc check``: the dry-run verifier for CI.
 
-Every program is parsed, interpreted and planned offline (:func:`fagorcnc.simulate`)
-on a machine configuration and reported on:
+Every program is parsed, interpreted and planned offline on a machine configuration, in
+one stream (:func:`fagorcnc.simulate.dry_run`: interpreted once, planned once, in memory
+that does not grow with the program) and reported on:
 
 * **diagnostics** (syntax, structure, interpreter, planner), including the
   soft-limit check of every programmed end point (``INT100``) and an envelope
@@ -97,10 +98,9 @@ UNSUPPORTED = ("INT011", "INT078", "INT079", "INT115")
 MAX_RECOVERIES = 25
 #: Seconds of interpretation per run when neither --max-seconds nor the machine's
 #: limits.max_seconds sets a limit.  A CI job wants a verdict in minutes: on a loaded 2-core
-#: machine 120 s interpret about 3 million blocks, more than a CAM program that the check
-#: (which keeps the whole program and its moves in memory, about 1.7 KB a block) can hold
-#: on a CI runner anyway, while an endless $GOTO loop of moves stops with about 3 GB of moves
-#: instead of running on to limits.max_blocks (an hour or more) or out of memory.
+#: machine 120 s interpret about 3 million blocks (the check streams in constant memory, so a
+#: longer CAM program only needs a larger --max-seconds), while an endless $GOTO loop of moves
+#: stops there instead of running on to limits.max_blocks (an hour or more).
 CHECK_MAX_SECONDS = 120.0
 #: Runaway guards that spent the run's budget: a re-run to look further would spend it again.
 BUDGET_CODES = ("INT080", "INT082")
@@ -286,21 +286,23 @@ def _time_limited(machine: Machine, seconds: float | None) -> Machine:
 
 
 def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool) -> None:
-    from .simulate import simulate
+    from .simulate import dry_run
 
-    result = simulate(path, machine, block_skip=block_skip)
+    # one streamed pass: interpreted and planned once, in constant memory whatever the program's
+    # length; what the report says of the moves is gathered as they pass
+    summary = _Summary()
+    envelope = _Envelope(machine)
+    result = dry_run(path, machine, block_skip=block_skip, on_record=summary.add, on_segment=envelope.add)
     found: list[tuple[Diagnostic, bool]] = [(d, False) for d in result.diagnostics]
-    report.executed = result.program is not None and result.program.ok
+    report.executed = result.executed
     report.complete = result.ok
     report.cycle_time = result.cycle_time
-    report.moves = sum(m.kind not in ("aux", "dwell") for m in result.moves)
+    report.moves = result.moves
     report.ended_by = result.ended_by
     if recover and not result.ok:
         found += [(d, True) for d in _recover(path, machine, block_skip, result.diagnostics)]
-    if result.moves:
-        found += [(d, False) for d in _envelope(result, machine)]
-        origins = _observe_origins(result, machine, block_skip)
-        report.tools, report.origins, report.boxes = _summarise(result.moves, origins)
+    found += [(d, False) for d in envelope.diagnostics(str(path))]
+    report.tools, report.origins, report.boxes = summary.tools(), summary.origins(), summary.boxes()
     if report.cycle_time_exceeded:
         found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
                                  f"planned cycle time {_clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
@@ -350,48 +352,49 @@ def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnos
     return out
 
 
-def _envelope(result, machine: Machine) -> list[Diagnostic]:
-    """PLN100: arcs and corner blends of the planned path whose interior leaves the soft limits."""
-    from .plan import PlanningError
+class _Envelope:
+    """PLN100: arcs and corner blends of the planned path whose interior leaves the soft limits,
+    from the segments as they are planned (:meth:`add`), the farthest point per block and axis."""
 
-    axes = machine.axis_names
-    lo = np.array([machine.axes[a].min_limit for a in axes])
-    hi = np.array([machine.axes[a].max_limit for a in axes])
-    worst: dict[tuple[int, bool, str, str], tuple[float, float, object]] = {}   # farthest point per block/axis
-    tol = ENVELOPE_TOLERANCE
-    try:
-        for seg in result.segments(keep_profiles=False):
-            piece = seg.piece
-            if piece is None or not getattr(piece, "curved", False):
-                continue   # straight pieces: their end points are the interpreter's INT100 check
-            pmin, pmax = piece_extent(piece)
-            # only what goes beyond the block's own end points (those are the interpreter's check, which
-            # lets an axis already beyond its limit move back); a blend joins two blocks inside them
-            rec = seg.record
-            if not seg.blend and hasattr(rec, "start") and hasattr(rec, "end"):
-                ends = np.array([[rec.start.get(a, 0.0) for a in axes], [rec.end.get(a, 0.0) for a in axes]])
-            else:
-                ends = np.vstack([piece.start, piece.end])
-            ends_lo, ends_hi = ends.min(axis=0), ends.max(axis=0)
-            for i, axis in enumerate(axes):
-                if pmax[i] > hi[i] + tol and pmax[i] > ends_hi[i] + tol:
-                    key = (seg.line, seg.blend, axis, "upper")
-                    if key not in worst or pmax[i] > worst[key][0]:
-                        worst[key] = (pmax[i], hi[i], rec)
-                if pmin[i] < lo[i] - tol and pmin[i] < ends_lo[i] - tol:
-                    key = (seg.line, seg.blend, axis, "lower")
-                    if key not in worst or pmin[i] < worst[key][0]:
-                        worst[key] = (pmin[i], lo[i], rec)
-    except PlanningError:
-        pass   # already reported by simulate() as PLN001
-    out = []
-    for (line, blend, axis, bound), (value, limit, rec) in worst.items():
-        src = getattr(rec, "src", None)
-        what = "the corner blend after this block" if blend else "the arc of this block"
-        out.append(Diagnostic(src.file if src else str(result.program.file), line, 1, "PLN100", "error",
-                              f"{what} reaches {axis} {value:.4f} (machine), beyond its {bound} soft limit "
-                              f"{limit:g}", src.text if src else ""))
-    return out
+    def __init__(self, machine: Machine) -> None:
+        axes = self.axes = machine.axis_names
+        self.lo = np.array([machine.axes[a].min_limit for a in axes])
+        self.hi = np.array([machine.axes[a].max_limit for a in axes])
+        self.worst: dict[tuple[int, bool, str, str], tuple[float, float, object]] = {}
+
+    def add(self, seg) -> None:
+        piece = seg.piece
+        if piece is None or not getattr(piece, "curved", False):
+            return   # straight pieces: their end points are the interpreter's INT100 check
+        axes, lo, hi, worst, tol = self.axes, self.lo, self.hi, self.worst, ENVELOPE_TOLERANCE
+        pmin, pmax = piece_extent(piece)
+        # only what goes beyond the block's own end points (those are the interpreter's check, which
+        # lets an axis already beyond its limit move back); a blend joins two blocks inside them
+        rec = seg.record
+        if not seg.blend and hasattr(rec, "start") and hasattr(rec, "end"):
+            ends = np.array([[rec.start.get(a, 0.0) for a in axes], [rec.end.get(a, 0.0) for a in axes]])
+        else:
+            ends = np.vstack([piece.start, piece.end])
+        ends_lo, ends_hi = ends.min(axis=0), ends.max(axis=0)
+        for i, axis in enumerate(axes):
+            if pmax[i] > hi[i] + tol and pmax[i] > ends_hi[i] + tol:
+                key = (seg.line, seg.blend, axis, "upper")
+                if key not in worst or pmax[i] > worst[key][0]:
+                    worst[key] = (pmax[i], hi[i], rec)
+            if pmin[i] < lo[i] - tol and pmin[i] < ends_lo[i] - tol:
+                key = (seg.line, seg.blend, axis, "lower")
+                if key not in worst or pmin[i] < worst[key][0]:
+                    worst[key] = (pmin[i], lo[i], rec)
+
+    def diagnostics(self, file: str) -> list[Diagnostic]:
+        out = []
+        for (line, blend, axis, bound), (value, limit, rec) in self.worst.items():
+            src = getattr(rec, "src", None)
+            what = "the corner blend after this block" if blend else "the arc of this block"
+            out.append(Diagnostic(src.file if src else file, line, 1, "PLN100", "error",
+                                  f"{what} reaches {axis} {value:.4f} (machine), beyond its {bound} soft limit "
+                                  f"{limit:g}", src.text if src else ""))
+        return out
 
 
 def piece_extent(piece) -> tuple[np.ndarray, np.ndarray]:
@@ -415,48 +418,44 @@ def piece_extent(piece) -> tuple[np.ndarray, np.ndarray]:
     return q.min(axis=0), q.max(axis=0)
 
 
-def _observe_origins(result, machine: Machine, block_skip: bool) -> list[str] | None:
-    """The absolute origin in force at each record, from a second (interpreter-only) run."""
-    if result.program is None or not result.program.ok:
-        return None
-    interp = _interpreter(result.program, machine, block_skip)
-    labels = []
-    for _record in interp.run():
-        labels.append(getattr(interp.state, "origin_source", "?"))
-    return labels if len(labels) == len(result.moves) else None
+class _Summary:
+    """Tools, origins and per-tool boxes, from the motion records as the interpreter makes them
+    (:meth:`add`; the absolute origin in force is read from its state at that moment)."""
 
+    def __init__(self) -> None:
+        self._tools: dict[int, ToolUse] = {}
+        self._used: dict[str, OriginUse] = {}
+        self._boxes: dict[int, ToolBox] = {}
+        self._tool = self._next_tool = 0
+        self._part_here: dict[str, float] | None = None
 
-def _summarise(moves: list, origins: list[str] | None) -> tuple[list[ToolUse], list[OriginUse], list[ToolBox]]:
-    """Tools, origins and per-tool boxes from the motion records."""
-    tools: dict[int, ToolUse] = {}
-    used: dict[str, OriginUse] = {}
-    boxes: dict[int, ToolBox] = {}
-    tool = next_tool = 0
-    part_here: dict[str, float] | None = None
-    for i, rec in enumerate(moves):
+    def add(self, rec, interp) -> None:
+        tools = self._tools
         kind = rec.kind
         if kind == "aux":
             f, value = rec.function, int(rec.value)
             if f == "T":
-                next_tool = value
+                self._next_tool = value
                 use = tools.setdefault(value, ToolUse(value))
                 if rec.line not in use.lines:
                     use.lines.append(rec.line)
             elif f == "M" and value == 6:   # the preselected tool goes to the spindle (seed 002 L4700)
-                tool = next_tool
-                tools.setdefault(tool, ToolUse(tool)).loaded = True
+                self._tool = self._next_tool
+                tools.setdefault(self._tool, ToolUse(self._tool)).loaded = True
             elif f == "D":
-                use = tools.setdefault(tool, ToolUse(tool))
+                use = tools.setdefault(self._tool, ToolUse(self._tool))
                 if value not in use.offsets:
                     use.offsets.append(value)
-            continue
+            return
         end_part = getattr(rec, "end_part", None)
         if kind == "dwell" or end_part is None:
-            continue
-        label = origins[i] if origins is not None else "?"
+            return
+        label = getattr(interp.state, "origin_source", "?")
+        used = self._used
         if label not in used:
             used[label] = OriginUse(label, rec.line)
         used[label].moves += 1
+        part_here = self._part_here
         start_part = part_here if part_here is not None else \
             {a: rec.start.get(a, 0.0) - (rec.end.get(a, 0.0) - end_part[a]) for a in end_part}
         machine_pts = [rec.start, rec.end]
@@ -465,7 +464,7 @@ def _summarise(moves: list, origins: list[str] | None) -> tuple[list[ToolUse], l
             machine_pts += arc_points(rec.start, rec.end, rec.center, rec.plane, rec.sweep)
             part_pts += arc_points(start_part, end_part, getattr(rec, "center_part", None) or {}, rec.plane,
                                    rec.sweep * _orientation(rec, start_part, end_part))
-        box = boxes.setdefault(tool, ToolBox(tool))
+        box = self._boxes.setdefault(self._tool, ToolBox(self._tool))
         for p in machine_pts:
             box.machine.add(p)
         for p in part_pts:
@@ -475,8 +474,16 @@ def _summarise(moves: list, origins: list[str] | None) -> tuple[list[ToolUse], l
                 box.feed_machine.add(p)
             for p in part_pts:
                 box.feed_part.add(p)
-        part_here = end_part
-    return list(tools.values()), list(used.values()), [boxes[t] for t in sorted(boxes)]
+        self._part_here = end_part
+
+    def tools(self) -> list[ToolUse]:
+        return list(self._tools.values())
+
+    def origins(self) -> list[OriginUse]:
+        return list(self._used.values())
+
+    def boxes(self) -> list[ToolBox]:
+        return [self._boxes[t] for t in sorted(self._boxes)]
 
 
 def arc_points(start: dict, end: dict, center: dict, plane: tuple, sweep: float) -> list[dict]:

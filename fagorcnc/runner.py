@@ -20,7 +20,7 @@ from .diagnostics import Diagnostic
 from .machine import Machine, MachineError, load_machine
 from .plan import Planner, PlanningError, Segment
 from .runtime import fewer_collections
-from .simulate import FinalState, interpret, simulate
+from .simulate import FinalState, dry_run, interpret
 
 
 @dataclass
@@ -49,17 +49,18 @@ class RunReport:
     state: FinalState | None = field(default=None, repr=False)   # the interpreter's final state
 
 
-def _unmapped(be, checked) -> list[Diagnostic]:
-    """Auxiliary functions the back-end cannot execute (e.g. M8 with no InterpCNC output mapped):
-    reported before anything is sent, never silently dropped."""
-    if not hasattr(be, "check"):
-        return []
-    out = []
-    for rec in checked.moves:
-        if rec.kind == "aux":
-            for message in be.check([rec]):
-                out.append(Diagnostic(rec.src.file, rec.line, 1, "CFG003", "warning", message))
-    return out
+def _unmapped(be, found: list[Diagnostic]):
+    """A record watcher (see :func:`~fagorcnc.simulate.dry_run`) adding to ``found`` the auxiliary
+    functions the back-end cannot execute (e.g. M8 with no InterpCNC output mapped): reported
+    before anything is sent, never silently dropped."""
+    check = getattr(be, "check", None)
+
+    def watch(rec, _interp) -> None:
+        if check is not None and rec.kind == "aux":
+            for message in check([rec]):
+                found.append(Diagnostic(rec.src.file, rec.line, 1, "CFG003", "warning", message))
+
+    return watch
 
 
 Progress = Callable[[Segment, Status, float | None], None]
@@ -91,13 +92,13 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
     if check_first is None:
         check_first = be.name != "sim" or bool(backend_options.get("realtime") or getattr(be, "realtime", None))
     total = None
-    if check_first:
-        checked = simulate(source, mach, block_skip=block_skip)
+    if check_first:   # streamed too: a program of millions of blocks is checked in constant memory
+        unmapped: list[Diagnostic] = []
+        checked = dry_run(source, mach, block_skip=block_skip, on_record=_unmapped(be, unmapped))
         if not checked.ok:
             return RunReport(False, checked.diagnostics, be.status(), stopped_by="error",
                              message="the program has errors: nothing was sent", backend=be)
         total = checked.cycle_time
-        unmapped = _unmapped(be, checked)
         if unmapped and getattr(getattr(be, "options", None), "strict_outputs", False):
             return RunReport(False, [*checked.diagnostics, *unmapped], be.status(), stopped_by="error",
                              message="auxiliary functions without an output mapping: nothing was sent", backend=be)

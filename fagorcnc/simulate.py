@@ -9,8 +9,8 @@ planner; ``trajectory()`` samples the planned motion.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from .diagnostics import Diagnostic
@@ -137,11 +137,13 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
         return _simulate(source, mach, block_skip)
 
 
+def _is_file(source: str | Path) -> bool:
+    """Whether ``source`` names a program file (else it is the program text)."""
+    return isinstance(source, Path) or ("\n" not in str(source) and Path(str(source)).is_file())
+
+
 def _simulate(source: str | Path, mach: Machine, block_skip: bool) -> Result:
-    if isinstance(source, Path) or ("\n" not in str(source) and Path(str(source)).is_file()):
-        program = parse_file(source)
-    else:
-        program = parse_text(str(source))
+    program = parse_file(source) if _is_file(source) else parse_text(str(source))
     interp = Interpreter(program, mach, block_skip=block_skip)
     attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
     moves = list(interp.run())
@@ -206,7 +208,135 @@ def interpret(source: str | Path, machine: Machine | dict | str | Path | None = 
               block_skip: bool = False) -> Run:
     """Stream a program (a file path, or text) through the interpreter; see :class:`Run`."""
     mach = load_machine(machine)
-    if isinstance(source, Path) or ("\n" not in str(source) and Path(str(source)).is_file()):
+    if _is_file(source):
         path = Path(source)
         return Run(open(path, encoding="utf-8", errors="replace"), str(path), mach, block_skip)
     return Run(str(source).split("\n"), "<string>", mach, block_skip)
+
+
+# ----------------------------------------------------------------------------- the streamed dry run
+@dataclass
+class DryRun:
+    """What :func:`dry_run` leaves of a program: no record is kept.
+
+    ``executed``: the whole file is free of syntax and structure errors (else the control does
+    not start it, and nothing ran); ``cycle_time``: planned seconds up to the first error;
+    ``moves``: motion records (not auxiliary functions or dwells); ``ended_by``: ``"M30"``,
+    ``"M02"``... or None (end of file, or stopped by an error).
+    """
+
+    executed: bool
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    cycle_time: float = 0.0
+    moves: int = 0
+    ended_by: str | None = None
+
+    @property
+    def ok(self) -> bool:
+        return not any(d.is_error for d in self.diagnostics)
+
+
+#: ``on_record(record, interpreter)``: called for every record as the interpreter makes it (its
+#: state is then the one the record was made in, as far as look-ahead allows).
+RecordWatcher = Callable[[object, Interpreter], None]
+
+
+class _Watched:
+    """The interpreter's records, each shown to a watcher and counted on its way to the planner.
+    An iterator object, not a generator: after a planning error the rest is still interpreted."""
+
+    def __init__(self, interp: Interpreter, watch: RecordWatcher | None) -> None:
+        self._records = interp.run()
+        self._interp = interp
+        self._watch = watch
+        self.moves = 0
+
+    def __iter__(self) -> _Watched:
+        return self
+
+    def __next__(self):
+        rec = next(self._records)
+        if rec.kind not in ("aux", "dwell"):
+            self.moves += 1
+        if self._watch is not None:
+            self._watch(rec, self._interp)
+        return rec
+
+
+def _lines_of(source: str | Path, encoding: str):
+    """The program's lines: an open file (read lazily), or the text itself (split as parse_text does)."""
+    if _is_file(source):
+        return open(source, encoding=encoding)   # closed by the caller
+    return str(source)
+
+
+def _syntax(source: str | Path, file: str) -> tuple[list[Diagnostic], str]:
+    """The syntax and structure diagnostics of the whole program, read once in constant memory,
+    and the file's encoding: UTF-8, or Latin-1 for files written by older editors (as
+    :func:`~fagorcnc.syntax.read_source` decides)."""
+    from .syntax import iter_lines
+    from .syntax.structure import assemble
+
+    for encoding in ("utf-8", "latin-1"):
+        lines = _lines_of(source, encoding)
+        try:
+            return list(assemble(iter_lines(lines, file), file, keep_body=False).diagnostics), encoding
+        except UnicodeDecodeError:
+            continue
+        finally:
+            getattr(lines, "close", lambda: None)()
+    raise AssertionError("Latin-1 decodes any byte")   # pragma: no cover
+
+
+def dry_run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
+            on_record: RecordWatcher | None = None,
+            on_segment: Callable[[Segment], None] | None = None) -> DryRun:
+    """A dry run in constant memory: :func:`simulate`'s diagnostics, cycle time and ending without
+    keeping the program or its records, whatever its length (a CAM program of millions of blocks).
+
+    The whole file is first read for its syntax (a program with a syntax error anywhere is not
+    started, as in :func:`simulate`), then read again lazily, interpreted and planned in one
+    stream.  ``on_record`` sees every motion record, ``on_segment`` every planned segment: what
+    a caller wants to know of them it keeps itself.  Never raises on a bad program.
+    """
+    try:
+        mach = load_machine(machine)
+    except MachineError as exc:
+        return DryRun(False, [Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))])
+    file = str(source) if _is_file(source) else "<string>"
+    with fewer_collections():
+        diagnostics, encoding = _syntax(source, file)
+        if any(d.is_error for d in diagnostics):
+            return DryRun(False, sorted(diagnostics, key=_place))
+        return _dry_run(source, file, encoding, mach, block_skip, diagnostics, on_record, on_segment)
+
+
+def _place(d: Diagnostic) -> tuple:
+    return d.file, d.line, d.col
+
+
+def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, diagnostics: list,
+             on_record: RecordWatcher | None, on_segment: Callable[[Segment], None] | None) -> DryRun:
+    from .interp.source import stream_program
+
+    lines = _lines_of(source, encoding)
+    try:
+        program, body = stream_program(lines, file)
+        interp = Interpreter(program, mach, block_skip=block_skip, stream=body)
+        attach_parameter_file(interp)   # the saved global/common parameters; a dry run never saves them
+        records = _Watched(interp, on_record)
+        clock = 0.0
+        try:
+            for seg in Planner(mach).segments(records):
+                clock = seg.t0 + seg.duration
+                if on_segment is not None:
+                    on_segment(seg)
+        except PlanningError as exc:
+            diagnostics = [*diagnostics, Diagnostic(exc.record.src.file if exc.record is not None else file,
+                                                    exc.line, 1, "PLN001", "error", str(exc))]
+            for _ in records:   # the rest is still interpreted, for its diagnostics (as simulate() does)
+                pass
+    finally:
+        getattr(lines, "close", lambda: None)()
+    out = sorted([*diagnostics, *interp.diagnostics], key=_place)
+    return DryRun(True, out, clock, records.moves, interp.ended)

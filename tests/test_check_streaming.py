@@ -1,0 +1,204 @@
+"""``fagorcnc check`` and a real machine's check-first pass stream: one interpretation and one
+planning pass, in memory that does not grow with the program (CAM programs run to millions of
+blocks), with the same verdicts, diagnostics, cycle time and summaries as :func:`fagorcnc.simulate`."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import fagorcnc
+from fagorcnc.check import check_file
+from fagorcnc.interp.interpreter import Interpreter
+from fagorcnc.plan import Planner
+from fagorcnc.simulate import dry_run
+
+PROGRAMS = sorted((Path(__file__).resolve().parents[1] / "programs").glob("*.nc"))
+
+
+def _finishing(n: int, corners: str = "#HSC ON [CONTERROR 0.01]") -> str:
+    """A CAM finishing program of about ``n`` blocks (under HSC by default): tool change, origin,
+    rows of short lines with an arc at each row's end (arcs and corner curves go through the
+    envelope check)."""
+    out = ["%FINISH", "T1 M6", "D1", "G54", "G0 X0 Y0 Z5", corners, "G1 Z0 F3000"]
+    row = 0
+    while len(out) < n:
+        y = 2.0 * row
+        xs = [i * 0.5 for i in range(61)]
+        for x in xs[::-1] if row % 2 else xs:
+            out.append(f"X{x:.3f} Y{y:.3f} Z{0.3 * math.sin(x / 5):.4f}")
+        side = 0.0 if row % 2 else 30.0
+        out.append(f"G{'3' if row % 2 == 0 else '2'} X{side:.3f} Y{y + 2:.3f} I0 J1")
+        out.append("G1")
+        row += 1
+    out += ["G0 Z50", "M30"]
+    return "\n".join(out) + "\n"
+
+
+@pytest.fixture(scope="module")
+def programs(tmp_path_factory) -> dict[int, Path]:
+    folder = tmp_path_factory.mktemp("finishing")
+    out = {}
+    for n in (1500, 5000, 20000):
+        out[n] = folder / f"finish{n}.nc"
+        out[n].write_text(_finishing(n) if n == 1500 else _finishing(n, "G05"))
+    return out
+
+
+#: Peak resident memory (KiB) of a fresh process that checks (or runs after checking) a program,
+#: on a machine whose look-ahead window is small: the planner keeps a window of at most that many
+#: motions and the program reader releases what no jump can reach in chunks of some 4000 blocks,
+#: so both reach their constant size well within 5 000 blocks.
+_PEAK = """
+import resource, sys
+from fagorcnc.check import check_file
+from fagorcnc.runner import run
+machine = {"planner": {"lookahead": 50}}
+if sys.argv[1] == "check":
+    assert check_file(sys.argv[2], machine).verdict() == "pass"
+else:
+    assert run(sys.argv[2], machine, backend="sim", check_first=True, keep_segments=False).ok
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+"""
+
+
+def _peak_kib(what: str, path: Path) -> int:
+    out = subprocess.run([sys.executable, "-c", _PEAK, what, str(path)], capture_output=True, text=True, check=True)
+    return int(out.stdout.split()[-1])
+
+
+@pytest.mark.parametrize("what", ["check", "run"])
+def test_check_memory_does_not_grow_with_program_size(programs, what):
+    """The check (and a real machine's run, which checks the whole program first) once kept the
+    program and its moves, about 1.7 KB a block: 20 000 blocks held some 25 MB more than 5 000
+    did.  Streamed, four times the program costs no more memory."""
+    small, large = _peak_kib(what, programs[5000]), _peak_kib(what, programs[20000])
+    assert large < small + 4096, (small, large)
+
+
+def test_check_interprets_and_plans_the_program_once(programs, monkeypatch):
+    """It once interpreted the program twice (the second time to see the origin of each move) and
+    planned it twice (the cycle time, then the envelope of the planned path)."""
+    calls = {"run": 0, "segments": 0}
+    interpret, plan = Interpreter.run, Planner.segments
+
+    def counted_run(self):
+        calls["run"] += 1
+        return interpret(self)
+
+    def counted_segments(self, records):
+        calls["segments"] += 1
+        return plan(self, records)
+
+    monkeypatch.setattr(Interpreter, "run", counted_run)
+    monkeypatch.setattr(Planner, "segments", counted_segments)
+    report = check_file(programs[1500])
+    assert report.verdict() == "pass"
+    assert calls == {"run": 1, "segments": 1}
+
+
+@pytest.mark.parametrize("path", PROGRAMS, ids=lambda p: p.name)
+def test_check_agrees_with_simulate(path):
+    """Verdict, cycle time, moves and ending: the streamed check says what simulate() says."""
+    result = fagorcnc.simulate(path)
+    report = check_file(path)
+    assert report.complete == result.ok
+    assert report.cycle_time == pytest.approx(result.cycle_time, rel=1e-12)
+    assert report.moves == sum(m.kind not in ("aux", "dwell") for m in result.moves)
+    assert report.ended_by == result.ended_by
+    assert [d.code for d in report.diagnostics] == [d.code for d in result.diagnostics]
+
+
+def test_finishing_program_summary(programs):
+    """The summary gathered as the moves pass: the tool, its offset, the origin of every move, the
+    boxes (the arcs' extremes included)."""
+    report = check_file(programs[1500])
+    assert [(t.tool, t.loaded, t.offsets) for t in report.tools] == [(1, True, [1])]
+    result = fagorcnc.simulate(programs[1500])
+    moves = sum(m.kind not in ("aux", "dwell") for m in result.moves)
+    assert [(o.origin, o.moves) for o in report.origins] == [("G54", moves)]
+    box = report.boxes[0]
+    assert box.tool == 1
+    assert box.feed_part.lo["X"] == pytest.approx(-1.0)   # the G2 arcs at X0 bulge 1 mm to the left
+    assert box.feed_part.hi["X"] == pytest.approx(31.0)   # ... and the G3 arcs at X30 to the right
+    assert box.part.hi["Z"] == pytest.approx(50.0)
+
+
+def test_a_syntax_error_after_m30_means_the_program_is_not_started(tmp_path):
+    """The whole file is read for its syntax before anything runs: an error far down (here after
+    M30, which the run never reaches) still keeps the program from starting."""
+    f = tmp_path / "late.nc"
+    f.write_text("G1 X10 F1000\nM30\nG1 X[[\n")
+    report = check_file(f)
+    assert not report.executed and report.moves == 0 and report.cycle_time == 0.0
+    assert [(d.code, d.line) for d in report.diagnostics if d.is_error] == [("SYN003", 3)]
+    assert dry_run(f).executed is False
+
+
+def test_latin1_program_is_read_as_latin1(tmp_path):
+    """Files written by older editors (Latin-1) are decoded as such, as simulate() reads them: the
+    report quotes the block as written."""
+    f = tmp_path / "old.nc"
+    f.write_bytes("; pièce\nG1 X10 F1000\nG1 X10000 ; trop loin (réglage)\nM30\n".encode("latin-1"))
+    report = check_file(f)
+    (d,) = [d for d in report.diagnostics if d.code == "INT100"]
+    assert d.line == 3 and "réglage" in d.source
+
+
+def test_duplicate_jump_target_names_the_first_one_after_its_block_was_dropped(tmp_path):
+    """The syntax pass drops every block once read; STR004 still names the first target's line."""
+    f = tmp_path / "dup.nc"
+    f.write_text("N10: G1 X10 F1000\n" + "G1 X1\nG1 X2\n" * 40 + "N10: G1 X2\nM30\n")
+    (d,) = [d for d in check_file(f).diagnostics if d.code == "STR004"]
+    assert d.line == 82 and "already defined on line 1" in d.message
+
+
+def test_a_header_after_body_blocks_names_the_program_in_every_entry_point(tmp_path):
+    """seed 002 L840-L850: the header '%name' is optional without local subroutines.  Blocks before
+    it belong to the body (as the whole-file parser reads them); the streamed run used to call it a
+    'second program header' and stop there."""
+    f = tmp_path / "late_header.nc"
+    f.write_text("G1 X10 F1000\n%PART\nG1 X20\nM30\n")
+    result = fagorcnc.simulate(f)
+    streamed = fagorcnc.interpret(f)
+    moves = list(streamed)
+    assert result.ok and streamed.ok and check_file(f).verdict() == "pass"
+    ends = [[m.end["X"] for m in ms if m.kind == "linear"] for ms in (moves, result.moves)]
+    assert ends == [[10.0, 20.0], [10.0, 20.0]]
+
+
+def test_planning_error_still_interprets_the_rest(tmp_path, monkeypatch):
+    """After a planning error the rest of the program is still interpreted, for its diagnostics
+    (as simulate() does): an interpreter error further on is reported too."""
+    from fagorcnc.plan import PlanningError
+
+    f = tmp_path / "p.nc"
+    f.write_text("G1 X10 F1000\nG1 X20\nG1 X30\nG1 X40 Y[1/0]\nM30\n")
+    plan = Planner.segments
+
+    def failing(self, records):
+        for seg in plan(self, records):
+            if seg.line == 2:
+                raise PlanningError("no profile", 2, seg.record)
+            yield seg
+
+    monkeypatch.setattr(Planner, "segments", failing)
+    out = dry_run(f)
+    assert [(d.code, d.line) for d in out.diagnostics if d.is_error] == [("PLN001", 2), ("INT033", 4)]
+    assert out.moves == 3 and not out.ok
+
+
+@pytest.mark.parametrize("text", ["G1 X10 F1000\nG2 X20 Y0 I5 J0\nM30\n", "G1 X10 F1000\rG1 X20\rM30\r",
+                                  "G1 X10 F1000\r\nG1 X[[\r\nM30\r\n", "%P\nT1 M6\nG1 X10 F1000\nG1 Y[1/0]\nM30\n"])
+def test_dry_run_of_program_text_agrees_with_simulate(text):
+    """Program text (not a file) is split into blocks as parse_text splits it (CR LF and a lone
+    CR end a line too)."""
+    result, out = fagorcnc.simulate(text), dry_run(text)
+    assert (out.ok, out.executed, out.ended_by) == (result.ok, result.program.ok, result.ended_by)
+    assert out.cycle_time == pytest.approx(result.cycle_time, rel=1e-12)
+    assert out.moves == sum(m.kind not in ("aux", "dwell") for m in result.moves)
+    assert [str(d) for d in out.diagnostics] == [str(d) for d in result.diagnostics]
