@@ -61,7 +61,7 @@ def dry_run(path: str) -> dict:
     with fewer_collections():
         t0 = time.perf_counter()
         records = Timed(interpret(path, machine))
-        backend = SimulatorBackend(machine)
+        backend = SimulatorBackend(machine, keep_segments=False)   # as the fagorcnc command runs it
         backend.open()
         send = 0.0
         segments = 0

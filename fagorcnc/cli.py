@@ -125,6 +125,8 @@ def _run_command(args: argparse.Namespace) -> int:
             print("fagorcnc: --realtime paces the simulator only", file=sys.stderr)
             return 2
         options["realtime"] = args.realtime
+    if args.backend == "sim":
+        options["keep_segments"] = False   # the command reads none of them: memory stays flat however long the run
     bar = _ProgressBar(sys.stderr, Path(args.file).name) if sys.stderr.isatty() and not args.verbose else None
     backend, progress, server = args.backend, bar, None
     report = None

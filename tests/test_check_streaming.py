@@ -54,28 +54,36 @@ def programs(tmp_path_factory) -> dict[int, Path]:
 #: motions and the program reader releases what no jump can reach in chunks of some 4000 blocks,
 #: so both reach their constant size well within 5 000 blocks.
 _PEAK = """
-import resource, sys
+import contextlib, io, resource, sys
 from fagorcnc.check import check_file
+from fagorcnc.cli import main
 from fagorcnc.runner import run
 machine = {"planner": {"lookahead": 50}}
 if sys.argv[1] == "check":
     assert check_file(sys.argv[2], machine).verdict() == "pass"
-else:
+elif sys.argv[1] == "run":
     assert run(sys.argv[2], machine, backend="sim", check_first=True, keep_segments=False).ok
+else:   # the command, as a user runs it on the simulator
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["run", sys.argv[2], "--machine", sys.argv[3]]) == 0
 print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 """
 
 
 def _peak_kib(what: str, path: Path) -> int:
-    out = subprocess.run([sys.executable, "-c", _PEAK, what, str(path)], capture_output=True, text=True, check=True)
+    machine = path.parent / "small_window.toml"
+    machine.write_text("[planner]\nlookahead = 50\n")
+    out = subprocess.run([sys.executable, "-c", _PEAK, what, str(path), str(machine)], capture_output=True,
+                         text=True, check=True)
     return int(out.stdout.split()[-1])
 
 
-@pytest.mark.parametrize("what", ["check", "run"])
+@pytest.mark.parametrize("what", ["check", "run", "command"])
 def test_check_memory_does_not_grow_with_program_size(programs, what):
     """The check (and a real machine's run, which checks the whole program first) once kept the
     program and its moves, about 1.7 KB a block: 20 000 blocks held some 25 MB more than 5 000
-    did.  Streamed, four times the program costs no more memory."""
+    did; ``fagorcnc run`` on the simulator kept every planned segment.  Streamed, four times the
+    program costs no more memory."""
     small, large = _peak_kib(what, programs[5000]), _peak_kib(what, programs[20000])
     assert large < small + 4096, (small, large)
 
