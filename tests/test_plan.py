@@ -287,7 +287,8 @@ def test_g193_interpolates_the_feed_over_the_block():
 def test_planner_streams_its_input():
     from fagorcnc.plan import Planner
 
-    body = "".join(f"X{i * 0.1 + 2:.1f} Y{(i % 2) * 0.1:.1f}\n" for i in range(3000))
+    # (it takes its input READ_AHEAD records at a time, and its look-ahead needs about 1 000 here)
+    body = "".join(f"X{i * 0.1 + 2:.1f} Y{(i % 2) * 0.1:.1f}\n" for i in range(6000))
     r = fagorcnc.simulate("G05 G1 X1 F600\n" + body + "M30\n")
     pulled = []
 
