@@ -367,6 +367,9 @@ class _Envelope:
         if piece is None or not getattr(piece, "curved", False):
             return   # straight pieces: their end points are the interpreter's INT100 check
         axes, lo, hi, worst, tol = self.axes, self.lo, self.hi, self.worst, ENVELOPE_TOLERANCE
+        box = _hull(piece)
+        if box is not None and (box[0] >= lo - tol).all() and (box[1] <= hi + tol).all():
+            return   # a box round the whole curve lies within the soft limits: nothing can pass them
         pmin, pmax = piece_extent(piece)
         # only what goes beyond the block's own end points (those are the interpreter's check, which
         # lets an axis already beyond its limit move back); a blend joins two blocks inside them
@@ -395,6 +398,22 @@ class _Envelope:
                                   f"{what} reaches {axis} {value:.4f} (machine), beyond its {bound} soft limit "
                                   f"{limit:g}", src.text if src else ""))
         return out
+
+
+def _hull(piece) -> tuple[np.ndarray, np.ndarray] | None:
+    """A box round a curved piece, cheaper than its extent: a Bézier curve lies within its control
+    points' box; an arc (helix, spiral) within its circle's square of the largest radius and, on
+    the other axes, between its end points.  None for another kind of piece."""
+    controls = getattr(piece, "controls", None)
+    if controls is not None:
+        return controls.min(axis=0), controls.max(axis=0)
+    if not hasattr(piece, "center"):
+        return None
+    lo, hi = np.minimum(piece.start, piece.end), np.maximum(piece.start, piece.end)
+    radius = max(piece.r0, piece.r0 + piece.dr * piece.length)
+    for axis, centre in zip((piece.ia, piece.io), piece.center, strict=True):
+        lo[axis], hi[axis] = centre - radius, centre + radius
+    return lo, hi
 
 
 def piece_extent(piece) -> tuple[np.ndarray, np.ndarray]:

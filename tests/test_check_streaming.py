@@ -210,3 +210,18 @@ def test_dry_run_of_program_text_agrees_with_simulate(text):
     assert out.cycle_time == pytest.approx(result.cycle_time, rel=1e-12)
     assert out.moves == sum(m.kind not in ("aux", "dwell") for m in result.moves)
     assert [str(d) for d in out.diagnostics] == [str(d) for d in result.diagnostics]
+
+
+def test_the_envelope_box_holds_every_curve(programs):
+    """The PLN100 check skips the exact extent of a curve whose cheap box (a Bézier curve's control
+    points, an arc's circle) lies within the soft limits: that box must hold the whole curve."""
+    from fagorcnc.check import _hull, piece_extent
+
+    result = fagorcnc.simulate(programs[1500])
+    curved = [s.piece for s in result.segments(keep_profiles=False) if s.piece is not None and s.piece.curved]
+    kinds = {type(p).__name__ for p in curved}
+    assert kinds == {"ArcPiece", "BlendPiece"}
+    for piece in curved:
+        lo, hi = _hull(piece)
+        pmin, pmax = piece_extent(piece)
+        assert (lo <= pmin + 1e-9).all() and (pmax <= hi + 1e-9).all(), piece
