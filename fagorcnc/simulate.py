@@ -21,7 +21,7 @@ from .machine import Machine, MachineError, load_machine
 from .persist import attach_parameter_file
 from .plan import Planner, PlanningError, Segment, Trajectory, sample
 from .runtime import fewer_collections
-from .syntax import parse_file, parse_text
+from .syntax import parse_file, parse_text, source_encoding
 from .syntax.ast import Program
 
 
@@ -210,7 +210,8 @@ def interpret(source: str | Path, machine: Machine | dict | str | Path | None = 
     mach = load_machine(machine)
     if _is_file(source):
         path = Path(source)
-        return Run(open(path, encoding="utf-8", errors="replace"), str(path), mach, block_skip)
+        # decoded as simulate() and the check decode it (UTF-8, else Latin-1)
+        return Run(open(path, encoding=source_encoding(path), errors="replace"), str(path), mach, block_skip)
     return Run(str(source).split("\n"), "<string>", mach, block_skip)
 
 
@@ -277,15 +278,12 @@ def _syntax(source: str | Path, file: str) -> tuple[list[Diagnostic], str]:
     from .syntax import iter_lines
     from .syntax.structure import assemble
 
-    for encoding in ("utf-8", "latin-1"):
-        lines = _lines_of(source, encoding)
-        try:
-            return list(assemble(iter_lines(lines, file), file, keep_body=False).diagnostics), encoding
-        except UnicodeDecodeError:
-            continue
-        finally:
-            getattr(lines, "close", lambda: None)()
-    raise AssertionError("Latin-1 decodes any byte")   # pragma: no cover
+    encoding = source_encoding(source) if _is_file(source) else "utf-8"
+    lines = _lines_of(source, encoding)
+    try:
+        return list(assemble(iter_lines(lines, file), file, keep_body=False).diagnostics), encoding
+    finally:
+        getattr(lines, "close", lambda: None)()
 
 
 def dry_run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,

@@ -225,3 +225,16 @@ def test_the_envelope_box_holds_every_curve(programs):
         lo, hi = _hull(piece)
         pmin, pmax = piece_extent(piece)
         assert (lo <= pmin + 1e-9).all() and (pmax <= hi + 1e-9).all(), piece
+
+
+def test_the_streamed_run_decodes_latin1_as_the_check_does(tmp_path):
+    """``fagorcnc run`` reads the program lazily; it decodes an old editor's Latin-1 file as the
+    check and simulate() do (it used to turn every accent into U+FFFD)."""
+    f = tmp_path / "old.nc"
+    f.write_bytes('G1 X10 F1000\n#MSG ["réglage"]\nM30\n'.encode("latin-1"))
+    streamed = fagorcnc.interpret(f)
+    list(streamed)
+    assert streamed.ok
+    (shown,) = [d for d in streamed.diagnostics if d.code == "INT077"]   # the #MSG text, shown
+    assert shown.message == "#MSG: réglage" and shown.source == '#MSG ["réglage"]'
+    assert [str(d) for d in streamed.diagnostics] == [str(d) for d in fagorcnc.simulate(f).diagnostics]

@@ -11,6 +11,7 @@ posts emit (``FINISH01`` alone on line 1) as a program header.
 
 from __future__ import annotations
 
+import codecs
 import gc
 import re
 from collections.abc import Iterable, Iterator
@@ -113,6 +114,20 @@ def read_source(path: Union[str, Path]) -> str:
         return data.decode("utf-8")
     except UnicodeDecodeError:
         return data.decode("latin-1")
+
+
+def source_encoding(path: Union[str, Path]) -> str:
+    """The encoding :func:`read_source` decodes a file with (``"utf-8"``, else ``"latin-1"``),
+    found by reading it in chunks: for a program read lazily, line by line."""
+    decoder = codecs.getincrementaldecoder("utf-8")()
+    with open(path, "rb") as f:
+        try:
+            while chunk := f.read(1 << 20):
+                decoder.decode(chunk)
+            decoder.decode(b"", final=True)
+        except UnicodeDecodeError:
+            return "latin-1"
+    return "utf-8"
 
 
 def parse_file(path: Union[str, Path]) -> Program:
