@@ -16,7 +16,9 @@ variables with hostile expressions, ``$`` structures, labels and jumps,
   record; in the streaming run no record follows the moment an error
   diagnostic exists; and for straight-line programs (no subroutine, loop,
   jump or #RPT, so records come in line order) no record comes from a line
-  after the first interpreter error.
+  after the first interpreter error;
+* :func:`fagorcnc.dry_run` (the streamed check) gives simulate()'s diagnostics,
+  verdict, ending, move count and cycle time.
 
 Budgets come from the Hypothesis profile (``tests/conftest.py``);
 ``FAGORCNC_HYPOTHESIS_PROFILE=fuzz`` runs 20000 examples per property.  The
@@ -118,6 +120,12 @@ def check(text: str) -> None:
         if first is not None:
             late = [m for m in records if m.line > first.line]
             assert not late, f"records after the error on line {first.line}: {late[:3]}"
+    # ---- the streamed dry run (fagorcnc check, a real machine's check first) says what simulate() says
+    dry = fagorcnc.dry_run(text, machine=MACHINE)
+    assert [str(d) for d in dry.diagnostics] == [str(d) for d in result.diagnostics]
+    assert (dry.ok, dry.executed, dry.ended_by) == (result.ok, result.program.ok, result.ended_by)
+    assert dry.moves == sum(m.kind not in ("aux", "dwell") for m in result.moves)
+    assert dry.cycle_time == result.cycle_time or math.isclose(dry.cycle_time, result.cycle_time, rel_tol=1e-12)
 
 
 # ---------------------------------------------------------------- numbers and expressions
