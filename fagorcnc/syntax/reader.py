@@ -108,17 +108,15 @@ def parse_text(text: str, file: str = "<string>") -> Program:
 
 
 def read_source(path: Union[str, Path]) -> str:
-    """Read a program file: UTF-8, or Latin-1 for files written by older editors."""
-    data = Path(path).read_bytes()
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        return data.decode("latin-1")
+    """Read a program file: UTF-8, or Latin-1 for files written by older editors (see
+    :func:`source_encoding`, the one place that rule is made)."""
+    return Path(path).read_bytes().decode(source_encoding(path))
 
 
 def source_encoding(path: Union[str, Path]) -> str:
-    """The encoding :func:`read_source` decodes a file with (``"utf-8"``, else ``"latin-1"``),
-    found by reading it in chunks: for a program read lazily, line by line."""
+    """The encoding of a program file: ``"utf-8"``, or ``"latin-1"`` (files written by older
+    editors) when it is not valid UTF-8; found by reading it in chunks, in constant memory, so a
+    program read lazily line by line is decoded as :func:`read_source` decodes it whole."""
     decoder = codecs.getincrementaldecoder("utf-8")()
     with open(path, "rb") as f:
         try:
