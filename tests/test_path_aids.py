@@ -106,3 +106,21 @@ def test_aid_under_scaling_scales_the_size():
 def test_records_between_the_moves_keep_their_order():
     r = fagorcnc.simulate("G01 X0 Y0 F100\nX50\nM8\nG36 I10\nY50\nM30\n")
     assert [m.kind for m in r.moves if m.kind == "aux" or m.length > 0] == ["linear", "aux", "arc", "linear", "aux"]
+
+
+def test_g39_chamfer_before_a_rapid_is_a_rapid_and_is_planned():
+    # seed 002 L8570, L8584-L8600 (the manual's example): "si le déplacement suivant est dans G00, le
+    # chanfreinage se réalisera dans G00".  The chamfer of I5 at (10, 50) between Y+ and X+ is the
+    # diagonal (10, 45) -> (15, 50), 5 sqrt(2) = 7.0711 mm, run at rapid.  With the default machine's
+    # limits scaled by sqrt(2) along that diagonal its length sits exactly where two of ruckig's
+    # profile types meet, where ruckig 0.19 found no profile (PLN001 on a valid program).
+    text = "N10 G01 G94 X10 Y10 F600\nN20 G01 X10 Y50\nN30 G39 I5\nN40 G00 X50 Y50\nN50 M30\n"
+    r = fagorcnc.simulate(text)
+    assert r.ok, r.diagnostics
+    cut = [m for m in r.moves if getattr(m, "kind", "") == "rapid"][0]
+    assert (cut.start["X"], cut.start["Y"], cut.end["X"], cut.end["Y"]) == pytest.approx((10, 45, 15, 50))
+    seg = [s for s in r.segments(keep_profiles=False) if s.kind == "motion" and s.piece.length == pytest.approx(
+        5 * math.sqrt(2))]
+    # rest to rest at 1414.2 mm/s² and 28284 mm/s³ (the limits along the diagonal): four jerk phases
+    # of a/j = 0.05 s reach a²/j = 70.7 mm/s and cover exactly 7.0711 mm in 0.2 s
+    assert len(seg) == 1 and seg[0].duration == pytest.approx(0.2, rel=1e-6)

@@ -88,6 +88,12 @@ def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float
 #: Spans shorter than this (mm) get exact closed-form profiles: ruckig's end position is only
 #: good to ~1e-9 mm there, which a servo sampling at 1 ms would see as a jerk spike.
 MICRO = 1e-3
+#: Acceleration and jerk scale of a second try when ruckig finds no profile with the limits as
+#: they are: a span whose length is exactly where two of its profile types meet (for example
+#: 5 mm x sqrt(2) at 1000 x sqrt(2) mm/s² and 20000 x sqrt(2) mm/s³: the diagonal of a G39
+#: chamfer run at rapid) makes ruckig 0.19 fail with "error in step 1"; limits a billionth
+#: lower move the span off that edge and are still within the machine's.
+EDGE_SCALE = 1.0 - 1e-9
 
 
 def micro_profile(length: float, v0: float, v1: float, acc: float, jerk: float,
@@ -194,13 +200,17 @@ class Solver:
                 rungs.append((cap, *span.limits_at(cap)))
         best = (math.inf, span.vc, 0.0, 0.0)
         held = False   # whether the trajectory holds the best profile (the last one solved)
-        for vc, acc, jerk in rungs:
-            if acc <= 0 or jerk <= 0:
-                continue
-            d = self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
-            held = d < best[0]
-            if held:
-                best = (d, vc, acc, jerk)
+        for scale in (1.0, EDGE_SCALE):
+            for vc, acc, jerk in rungs:
+                if acc <= 0 or jerk <= 0:
+                    continue
+                acc, jerk = acc * scale, jerk * scale
+                d = self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+                held = d < best[0]
+                if held:
+                    best = (d, vc, acc, jerk)
+            if best[0] < math.inf:
+                break
         if best[0] == math.inf:
             raise ProfileError(f"no profile for a {span.length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
         if not keep:
