@@ -158,3 +158,18 @@ def test_a_gap_wider_than_the_tool_is_compensated():
     assert not r.errors
     # down the left wall 3 mm inside it, then along the bottom 3 mm above it
     assert any(m[0] == "linear" and abs(m[2] - (-37.0)) < 0.2 for m in moves)
+
+
+def test_a_null_incremental_move_under_g03_cancels_where_the_tool_stands():
+    # seed 002 L9996-L10009, the manual's example: "G03 X-20 Y-20 I0 J-20 / G91 G40 Y0 / G01 X-20".  A
+    # null move under modal G03 is no arc (no centre needed): the compensation ends at the tool's point.
+    # G41 on the line to (0, 0) along -X: the tool 3 below it, (0, -3), on the arc about (0, -20) at
+    # radius 17; it ends at (-17, -20), then goes to the programmed end (-20, -20), then 20 along -X.
+    moves, _ = path("G90 G00 X10 Y0\nT1 D1 M6\nG01 G41 X0 Y0 F500\nG03 X-20 Y-20 I0 J-20\nG91 G40 Y0\n"
+                    "G01 X-20\nM30\n")
+    assert moves == [("rapid", 10.0, 0.0, None), ("linear", 0.0, -3.0, None), ("arc", -17.0, -20.0, "ccw"),
+                     ("linear", -20.0, -20.0, None), ("linear", -40.0, -20.0, None)]
+    # without compensation the null G03 block is a null move too, and a full circle still needs its centre
+    assert fagorcnc.simulate("G90 G01 X0 Y0 F500\nG03 X-20 Y-20 I0 J-20\nG91 Y0\nG01 X-20\nM30\n").ok
+    bad = fagorcnc.simulate("G90 G01 X0 Y0 F500\nG03 X-20 Y-20 I0 J-20\nG91 Y5\nM30\n")
+    assert [d.code for d in bad.diagnostics if d.severity == "error"] == ["INT061"]

@@ -636,7 +636,7 @@ class IsoExecutor:
             return self._mcs_move(bw, src)
         cur_part = st.programmed_pos()   # computations are in programmed coordinates
         start = dict(st.machine_pos)
-        if mode in (2, 3, 8, 9):
+        if mode in (8, 9) or (mode in (2, 3) and not self._null_move(bw, cur_part)):
             return self._arc(mode, gs, bw, src, cur_part, start)
         end_part = self.target(bw, cur_part)
         if "R" in bw.params or "Q" in bw.params:
@@ -656,6 +656,15 @@ class IsoExecutor:
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
         return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
                     comp, st.dynamics())
+
+    def _null_move(self, bw: BlockWords, cur_part: dict) -> bool:
+        """A G02/G03 block with no centre, radius or polar word whose target is where the tool stands:
+        no arc, a null move (seed 002 L9996-L10009: "G91 G40 Y0" after a G03 cancels the
+        compensation where the tool stands); mode 0 or 1 handles it as such."""
+        if {"I", "J", "K", "R", "Q"} & bw.params.keys():
+            return False
+        end_part = self.target(bw, cur_part)
+        return all(end_part[x] == cur_part[x] for x in end_part)
 
     def _compensation(self) -> tuple | None:
         """Radius compensation of a move: (side, R, G136/G137, G138/G139, plane) or None (seed 002 L9427).
