@@ -210,3 +210,17 @@ M30
     r = fagorcnc.simulate(text, machine)
     assert r.ok, [str(d) for d in r.diagnostics]
     assert [r.state.param(i) for i in range(1, 11)] == [1.0, 1.0, 1.0, 2.0, 1.0, 2.0, 20.0, 2.0, 1.0, 30.0]
+
+
+def test_m19_s_is_an_angular_position_modulo_360_not_a_speed():
+    # seed 002 L5703-L5713 and the example L5776-L5794: with M19 the S value is the spindle's angular
+    # position in degrees, absolute, taken modulo 360 (S-100 -> 260); the speed for M03 stays 2500
+    r = fagorcnc.simulate("N10 G97 S2500 M03\nN20 M19 S50\nN50 M19 S-100\nN55 M19 S725\nN60 M03\n"
+                          "N65 G95 G01 X1 F0.1\nN70 M30\n")
+    assert r.ok, r.diagnostics
+    aux = [(a.function, a.value) for a in r.moves if a.kind == "aux" and a.function in ("S", "SPOS")]
+    assert aux == [("S", 2500.0), ("SPOS", 50.0), ("SPOS", 260.0), ("SPOS", 5.0)]
+    # G95 0.1 mm/rev at the 2500 rpm M03 runs again: 250 mm/min
+    assert [m.feed for m in r.moves if m.kind == "linear"] == [pytest.approx(250.0)]
+    # an S without M19 is still a speed, and a negative one is still refused
+    assert [d.code for d in fagorcnc.simulate("S-100 M03\nM30\n").diagnostics] == ["INT027"]

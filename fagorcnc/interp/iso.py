@@ -262,7 +262,12 @@ class IsoExecutor:
         # 4. technology
         if bw.feed is not None:
             self._feed(*bw.feed)
+        orient = bool(bw.speeds) and any(m == 19 for m, _ in bw.m)
         for spindle, (v, col) in bw.speeds.items():
+            if orient:   # seed 002 L5703-L5713: with M19, S is the angular position (degrees, absolute,
+                # taken modulo 360), not a speed: the speed kept for M03/M04 does not change
+                yield self.aux("SPOS", v % 360.0, "before", src, spindle)
+                continue
             if v < 0:
                 raise InterpError("INT027", f"spindle speed {v:g} is negative", col)
             st.speeds[spindle] = v

@@ -133,7 +133,8 @@ class Dwell(_AtPosition):
 
 @dataclass(frozen=True, slots=True)
 class Aux(_AtPosition):
-    """An auxiliary function for the machine: M, H, S, T or D.
+    """An auxiliary function for the machine: M, H, S, T or D; SPOS is the angular position (degrees,
+    0-360) an S gives in an M19 block (seed 002 L5703-L5713).
 
     ``timing`` is ``"before"`` or ``"after"`` the block's motion (seed 002
     L5020-L5029: M functions not in the M table run before the motion);
