@@ -117,7 +117,7 @@ def test_g39_chamfer_before_a_rapid_is_a_rapid_and_is_planned():
     text = "N10 G01 G94 X10 Y10 F600\nN20 G01 X10 Y50\nN30 G39 I5\nN40 G00 X50 Y50\nN50 M30\n"
     r = fagorcnc.simulate(text)
     assert r.ok, r.diagnostics
-    cut = [m for m in r.moves if getattr(m, "kind", "") == "rapid"][0]
+    cut = next(m for m in r.moves if getattr(m, "kind", "") == "rapid")
     assert (cut.start["X"], cut.start["Y"], cut.end["X"], cut.end["Y"]) == pytest.approx((10, 45, 15, 50))
     seg = [s for s in r.segments(keep_profiles=False) if s.kind == "motion" and s.piece.length == pytest.approx(
         5 * math.sqrt(2))]
