@@ -5,7 +5,7 @@ Three kinds:
 * executed here: #ERROR, #WARNING, #WARNINGSTOP, #MSG, #TIME, #MCS ON/OFF,
   #PATH, #RET, #RETDSBLK, #MDOFF, #DELETE, #FLUSH;
 * planning context (interp/dynamics.py): #HSC, #ROUNDPAR, #SLOPE;
-* recorded for the later stages: #TANGFEED, #ESBLK/#DSBLK, #SWTOUT, #SPLINE ... kept in ``state.planner``;
+* recorded for the later stages: #ESBLK/#DSBLK, #SWTOUT, #PWMOUT ... kept in ``state.planner``;
 * everything else cannot mean anything in an offline run of one channel
   (hardware, PLC, other channels) or is a transformation fagorcnc does not
   compute yet: each is reported with a warning naming it, never dropped
@@ -20,10 +20,12 @@ from .expressions import InterpError
 from .records import Dwell
 
 #: Sentences kept as state for the planner / path stages.
-RECORDED = frozenset({"TANGFEED", "ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "SPLINE",
-                      "ASPLINE", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD", "CD"})
-#: Geometric transformations the later stages will compute (issue: path / kinematics).
+RECORDED = frozenset({"ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
+#: Geometric transformations the later stages will compute (issue: path / kinematics); also the
+#: path and feed treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE
+#: (a spline through the points, L15690), #CD (loops removed, L15598), #TANGFEED (feed at corners).
 NOT_YET = frozenset({"TOOL", "KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
+                     "SPLINE", "ASPLINE", "CD", "TANGFEED",
                      "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
                      "INIT", "RPT"})
 
