@@ -156,3 +156,143 @@ def test_an_output_and_a_dwell_run_behind_a_gate_the_back_end_opens_once_all_are
         st = backend.finish()
         assert st.executed == 2 and st.line == 2
         backend.close()
+
+
+# ---------------------------------------------------------------- the card moved outside the stream
+def _stream(backend, text):
+    for seg in plan(text)[1]:
+        backend.send(seg)
+    return backend.finish()
+
+
+@pytest.mark.parametrize("outside", ["jog", "home"])
+def test_a_jog_or_a_homing_between_programs_does_not_leave_a_stale_target(outside):
+    """1002 omits the axes whose target did not change (seed 000 L902): after the card moved on its own, program 2's
+    first move must carry Z again, or the cut runs 5 mm too deep."""
+    machine, _ = plan("G90 G0 X10 Y10 Z5\n")
+    with Emulator(port=0, speed=20.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        backend.open()
+        assert _stream(backend, "G90 G0 X10 Y10 Z5\n").position["Z"] == 5.0
+        if outside == "jog":
+            backend.jog({"Z": -5.0}, 600.0)
+        else:
+            backend.home("Z")
+        assert emu.wait_idle(5)
+        assert emu.inspect(lambda c: c.position[2]) == 0.0
+        st = _stream(backend, "G90 G0 X10 Y10 Z5\nG1 X30 F3000\n")
+        assert st.position == {"X": 30.0, "Y": 10.0, "Z": 5.0}
+        backend.close()
+
+
+def test_an_arc_first_after_open_and_a_jog_goes_to_its_start_then_cuts_about_its_centre():
+    """1003 takes I/J relative to where the card stands (card.py, protocol.encode_arc_xy): with the card jogged to
+    X5, the arc planned from X0 must be preceded by a move to X0, or it is cut about X15 with the wrong radius."""
+    machine, segments = plan("G90 G2 X20 Y0 I10 J0 F600\n")
+    with Emulator(port=0, speed=20.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        backend.open()
+        backend.jog({"X": 5.0}, 6000.0)
+        assert emu.wait_idle(5)
+        for seg in segments:
+            backend.send(seg)
+        st = backend.finish()
+        moves = [e for e in emu.executed() if e.kind in ("jog", "line", "rapid", "arc")]
+        assert [e.kind for e in moves] == ["jog", "line"] + ["arc"] * len(segments)   # the planner's pieces
+        assert moves[1].end[:3] == (0.0, 0.0, 0.0)                       # to the arc's start first
+        assert (moves[2].args["i"], moves[2].args["j"]) == (10.0, 0.0)   # centre X10 Y0, from X0
+        assert moves[-1].end[:2] == (20.0, 0.0)
+        assert emu.inspect(lambda c: c.arc_errors) == 0
+        assert st.position == {"X": 20.0, "Y": 0.0, "Z": 0.0}
+        backend.close()
+
+
+# ---------------------------------------------------------------- alarms that forbid resuming
+def _alarm_during_a_cut(emu, backend, code):
+    """Stream a long cut, raise ``code`` during it; returns the error the stream reported."""
+    backend.open()
+    backend.send(plan("G90 G1 X20 F600\n")[1][0])
+    time.sleep(0.1)
+    emu.raise_alarm(code)
+    with pytest.raises(InterpCncError) as err:
+        backend.finish()
+    return err.value
+
+
+def _directs(emu):
+    return emu.inspect(lambda c: [cmd.args["code"] for cmd in c.immediate if cmd.cid == 1200])
+
+
+@pytest.mark.parametrize("code", [1, 17])
+def test_resume_refuses_an_alarm_after_which_the_position_is_not_trusted_and_abandon_clears_it(code):
+    """Seed 000 L430: after a limit switch (1) or a motor fault (17) the step counters may not match the machine;
+    resume() sends nothing (not even the acknowledge 1200/88), abandon() acknowledges and discards the stream."""
+    machine, _ = plan("G90 G1 X20 F600\n")
+    with Emulator(port=0, speed=5.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        err = _alarm_during_a_cut(emu, backend, code)
+        assert err.alarm == code and "can no longer be trusted" in str(err) and "abandon()" in str(err)
+        log, directs, where = len(emu.executed()), _directs(emu), emu.inspect(lambda c: list(c.position))
+        for recover in (backend.resume, backend.reconnect_and_continue, backend.resume):
+            with pytest.raises(InterpCncError, match="position can no longer be trusted") as refused:
+                recover()
+            assert refused.value.alarm == code and f"alarm {code} (" in str(refused.value)
+            assert "abandon()" in str(refused.value) and "last block started: line 1" in str(refused.value)
+            assert backend.status().state == "alarm"
+        assert len(emu.executed()) == log and _directs(emu) == directs        # nothing sent, no 88
+        assert emu.inspect(lambda c: (list(c.position), c.alarm)) == (where, code)
+        with pytest.raises(InterpCncError, match=r"abandon\(\)"):
+            backend.send(plan("G90 G1 X1 F600\n")[1][0])
+        backend.abandon()
+        assert _directs(emu)[len(directs):] == [88, 255]
+        st = backend.status()
+        assert (st.state, st.alarm, st.sent, st.executed) == ("idle", 0, 0, 0) and emu.inspect(lambda c: c.alarm) == 0
+        st = _stream(backend, "G90 G1 X1 F3000\n")                            # a new stream, as after open()
+        assert st.state == "idle" and st.executed == 1 and st.position == {"X": 1.0, "Y": 0.0, "Z": 0.0}
+        backend.close()
+
+
+def test_resume_still_continues_after_a_cycle_aborted_alarm():
+    machine, _ = plan("G90 G1 X20 F600\n")
+    with Emulator(port=0, speed=5.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        err = _alarm_during_a_cut(emu, backend, 3)
+        assert err.alarm == 3 and "trusted" not in str(err)
+        backend.resume()
+        assert _directs(emu)[-2:] == [88, 255]
+        st = backend.finish()
+        assert st.executed == 1 and st.position == {"X": 20.0, "Y": 0.0, "Z": 0.0}
+        backend.close()
+
+
+# ---------------------------------------------------------------- open() on a card that is not ready
+@pytest.mark.parametrize("state", ["pause", "jog"])
+def test_open_refuses_a_card_that_is_paused_or_jogging(state):
+    """IR 3003 (seed 000 L429): a card in feed hold would hold the stream (finish() would wait forever), a jog
+    moves it from under the plan."""
+    machine, _ = plan("G90 G1 X1 F600\n")
+    with Emulator(port=0, speed=1.0, resolution=1000) as emu:
+        first = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        first.open()
+        if state == "pause":
+            first.pause()
+            words = r"not ready \(paused \(feed hold\)\)"
+        else:
+            first.jog({"X": 50.0}, 600.0)
+            words = r"not ready \(jogging\)"
+        second = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        with pytest.raises(BackendError, match=words):
+            second.open()
+        assert second.status().state == "closed"
+        if state == "pause":
+            first.resume()
+        else:
+            first.stop_jog()
+        assert emu.wait_idle(5)
+        first.close()
+        second.open()
+        assert second.status().state == "idle"
+        emu.set_speed(20.0)
+        st = _stream(second, "G90 G1 X1 F600\n")
+        assert st.position["X"] == 1.0
+        second.close()

@@ -68,7 +68,10 @@ known started.  pymodbus never retries (a retried write could run twice).
 Segments given to :meth:`~InterpCncBackend.send` after that are kept, not
 sent.  Recovery is the operator's: :meth:`~InterpCncBackend.resume`
 (acknowledges an alarm) or :meth:`~InterpCncBackend.reconnect_and_continue`;
-both resynchronise as described there.
+both resynchronise as described there.  After an alarm that means the
+machine position can no longer be trusted (a limit switch, a motor fault...:
+``registers.ALARMS_POSITION_LOST``) both refuse: the way out is
+:meth:`~InterpCncBackend.abandon`, which discards the stream.
 """
 
 from __future__ import annotations
@@ -190,11 +193,12 @@ class InterpCncBackend:
         self._last_poll = -math.inf
         self._last_status = -math.inf                # last refresh by status()
         self._fault: str | None = None               # "alarm" or "link" while stopped by a fault
+        self._untrusted_alarm = 0                    # an ALARMS_POSITION_LOST code seen: until abandon()/open()
         self._stopped = False
 
     # ------------------------------------------------------------ protocol
     def open(self) -> None:
-        """Connect, check the card is idle, clear the marker registers."""
+        """Connect, check the card is idle and ready (not paused, homing, jogging...), clear the marker registers."""
         try:
             self.link.connect()
             sizes = self.link.read_input(regs.IR_CNC_BUFFER_SIZE, 3, "reading the buffer sizes")
@@ -202,6 +206,7 @@ class InterpCncBackend:
             self._planner_size = sizes[2] or self._planner_size
             self._reset_stream()
             self._read_card()
+            self._check_ready()
             if not self._card_alarm() and not self._card_idle():
                 self.link.close()
                 raise BackendError(f"the InterpCNC at {self.link.where} is busy "
@@ -216,6 +221,16 @@ class InterpCncBackend:
             self._set(state="alarm", alarm=self._alarm_code, alarm_message=proto.alarm_message(self._alarm_code))
         else:
             self._set(state="idle", alarm=0, alarm_message="")
+
+    def _check_ready(self) -> None:
+        """Refuse a card in a state where a stream would hang or start from an unplanned position (L429)."""
+        not_ready = self._card_status & regs.STATUS_NOT_READY
+        if not_ready:
+            self.link.close()
+            raise BackendError(f"the InterpCNC at {self.link.where} is not ready "
+                               f"({', '.join(proto.decode_status(not_ready))}): end that on the card "
+                               "(resume or stop the feed hold, let the homing, jog or tool change finish, "
+                               "close the door, wake the card, leave test mode) before streaming")
 
     def send(self, segment: Segment) -> None:
         """Queue ``segment`` on the card; blocks while its buffer is full (see the module docstring)."""
@@ -260,13 +275,51 @@ class InterpCncBackend:
 
     def resume(self) -> None:
         """Continue: after a pause 1200/129; after an alarm acknowledge (1200/88) and resynchronise
-        (see :meth:`reconnect_and_continue`); after a link loss, reconnect first."""
+        (see :meth:`reconnect_and_continue`); after a link loss, reconnect first.
+
+        Refused after an alarm that means the machine position can no longer be trusted
+        (``registers.ALARMS_POSITION_LOST``: limit switch, homing errors, homing required, tool setter
+        triggered, master/slave gap, internal error, motor fault; seed 000 L430): the step counters may
+        not match the machine, and after a limit switch continuing drives further toward it.  It then
+        raises :class:`InterpCncError` and sends nothing, not even the acknowledge; the state stays
+        "alarm".  Call :meth:`abandon`, home the machine and start the program again.  Other alarms
+        (soft limit, cycle aborted, probe errors, emergency stop, spindle ready, 1012 timeout) resume.
+        """
         if self._fault:
             self._recover(acknowledge=True)
             return
         self._immediate(proto.encode_resume(), "resume")
         if self._status.state == "pause":
             self._set(state="run")
+
+    def abandon(self) -> None:
+        """Give up the interrupted stream: acknowledge the alarm (1200/88), stop and purge (1200/255), forget
+        every segment sent or kept and clear the fault; the state becomes "idle" and a new stream can be
+        sent, as after :meth:`open`.  Nothing of the old stream runs again.
+
+        The way out of an alarm :meth:`resume` refuses (the machine position can no longer be trusted):
+        home the machine before starting the program again.  Raises if the alarm is still active after the
+        acknowledge (emergency stop still engaged?); reconnects first after a link loss.
+        """
+        self._last_status = -math.inf
+        if self._status.state == "closed":
+            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
+        try:
+            if self.link.failed:
+                self.link.connect()
+            self._read_card()              # the status words only: the old stream's markers no longer matter
+            if self._card_alarm():
+                self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
+                self._read_card()
+                if self._card_alarm():
+                    self._raise_alarm_state("still active after the acknowledge (emergency stop still engaged?)")
+            self.link.command(proto.encode_stop(), "stop and purge, abandoning the stream")
+            self._await_rest(self._read_card)
+            self._reset_stream()
+            self.link.write(self.options.marker_register, [0, 0, 0], "clearing the sequence and gate registers")
+        except LinkError as exc:
+            raise self._link_lost(exc) from exc
+        self._set(state="idle", alarm=0, alarm_message="")
 
     def stop(self) -> None:
         """Immediate stop with deceleration; the card purges its buffers (1200/255).  Nothing more is sent."""
@@ -331,6 +384,7 @@ class InterpCncBackend:
                 raise BackendError(f"home: the machine has no axis {axis}")
             axis = regs.CARD_AXES.index(self.options.axis_map[axis]) + 1
         self._immediate(proto.encode_home(axis), "home")
+        self.encoder.reset()   # the card moved without the stream: the next move carries every axis
 
     def jog(self, targets: dict[str, float], speed: float, *, relative: bool = True) -> None:
         """Jog machine axes by (or to) ``targets`` mm at ``speed`` mm/min (sent in m/min, L1195)."""
@@ -339,16 +393,19 @@ class InterpCncBackend:
             raise BackendError(f"jog: the machine has no axis {unknown[0]}")
         words = proto.encode_jog({self.options.axis_map[a]: v for a, v in targets.items()}, speed, relative=relative)
         self._immediate(words, "jog")
+        self.encoder.reset()   # see home()
 
     def stop_jog(self) -> None:
         self._immediate(proto.encode_direct(regs.DIRECT_STOP_JOG), "stop jog")
+        self.encoder.reset()
 
     def reconnect_and_continue(self) -> None:
         """Operator-initiated recovery after a link failure, a timeout or an exception reply.
 
         Reconnects, then resynchronises:
 
-        1. if the card is in alarm, raise (acknowledging is the operator's call: :meth:`resume`);
+        1. if the card is in alarm, raise (acknowledging is the operator's call: :meth:`resume`, or
+           :meth:`abandon` after an alarm meaning the position can no longer be trusted, see :meth:`resume`);
         2. 1200/255: stop and purge the card's buffers - whatever was still
            queued there is discarded, so nothing sent twice can run twice;
         3. wait until the card is idle, read the sequence registers (segment n,
@@ -381,6 +438,7 @@ class InterpCncBackend:
         self._lines.clear()
         self._seq = self._marker = self._sub = self._done = self._gate = self._gated_seq = 0
         self._fault = None
+        self._untrusted_alarm = 0
         self._stopped = False
         self.encoder.reset()
         self._set(line=0, executed=0, sent=0, alarm=0, alarm_message="")
@@ -564,9 +622,18 @@ class InterpCncBackend:
         if self._card_alarm():
             self._fault = "alarm"
             code = self._alarm_code
+            self._note_alarm(code)
             self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
-            raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: stopped sending; "
+            advice = (" the machine position can no longer be trusted: call abandon(), home the machine and start "
+                      "the program again;" if self._untrusted_alarm else "")
+            raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: stopped sending;{advice} "
                                  f"{self._where_text()}", self._snapshot(), alarm=code, line=self._status.line)
+
+    def _note_alarm(self, code: int) -> None:
+        """Remember an alarm after which the position is not trusted, even if someone acknowledges it on
+        the card: only abandon() forgets it."""
+        if code in regs.ALARMS_POSITION_LOST:
+            self._untrusted_alarm = code
 
     def _card_alarm(self) -> bool:
         return bool(self._card_status & regs.STATUS_ALARM or self._alarm_code)
@@ -600,6 +667,8 @@ class InterpCncBackend:
     def _fault_error(self, what: str) -> InterpCncError:
         s = self._status
         how = "resume() to acknowledge the alarm" if self._fault == "alarm" else "reconnect_and_continue()"
+        if self._untrusted_alarm:
+            how = "abandon() to acknowledge the alarm and discard the stream"
         return InterpCncError(f"the InterpCNC back-end is stopped ({s.alarm_message}): {what}; call {how} first",
                               self._snapshot(), alarm=s.alarm, line=s.line)
 
@@ -623,6 +692,10 @@ class InterpCncBackend:
                 self.link.connect()
             self._read_poll(purged=True)
             if self._card_alarm():
+                self._note_alarm(self._alarm_code)
+            if self._untrusted_alarm:
+                self._refuse_untrusted()
+            if self._card_alarm():
                 if not acknowledge:
                     self._raise_alarm_state("acknowledge it with resume()")
                 self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
@@ -633,8 +706,16 @@ class InterpCncBackend:
         except LinkError as exc:
             raise self._link_lost(exc) from exc
 
-    def _raise_alarm_state(self, advice: str) -> None:
-        code = self._alarm_code
+    def _refuse_untrusted(self) -> None:
+        """Raise (nothing sent) for an alarm of regs.ALARMS_POSITION_LOST: see resume()."""
+        # the card's alarm, or the one that stopped the stream if someone acknowledged it behind our back
+        code = self._alarm_code if self._alarm_code in regs.ALARMS_POSITION_LOST else self._untrusted_alarm
+        self._raise_alarm_state("the machine position can no longer be trusted, so the interrupted program is "
+                                "not continued; call abandon() to acknowledge the alarm and discard the stream, "
+                                "then home the machine and start the program again", code)
+
+    def _raise_alarm_state(self, advice: str, code: int | None = None) -> None:
+        code = self._alarm_code if code is None else code
         self._fault = "alarm"
         self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
         raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: {advice}; {self._where_text()}",
@@ -642,18 +723,11 @@ class InterpCncBackend:
 
     def _resync(self) -> None:
         self.link.command(proto.encode_stop(), "stop and purge before resuming")
-        deadline = time.monotonic() + max(10.0, 20 * self.options.timeout)
-        while True:
-            self._read_poll(purged=True)
-            if self._card_idle():
-                break
-            if time.monotonic() > deadline:
-                raise InterpCncError("the InterpCNC did not come to rest after stop (1200/255)", self._snapshot())
-            time.sleep(self.options.poll_interval)
+        self._await_rest()
         marker = self._marker
         redo = [e for e in self._window if e.seq >= marker]
         plans: list[tuple[_Sent, list[Command]]] = []
-        self.encoder.reset()
+        self.encoder.reset(at_start=True)   # the interrupted move resumes from the position read back
         for e in redo:
             fresh = _Sent(e.seq, e.segment, e.moves, end_sub=e.end_sub)
             words = self._resume_words(fresh) if e.seq == marker else self._prepare(fresh)
@@ -672,6 +746,21 @@ class InterpCncBackend:
         with self._lock:
             self._status.sent = sent        # segments sent again were counted the first time
         self._flush()
+
+    def _await_rest(self, read=None) -> None:
+        """After a 1200/255: poll (``read``, by default the status and markers) until the card is idle with
+        empty buffers."""
+        deadline = time.monotonic() + max(10.0, 20 * self.options.timeout)
+        while True:
+            if read is None:
+                self._read_poll(purged=True)
+            else:
+                read()
+            if self._card_idle():
+                return
+            if time.monotonic() > deadline:
+                raise InterpCncError("the InterpCNC did not come to rest after stop (1200/255)", self._snapshot())
+            time.sleep(self.options.poll_interval)
 
     def _resume_words(self, entry: _Sent) -> list[Command] | None:
         """Commands finishing the segment that had started (marker = its number); None when nothing is left."""

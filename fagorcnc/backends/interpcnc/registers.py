@@ -193,6 +193,14 @@ STATUS_BITS: dict[int, str] = {
     STATUS_TOOL_CHANGE: "manual tool change in progress",
 }
 
+#: Status bits that forbid starting a stream (L429): G-code test mode, homing, a feed hold, a jog, door
+#: safety, sleep, a manual tool change.  The card is moving on its own or would not run (or not really run)
+#: the moves: a stream then never completes, or starts from a position nobody planned.  Door safety is
+#: included: L429 only names it ("Sécurité porte active"), nothing in the document says it is harmless at
+#: rest.  Bit 8 (emergency stop) comes with alarm 10 and is handled as an alarm.
+STATUS_NOT_READY = (STATUS_TEST_MODE | STATUS_HOMING | STATUS_PAUSED | STATUS_JOG | STATUS_DOOR | STATUS_SLEEP
+                    | STATUS_TOOL_CHANGE)
+
 # ---------------------------------------------------------------- alarm codes IR 3004 (L430)
 ALARM_SOFT_LIMIT = 2
 ALARM_ESTOP = 10
@@ -220,3 +228,10 @@ ALARMS: dict[int, str] = {
     17: "motor fault input active",
     18: "timed out waiting for an event (command 1012)",
 }
+
+#: Alarms after which the machine position can no longer be trusted (L430): a limit switch hit (1: a hard
+#: stop, and continuing drives further toward the limit), homing errors and homing required (6-9, 11), the
+#: tool setter triggered during a cycle or a jog (13), the master/slave gap exceeded (15: a racked gantry),
+#: an internal error (16) and a motor fault (17: lost steps).  The step counters may not match the machine:
+#: the interrupted program is not continued (see InterpCncBackend.resume and abandon).
+ALARMS_POSITION_LOST = frozenset({1, 6, 7, 8, 9, 11, 13, 15, 16, 17})

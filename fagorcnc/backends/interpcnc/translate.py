@@ -147,9 +147,9 @@ class Encoder:
     """Moves -> command words, remembering the last target and feed sent.
 
     ``axes`` are the machine axis names (the order of the move arrays) and
-    ``card_axes`` the card letter each is sent as.  After a stop the card's
-    state is not known: :meth:`reset` makes the next move carry every axis
-    and the next feed move repeat 1001.
+    ``card_axes`` the card letter each is sent as.  After a stop, a jog or a
+    homing the card's state is not known: :meth:`reset` makes the next move
+    carry every axis and the next feed move repeat 1001.
     """
 
     def __init__(self, axes: list[str], card_axes: dict[str, str]) -> None:
@@ -157,10 +157,15 @@ class Encoder:
         self.card = [card_axes[a] for a in self.axes]
         self.last: list[float] | None = None     # single-precision targets last sent, machine order
         self.feed: float | None = None
+        self.at_start = False                    # after a reset: the card stands at the next move's start
 
-    def reset(self) -> None:
+    def reset(self, at_start: bool = False) -> None:
+        """Forget what the card was sent.  ``at_start``: the card is known to stand where the next move
+        starts (a resumed move starts at the position read back); otherwise an arc coming first is
+        preceded by a line to its start, since 1003 takes its centre relative to where the card is."""
         self.last = None
         self.feed = None
+        self.at_start = at_start
 
     def encode(self, moves: list[Move]) -> list[proto.Words]:
         out: list[proto.Words] = []
@@ -197,9 +202,14 @@ class Encoder:
 
     def _arc(self, m: Move) -> list[proto.Words]:
         ix, iy = self.card.index("X"), self.card.index("Y")
-        if self.last is None:            # after a reset the card stands at the move's start (read back)
-            self.last = [proto.float32(float(v)) for v in m.start]
         out = self._feed(m.feed)
+        if self.last is None:
+            if self.at_start:            # resumed: the card stands at the move's start (read back)
+                self.last = [proto.float32(float(v)) for v in m.start]
+            else:                        # position unknown (a new stream, a jog, a homing): go there first
+                start = self._changed(m.start)
+                out.append(proto.encode_line({self.card[i]: v for i, v in start.items()}))
+                self._commit(start, m.start)
         other = {i: v for i, v in self._changed(m.start).items() if i not in (ix, iy)}
         if other:                        # the card's arc moves X and Y only: bring other axes there first
             out.append(proto.encode_line({self.card[i]: v for i, v in other.items()}))
