@@ -324,6 +324,25 @@ def test_mcs_single_block_move_example_seed002_l3237_l3245():
     assert [xy(m.end) for m in motions(r)] == [(30, 30), (50, 50), (30, 30), (70, 70), (90, 90)]
 
 
+def test_mcs_on_block_runs_arcs_in_machine_coordinates_seed002_l3251_l3264():
+    # the manual's #MCS ON example runs G01, G02 and G00; only polar coordinates are refused (L3225).
+    # G92 at machine (30,30): part = machine - 30.  Inside #MCS: G01 to machine (60,50); G02 I10 J0 from
+    # there: centre (70,50), to (80,50); G02 R10 to (70,40): clockwise about (70,50) (a quarter; the
+    # other centre, (80,40), would be three quarters); G00 to machine (0,0); after #MCS OFF, part (10,10).
+    r = ok("G00 X30 Y30\nG92 X0 Y0\nG01 X20 Y20 F500\n#MCS ON\nG01 X60 Y50\nG02 X80 Y50 I10 J0\n"
+           "G02 X70 Y40 R10\nG00 X0 Y0\n#MCS OFF\nG01 X10 Y10\nM30\n")
+    moves = motions(r)
+    assert [xy(m.end) for m in moves] == [(30, 30), (50, 50), (60, 50), (80, 50), (70, 40), (0, 0), (40, 40)]
+    first, second = moves[3], moves[4]
+    assert first.kind == second.kind == "arc" and first.direction == second.direction == "cw"
+    assert xy(first.center) == xy(second.center) == (approx(70), approx(50))
+    assert xy(first.center_part) == (approx(40), approx(20)) and xy(first.end_part) == (approx(50), approx(20))
+    assert second.sweep == approx(-90.0) and second.radius == approx(10.0)
+    # a polar move (Q, or R with no end point in the plane) is still refused
+    for bad in ("#MCS ON\nG01 R10 Q30 F500\n#MCS OFF\nM30\n", "#MCS ON\nG02 R10 F500\n#MCS OFF\nM30\n"):
+        assert [d.code for d in fagorcnc.simulate(bad).diagnostics if d.severity == "error"] == ["INT063"]
+
+
 def test_mcs_move_ignores_g70_and_uses_inches_unit_seed002_l3265_l3271():
     r = ok("G70\n#MCS X10\nM30\n")
     # INCHES = 0: X10 = 10 mm even though G70 is active

@@ -641,7 +641,7 @@ class IsoExecutor:
         if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
             return None
         if st.mcs_on or self.interp.mcs_block:
-            return self._mcs_move(bw, src)
+            return self._mcs_move(gs, bw, src)
         cur_part = st.programmed_pos()   # computations are in programmed coordinates
         start = dict(st.machine_pos)
         if mode in (8, 9) or (mode in (2, 3) and not self._null_move(bw, cur_part)):
@@ -896,25 +896,69 @@ class IsoExecutor:
         turns = int((total - 1e-9) // 360.0)
         return signed, turns, e
 
-    def _mcs_move(self, bw: BlockWords, src: Source) -> Line:
-        """#MCS move: machine coordinates, INCHES units, no offsets (seed 002 L3196-L3271)."""
+    def _mcs_move(self, gs: dict, bw: BlockWords, src: Source) -> Line | Arc:
+        """#MCS move: machine coordinates, INCHES units, no offsets, no polar coordinates; G00, G01 and
+        G02/G03 arcs by their centre or radius (seed 002 L3196-L3271: the #MCS ON example runs G01,
+        G02 and G00)."""
         st = self.state
-        if "R" in bw.params or "Q" in bw.params:
-            raise InterpError("INT063", "polar coordinates are not allowed in #MCS moves", 1)
+        a, o, _ = st.plane_axes()
+        mode = st.modes["motion"]
+        polar = "Q" in bw.params or ("R" in bw.params and (mode not in (2, 3) or not {a, o} & bw.axes.keys()))
+        if polar:
+            raise InterpError("INT063", "polar coordinates are not allowed in #MCS moves (L3225)", 1)
         start = dict(st.machine_pos)
         end = dict(start)
         inch = self.machine.default("INCHES")
         for axis, (v, _c) in bw.axes.items():
             v = v * INCH if inch and not self.machine.axes[axis].rotary else v
             end[axis] = start[axis] + v if st.modes["distance"] == 91 else v
+        arc = self._mcs_arc(gs, bw, start, end, inch) if mode in (2, 3) else None
         self.interp.check_limits(end, 1, start)
         st.machine_pos = dict(end)
-        mode = st.modes["motion"]
         end_part = st.to_part(end)
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src, dyn=st.dynamics())
+        if arc is not None:
+            center, radius, sweep = arc
+            n = st.plane_axes()[2]
+            planar = abs(math.radians(sweep)) * radius
+            other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
+            feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
+            center_m = {a: center[0], o: center[1]}
+            center_part = {x: v for x, v in st.to_part({**end, **center_m}).items() if x in (a, o)}
+            return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if mode == 3 else "cw", (a, o, n),
+                       radius, 0, feed, f"G{st.modes['feed']}", src, None, st.dynamics())
         if mode != 1:
-            raise InterpError("INT063", "#MCS moves are G00 or G01", 1)
+            raise InterpError("INT063", "#MCS moves are G00, G01, G02 or G03", 1)
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
         return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
                     dyn=st.dynamics())
+
+    def _mcs_arc(self, gs: dict, bw: BlockWords, start: dict, end: dict, inch: bool) -> tuple:
+        """(centre, radius, sweep in degrees) of a G02/G03 #MCS arc in the machine's plane coordinates:
+        the centre from the plane's centre words (from the start point, or absolute with G06/G261) or
+        from R, as :meth:`_arc` does in part coordinates."""
+        st = self.state
+        a, o, _ = st.plane_axes()
+        p = bw.params
+        ccw = st.modes["motion"] == 3
+        ci, cj = {17: ("I", "J"), 18: ("K", "I"), 19: ("J", "K")}.get(st.modes["plane"], ("I", "J"))
+        sp, ep = (start[a], start[o]), (end[a], end[o])
+        scale = INCH if inch else 1.0
+        if ci in p or cj in p:
+            di = p[ci][0] * scale if ci in p else 0.0
+            dj = p[cj][0] * scale if cj in p else 0.0
+            absolute = 6 in gs or st.modes["arc_centre"] == 261
+            center = (di, dj) if absolute else (sp[0] + di, sp[1] + dj)
+            col = (p.get(ci) or p[cj])[1]
+            if math.dist(sp, center) < 1e-9:
+                raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
+            center = self._radius_check(sp, ep, center, col)
+        elif "R" in p:
+            try:
+                center = arcs.centre_from_radius(sp, ep, p["R"][0] * scale, not ccw)
+            except arcs.ArcError as exc:
+                raise InterpError("INT064", str(exc), p["R"][1]) from None
+        else:
+            raise InterpError("INT061", "G02/G03 needs the centre (I J K) or the radius (R)", 1)
+        return center, math.dist(ep, center), arcs.sweep(sp, ep, center, ccw)
