@@ -1240,12 +1240,17 @@ def test_block_skip_of_an_assignment():
     ("#SPLINE ON\nG01 X10 Y10 F500\nX20 Y5\nX30 Y10\n#SPLINE OFF\nM30\n", "#SPLINE"),     # L15690: a spline
     ("#ASPLINE STARTTANG [1,0,0]\nG01 X10 F500\nM30\n", "#ASPLINE"),
     ("#CD ON [5]\nG01 X10 F500\nX0 Y5\n#CD OFF\nM30\n", "#CD"),                            # L15598: loops removed
-    ("G196\nG01 X10 F500\nM30\n", "G196"),                                                 # L4298: F at the contact
-    ("#TANGFEED RMIN [5]\nG01 X10 F500\nM30\n", "#TANGFEED"),                              # L4305 (with G196)
 ])
-def test_path_and_feed_treatments_not_computed_are_reported_not_dropped(text, what):
-    # these change the path the CNC runs or its feed: a run that ignores them must say so (INT078),
+def test_path_treatments_not_computed_are_reported_not_dropped(text, what):
+    # these change the path the CNC runs: a run that ignores them must say so (INT078),
     # once, at the statement; the moves are still planned as programmed
     r = fagorcnc.simulate(text)
     found = [d for d in r.diagnostics if d.code == "INT078"]
     assert r.ok and len(found) == 1 and what in found[0].message and found[0].line == 1, r.diagnostics
+
+
+def test_tangfeed_takes_its_minimum_radius():
+    # seed 002 L4305: #TANGFEED RMIN [<radius>]
+    for bad in ("#TANGFEED RMIN [-1]\nM30\n", "P1=-2\n#TANGFEED RMIN [P1]\nM30\n"):
+        assert [d.code for d in fagorcnc.simulate(bad).diagnostics] == ["INT071"], bad
+    assert fagorcnc.simulate("P1=2\n#TANGFEED RMIN [P1*3]\nG196\nG01 X10 F100\nM30\n").ok

@@ -173,3 +173,26 @@ def test_a_null_incremental_move_under_g03_cancels_where_the_tool_stands():
     assert fagorcnc.simulate("G90 G01 X0 Y0 F500\nG03 X-20 Y-20 I0 J-20\nG91 Y0\nG01 X-20\nM30\n").ok
     bad = fagorcnc.simulate("G90 G01 X0 Y0 F500\nG03 X-20 Y-20 I0 J-20\nG91 Y5\nM30\n")
     assert [d.code for d in bad.diagnostics if d.severity == "error"] == ["INT061"]
+
+
+@pytest.mark.parametrize(("setup", "side", "radius", "feed"), [
+    ("G196", "G41", 13.0, 780.0),                        # outside: the centre runs F (10 + 3) / 10
+    ("G196", "G42", 7.0, 420.0),                         # inside: F (10 - 3) / 10
+    ("G197", "G41", 13.0, 600.0),                        # F at the tool centre (the default)
+    ("#TANGFEED RMIN [15]\nG196", "G41", 13.0, 600.0),   # only arcs of a radius above 15
+    ("#TANGFEED RMIN [10]\nG196", "G41", 13.0, 600.0),   # "plus grand que le minimum": 10 is not
+    ("#TANGFEED RMIN [5]\nG196", "G41", 13.0, 780.0),
+    ("#TANGFEED RMIN [15]\nG196\n#TANGFEED RMIN [0]", "G41", 13.0, 780.0),   # 0: every arc
+])
+def test_g196_keeps_the_programmed_feed_at_the_contact_point_on_arcs(setup, side, radius, feed):
+    # seed 002 L4298-L4325: under G196 F is the feed at the tool's contact point; the contact runs at
+    # F R / (R + r) when the centre runs at F, so the centre runs at F (R + r) / R.  The half circle about
+    # (10, 0) from (0, 0) to (20, 0), clockwise, R 10, tool radius 3.
+    _, r = path(f"G90 G00 X0 Y-10\nT1 D1 M6\n{setup}\nG01 {side} X0 Y0 F600\nG02 X20 Y0 R10\nG01 X20 Y-10\n"
+                "G40 G01 X30 Y-10\nM30\n")
+    arc = next(m for m in r.moves if m.kind == "arc" and m.radius > 5)
+    assert arc.radius == pytest.approx(radius) and arc.feed == pytest.approx(feed)
+    assert not r.diagnostics   # computed, nothing to warn about
+    # without compensation the tool centre is on the path: G196 changes nothing
+    plain = fagorcnc.simulate("G90 G196 G01 X0 Y0 F600\nG02 X20 Y0 R10\nM30\n")
+    assert [m.feed for m in plain.moves if m.kind == "arc"] == [600.0]

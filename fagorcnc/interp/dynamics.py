@@ -51,6 +51,8 @@ class Dynamics:
     adaptation: str | None = None
     override_locked: bool = False   # G266: feed override forced to 100 % (L4366)
     slope: tuple = (1, 0, 0, 0)     # #SLOPE [type, jerk, accel, move]
+    contact_feed: float | None = None   # G196: F is at the tool's contact point on arcs of radius above
+    # this (#TANGFEED RMIN, 0 = all; seed 002 L4298-L4325); None: G197, F at the tool centre
 
     def acceleration_factor(self, axis: str, rapid: bool = False) -> float:
         if rapid and self.slope[3] == 1:
@@ -250,4 +252,19 @@ def build(state, block_modes: dict) -> Dynamics:
     adaptation = next((g for g in ("G108", "G109", "G193") if g in block_modes), None)
     return Dynamics(corner, state.roundpar, state.hsc if corner == "HSC" else None,
                     tuple(sorted(state.acceleration.items())), tuple(sorted(state.jerk.items())),
-                    adaptation, "G266" in block_modes, state.slope)
+                    adaptation, "G266" in block_modes, state.slope,
+                    state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None)
+
+
+def tangfeed_statement(interp, node) -> None:
+    """``#TANGFEED RMIN [radius]``: G196 keeps F at the contact point only on arcs of a larger
+    radius; 0 or none: on every arc; kept after G197 (seed 002 L4305-L4312)."""
+    first = node.args[0] if len(node.args) == 1 else None
+    if type(first) is not Keyed or first.name != "RMIN":
+        raise InterpError("INT071", "#TANGFEED takes the minimum radius: #TANGFEED RMIN [5]", node.col)
+    value = interp.evaluator.value(first.value) if first.value is not None else 0.0
+    if value < 0:
+        raise InterpError("INT071", f"#TANGFEED RMIN {value:g} is negative", node.col)
+    st = interp.state
+    st.tangfeed_rmin = interp.iso.length(value)
+    st.dynamics_changed()

@@ -132,7 +132,7 @@ _TABLE = [
     _g(174, None, "keep", "set machine coordinate", "L3313"),
     _g(192, None, "keep", "spindle speed limit", "L5394", "recorded"),
     _g(193, None, "block", "feed interpolation", "L4258", "recorded"),
-    _g(196, "feed_point", "default", "constant feed at the cutting point", "L4314", "recorded"),
+    _g(196, "feed_point", "default", "constant feed at the cutting point", "L4314"),
     _g(197, "feed_point", "default", "constant feed at the tool centre", "L4314"),
     _g(198, None, "keep", "lower software limits", "L9233"),
     _g(199, None, "keep", "upper software limits", "L9233"),

@@ -222,11 +222,10 @@ class IsoExecutor:
                 if g.group == "corner":
                     st.hsc = None          # L13659: G05/G07/G50 cancel HSC
                     st.dynamics_changed()
+                elif g.group == "feed_point":
+                    st.dynamics_changed()  # G196/G197: where F is measured (see path/compensation.py)
             elif g.reset == "block" and g.support == "recorded":
                 block_modes[f"G{n}"] = True
-        if 196 in gs:   # seed 002 L4298-L4325: F at the tool's contact point, scaled on arcs under compensation
-            self.interp.message("INT078", "warning", "G196 (feed at the cutting point) is not computed by fagorcnc "
-                                "yet: feeds stay at the tool centre, as in G197", gs[196][0])
         if 130 in gs or 131 in gs or 132 in gs or 133 in gs or 134 in gs or 135 in gs:
             per_axis = 130 in gs or 132 in gs or 134 in gs or 135 in gs
             words = {**bw.axes, **bw.speeds} if per_axis else bw.axes

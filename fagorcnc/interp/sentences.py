@@ -4,7 +4,7 @@ Three kinds:
 
 * executed here: #ERROR, #WARNING, #WARNINGSTOP, #MSG, #TIME, #MCS ON/OFF,
   #PATH, #RET, #RETDSBLK, #MDOFF, #DELETE, #FLUSH;
-* planning context (interp/dynamics.py): #HSC, #ROUNDPAR, #SLOPE;
+* planning context (interp/dynamics.py): #HSC, #ROUNDPAR, #SLOPE, #TANGFEED;
 * recorded for the later stages: #ESBLK/#DSBLK, #SWTOUT, #PWMOUT ... kept in ``state.planner``;
 * everything else cannot mean anything in an offline run of one channel
   (hardware, PLC, other channels) or is a transformation fagorcnc does not
@@ -22,10 +22,10 @@ from .records import Dwell
 #: Sentences kept as state for the planner / path stages.
 RECORDED = frozenset({"ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
-#: path and feed treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE
-#: (a spline through the points, L15690), #CD (loops removed, L15598), #TANGFEED (feed at corners).
+#: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
+#: through the points, L15690), #CD (loops removed, L15598).
 NOT_YET = frozenset({"TOOL", "KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
-                     "SPLINE", "ASPLINE", "CD", "TANGFEED",
+                     "SPLINE", "ASPLINE", "CD",
                      "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
                      "INIT", "RPT"})
 
@@ -157,6 +157,9 @@ def execute_sentence(interp, node, src):
         return
     if kw == "SLOPE":
         dynamics.slope_statement(interp, node)
+        return
+    if kw == "TANGFEED":
+        dynamics.tangfeed_statement(interp, node)
         return
     if kw == "FLUSH":
         return  # preparation and execution are one offline (seed 002 L16998)

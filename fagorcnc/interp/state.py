@@ -64,6 +64,7 @@ class ChannelState:
         self.hsc = None                          # Hsc of an active #HSC ON
         self.roundpar: tuple = default_roundpar(machine)
         self.slope: tuple = (machine.planner.slope_type, 0, 0, 0)
+        self.tangfeed_rmin = 0.0   # #TANGFEED RMIN: G196 keeps F at the contact on arcs above it (L4305)
         self.acceleration: dict[str, float] = {}   # G130/G131 percentages not at 100
         self.jerk: dict[str, float] = {}           # G132/G133
         self._dynamics: Dynamics | None = None

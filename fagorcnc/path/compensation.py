@@ -309,9 +309,22 @@ def _record(rec, a, o, start: Point | None, end: Point | None):
             raise CompensationError(rec, "this arc is too short for the tool radius: its compensated path "
                                     "would turn the wrong way (a step in the profile)")
     moved = _moved(rec, (a, o), start, end)
-    if rec.kind == "arc" and end is not None:
-        moved = replace(moved, radius=math.dist(end, (rec.center[a], rec.center[o])))
+    if rec.kind == "arc" and (start is not None or end is not None):
+        centre_radius = math.dist(end or start, (rec.center[a], rec.center[o]))
+        moved = replace(moved, radius=centre_radius if end is not None else moved.radius,
+                        feed=_centre_feed(rec, centre_radius))
     return moved
+
+
+def _centre_feed(rec, centre_radius: float):
+    """The tool centre's feed on a compensated arc: under G196 the programmed F is at the contact point
+    (seed 002 L4298-L4325: contact = F R / (R + r), so the centre runs at F (R + r) / R, r negative
+    inside), on arcs of a radius above #TANGFEED RMIN (L4305); under G197 F is the centre's."""
+    dyn = rec.dyn
+    rmin = getattr(dyn, "contact_feed", None)
+    if rmin is None or not rec.feed or rec.feed_mode == "G93" or not rec.radius > rmin:
+        return rec.feed
+    return rec.feed * centre_radius / rec.radius
 
 
 def _inserted(template, a, o, items, feed):
