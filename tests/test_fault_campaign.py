@@ -284,7 +284,7 @@ def test_gate_tokens_start_again_at_one_once_the_card_has_passed_the_last_gate(m
             backend.send(seg)
         assert emu.inspect(lambda card: card.position[0]) < 20.0      # the three gates still ahead of the card
         backend.send(segments[4])                                      # the 4th gate: waits for the card first
-        assert emu.inspect(lambda card: card.hr[3000]) >= 4            # the card has run the segment of token 3
+        assert emu.inspect(lambda card: card.hr[card.watch]) >= 4     # the card has run the segment of token 3
         for seg in segments[5:]:
             backend.send(seg)
         backend.finish()

@@ -5,19 +5,22 @@ Each test starts its own emulator on a free port (127.0.0.1) and stops it; every
 
 from __future__ import annotations
 
+import threading
 import time
 
 import pytest
-from interpcnc_helpers import plan
+from interpcnc_helpers import assert_exactly_once, plan
 from pymodbus.client import ModbusTcpClient
 
 from fagorcnc.backends.base import BackendError
 from fagorcnc.backends.interpcnc import InterpCncBackend, InterpCncError
 from fagorcnc.backends.interpcnc import backend as backend_module
 from fagorcnc.backends.interpcnc import protocol as proto
+from fagorcnc.backends.interpcnc.card import Card
 from fagorcnc.backends.interpcnc.emulator import Emulator, main
 
 M3 = {"type": 1, "output": 0, "value": 1}
+M5 = [{"type": 1, "output": 0, "value": 0}, {"type": 2, "output": 0, "value": 0}]     # two actions
 
 
 
@@ -131,26 +134,26 @@ def test_emulator_serves_the_registers_a_client_reads():
 
 
 def test_an_output_and_a_dwell_run_behind_a_gate_the_back_end_opens_once_all_are_accepted():
-    """Their exact words: 1012 type 3 "above" (kind 2) on holding 3002 as extended address 103002 (seed 000 L1115)
+    """Their exact words: 1012 type 3 "above" (kind 2) on holding 3992 as extended address 103992 (seed 000 L1115)
     with threshold token - 1, timeout 65535 ms and alarm 18 on timeout; then the actions and the sequence marker
-    (3000), or for a dwell 0 into 3001, the marker, the dwell and 1 into 3001; then a plain write of the token into
-    3002.  The card holds them until then: a fault before it leaves nothing run (tests/test_fault_campaign.py
-    injects one at each write)."""
+    (3990, the default marker_register), or for a dwell 0 into 3991, the marker, the dwell and 1 into 3991; then a
+    plain write of the token into 3992.  The card holds them until then: a fault before it leaves nothing run
+    (tests/test_fault_campaign.py injects one at each write)."""
     machine, segments = plan("M3\nG4 K0.25\n")
     with Emulator(port=0, speed=1.0) as emu:
         backend = InterpCncBackend(machine, port=emu.port, outputs={"M3": M3})
         backend.open()
         wait = [1012, 3, 65535, 1, 2]
-        gate = [103002 & 0xFFFF, 103002 >> 16]
+        gate = [103992 & 0xFFFF, 103992 >> 16]
         assert backend._prepare(backend_module._Sent(1, segments[0])) == [
-            [*wait, 0, *gate], [1010, 1, 0, 1], [1010, 3, 3000, 1], backend_module._OpenGate(1)]
+            [*wait, 0, *gate], [1010, 1, 0, 1], [1010, 3, 3990, 1], backend_module._OpenGate(1)]
         assert backend._prepare(backend_module._Sent(2, segments[1])) == [
-            [*wait, 1, *gate], [1010, 3, 3001, 0], [1010, 3, 3000, 2], [1011, 250], [1010, 3, 3001, 1],
+            [*wait, 1, *gate], [1010, 3, 3991, 0], [1010, 3, 3990, 2], [1011, 250], [1010, 3, 3991, 1],
             backend_module._OpenGate(2)]
         backend._reset_stream()
         backend.send(segments[0])
         backend.send(segments[1])
-        assert emu.inspect(lambda card: (card.hr[3002], card.outputs[0])) == (2, True)
+        assert emu.inspect(lambda card: (card.hr[3992], card.outputs[0])) == (2, True)
         st = backend.status()
         assert st.line == 2 and st.executed == 1              # M3 has run, the dwell is under way
         st = backend.finish()
@@ -244,7 +247,7 @@ def test_resume_refuses_an_alarm_after_which_the_position_is_not_trusted_and_aba
         with pytest.raises(InterpCncError, match=r"abandon\(\)"):
             backend.send(plan("G90 G1 X1 F600\n")[1][0])
         backend.abandon()
-        assert _directs(emu)[len(directs):] == [88, 255]
+        assert _directs(emu)[len(directs):] == [255, 88, 255]   # purged before the acknowledge
         st = backend.status()
         assert (st.state, st.alarm, st.sent, st.executed) == ("idle", 0, 0, 0) and emu.inspect(lambda c: c.alarm) == 0
         st = _stream(backend, "G90 G1 X1 F3000\n")                            # a new stream, as after open()
@@ -259,7 +262,7 @@ def test_resume_still_continues_after_a_cycle_aborted_alarm():
         err = _alarm_during_a_cut(emu, backend, 3)
         assert err.alarm == 3 and "trusted" not in str(err)
         backend.resume()
-        assert _directs(emu)[-2:] == [88, 255]
+        assert _directs(emu)[-3:] == [255, 88, 255]            # purged before the acknowledge
         st = backend.finish()
         assert st.executed == 1 and st.position == {"X": 20.0, "Y": 0.0, "Z": 0.0}
         backend.close()
@@ -296,3 +299,138 @@ def test_open_refuses_a_card_that_is_paused_or_jogging(state):
         st = _stream(second, "G90 G1 X1 F600\n")
         assert st.position["X"] == 1.0
         second.close()
+
+
+# ---------------------------------------------------------------- recovery purges before it acknowledges
+def _wait_for(emu, predicate, timeout=5.0):
+    deadline = time.monotonic() + timeout
+    while not emu.inspect(predicate):
+        assert time.monotonic() < deadline, "the emulated card never got there"
+        time.sleep(0.005)
+
+
+def test_resume_purges_before_acknowledging_so_a_card_that_kept_its_buffers_runs_no_unconfirmed_body():
+    """Seed 000: only 1200/255 purges (L1225), nothing says an alarm does.  The link drops after M5's gate and first
+    action were accepted; the gate never opens, alarm 18 (L1099).  A card keeping its buffers holds that half of M5:
+    acknowledged before a purge, it would run it, and the resynchronisation would send M5 again in full."""
+    machine, segments = plan("G90 G1 X1 F3000\nM5\nG1 X2\nM30\n")
+    with Emulator(port=0, speed=1000.0, resolution=1000, keep_buffers_on_alarm=True) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs={"M5": M5}, timeout=0.5)
+        backend.open()
+        backend.send(segments[0])
+        emu.drop_connection(after_commands=2)                 # the gate wait and OUT0 off accepted, AOUT0 lost
+        with pytest.raises(InterpCncError, match="no valid reply") as lost:
+            backend.send(segments[1])
+        assert lost.value.accepted
+        _wait_for(emu, lambda c: c.alarm == 18)               # 65.5 s at the shut gate (x1000)
+        assert emu.inspect(lambda c: [e.kind for e in c.planner]) == ["action"]    # half of M5, kept
+        with pytest.raises(InterpCncError, match="alarm 18"):
+            backend.reconnect_and_continue()
+        backend.resume()
+        for seg in segments[2:]:
+            backend.send(seg)
+        backend.finish()
+        log = emu.executed()
+        backend.close()
+    assert_exactly_once(segments, backend, log)           # (was: OUT0 off, OUT0 off, AOUT0 0)
+
+
+def test_abandon_purges_before_acknowledging_so_nothing_of_the_old_stream_moves():
+    machine, _ = plan("G90 G1 X20 F600\n")
+    with Emulator(port=0, speed=5.0, resolution=1000, keep_buffers_on_alarm=True) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        err = _alarm_during_a_cut(emu, backend, 3)
+        assert err.alarm == 3
+        where, log = emu.inspect(lambda c: (list(c.position), len(c.log)))
+        assert emu.inspect(lambda c: len(c.planner)) == 1     # the cut, stopped half-way and kept
+        backend.abandon()
+        assert emu.inspect(lambda c: (list(c.position), len(c.log), len(c.planner))) == (where, log, 0)
+        backend.close()
+
+
+# ---------------------------------------------------------------- the gate's register convention
+class InputRegisterConvention(Card):
+    """A card reading 1012's address 100000 + r as *input* register r (seed 000 L250, L775-L791, L1291), where the
+    back-end follows L1113-L1115 (holding register r)."""
+
+    def _wait_met(self, a: dict) -> bool:
+        if a["type"] == 3 and a["address"] >= 100000:
+            self.refresh()
+            a = dict(a, address=a["address"] - 100000)    # the model reads addresses below 100000 as input registers
+        return super()._wait_met(a)
+
+
+def test_with_the_default_marker_register_a_card_reading_the_gate_the_other_way_stops_at_the_first_gate():
+    """Audit B1: with the gate on holding 3002 (the old default 3000), such a card watched IR 3002, the planner free
+    space, and opened the gate by itself: M3 ran although nobody had confirmed it.  On 3992 the input register is not
+    documented (map L259-L435) and reads 0: the gate stays shut, alarm 18, and the message names the cause."""
+    machine, segments = plan("M3\nG1 X1 F600\n")
+    emu = Emulator(port=0, speed=1000.0)
+    emu.card = InputRegisterConvention(speed=1000.0)
+    with emu:
+        backend = InterpCncBackend(machine, port=emu.port, outputs={"M3": M3}, timeout=0.5)
+        assert backend.options.marker_register == 3990
+        backend.open()
+        emu.hold_full(0.2)                                    # M3 is all accepted (its gate opened) before it runs
+        for seg in segments:
+            backend.send(seg)
+        with pytest.raises(InterpCncError) as err:
+            backend.finish()
+        assert err.value.alarm == 18 and "input register 3992" in str(err.value)
+        assert "option marker_register, now 3990" in str(err.value)
+        assert emu.inspect(lambda c: c.outputs[0]) is False   # M3 did not run
+        backend.close()
+
+
+# ---------------------------------------------------------------- a card holding the stream
+@pytest.mark.parametrize("hold", ["paused", "door"])
+def test_a_feed_hold_or_the_door_on_the_card_shows_as_pause_and_finish_waits_for_it(hold):
+    """IR 3003 bit 4 (feed hold: the card's panel, its pause input L1141, another client) or bit 6 (door safety), L429:
+    the state says "pause" while it lasts, "run" after; finish() waits, the hold is the operator's."""
+    machine, segments = plan("G90 G1 X5 F600\n")              # 0.5 s
+    with Emulator(port=0, speed=1.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        backend.open()
+        backend.send(segments[0])
+        time.sleep(0.05)
+        for _ in range(2):
+            emu.inspect(lambda c: setattr(c, hold, True))
+            time.sleep(0.03)                                  # status() reads the card again after poll_interval
+            assert backend.status().state == "pause"
+            emu.inspect(lambda c: setattr(c, hold, False))
+            time.sleep(0.03)
+            assert backend.status().state == "run"
+        emu.inspect(lambda c: setattr(c, hold, True))
+        done: list = []
+        waiter = threading.Thread(target=lambda: done.append(backend.finish()), daemon=True)
+        waiter.start()
+        time.sleep(0.6)                                       # the cut would be over without the hold
+        assert waiter.is_alive() and backend.status().state == "pause"
+        assert emu.inspect(lambda c: c.position[0]) < 5.0
+        emu.inspect(lambda c: setattr(c, hold, False))
+        waiter.join(5.0)
+        assert not waiter.is_alive() and done[0].state == "idle" and done[0].position["X"] == 5.0
+        backend.close()
+
+
+# ---------------------------------------------------------------- empty buffers, axes still moving
+@pytest.mark.parametrize("call", ["finish", "abandon"])
+def test_motion_ends_when_the_axes_have_stopped_not_only_when_the_buffers_are_empty(call):
+    """Seed 000 L260, L512: IR 1016's low byte says which axes are still moving.  A card whose planner has freed its
+    last entry while X is still stopping: finish() (and the wait after a 1200/255) must go on until the bit clears."""
+    machine, segments = plan("G90 G1 X1 F3000\n")
+    with Emulator(port=0, speed=20.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        backend.open()
+        backend.send(segments[0])
+        assert emu.wait_idle(5)
+        emu.inspect(lambda c: setattr(c, "extra_moving", 0b1))    # X still moving, buffers empty
+        done: list = []
+        waiter = threading.Thread(target=lambda: done.append(getattr(backend, call)()), daemon=True)
+        waiter.start()
+        time.sleep(0.3)
+        assert waiter.is_alive()
+        emu.inspect(lambda c: setattr(c, "extra_moving", 0))
+        waiter.join(5.0)
+        assert not waiter.is_alive() and len(done) == 1 and backend.status().state == "idle"
+        backend.close()

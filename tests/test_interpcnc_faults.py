@@ -198,7 +198,7 @@ def test_alarm_inside_chords_resumes_from_the_chord_in_progress():
         check_exactly_once(emu, segments, backend)
         moves = [e for e in emu.executed() if e.kind in ("line", "rapid") and e.tag == seq]
         assert len(moves) == chords                                # chords 1-2, the rest of 3, then 4...
-        sub = [e.args["b"] for e in emu.executed() if e.kind == "action" and e.args["a"] == 3001]
+        sub = [e.args["b"] for e in emu.executed() if e.kind == "action" and e.args["a"] == 3991]
         assert sub[:3] == [0, 1, 2] and sub[3:5] == [2, 3]        # the move register said chord index 2 ran
         backend.close()
 

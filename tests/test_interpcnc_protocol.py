@@ -265,7 +265,7 @@ def test_options_validation_names_the_key():
         ({"outputs": {"M3": {"type": 1, "output": 0, "value": 1, "scale": 2}}}, "outputs.M3.scale"),
         ({"outputs": {"S": {"type": 2, "output": 0}}}, "outputs.S"),
         ({"outputs": {"Q3": {"type": 1, "output": 0, "value": 1}}}, "outputs.Q3"),
-        ({"outputs": {"T": {"type": 3, "register": 3000, "scale": 1}}}, "outputs.T.register"),
+        ({"outputs": {"T": {"type": 3, "register": 3990, "scale": 1}}}, "outputs.T.register"),  # the markers
         ({"resolution": {"W": 100}}, "resolution.W"),
         ({"outputs": {"M3": [], "M03": []}}, "outputs.M03"),
         ({"axis_map": {"Z": "Q"}}, "axis_map.Z"),

@@ -21,9 +21,10 @@ within one interval.
 
 **Sequence markers.**  Every segment gets a sequence number n (1, 2, ...)
 and a synchronised action 1010 type 3 writing ``n mod 65536`` into the user
-RAM holding register M = ``marker_register`` (3000 by default; L463,
-L967-L971).  The card runs synchronised actions in order with the moves,
-just before the next move (L941), so:
+RAM holding register M = ``marker_register`` (3990 by default, see
+``registers.DEFAULT_MARKER_REGISTER``; L463, L967-L971).  The card runs
+synchronised actions in order with the moves, just before the next move
+(L941), so:
 
 * motion segments and dwells: the marker is sent *before* their commands -
   M = n means segment n has **started** (segments before n are complete);
@@ -194,6 +195,7 @@ class InterpCncBackend:
         self._last_status = -math.inf                # last refresh by status()
         self._fault: str | None = None               # "alarm" or "link" while stopped by a fault
         self._untrusted_alarm = 0                    # an ALARMS_POSITION_LOST code seen: until abandon()/open()
+        self._hold_seen = False                      # the card reported a feed hold or the door since "pause" began
         self._stopped = False
 
     # ------------------------------------------------------------ protocol
@@ -250,7 +252,8 @@ class InterpCncBackend:
         self._flush()
 
     def finish(self) -> Status:
-        """Block until everything sent has executed; returns the status (raises on an alarm or link loss)."""
+        """Block until everything sent has executed and the axes have stopped; returns the status (raises on an
+        alarm or link loss).  A feed hold or the door safety on the card (state "pause") keeps it waiting."""
         if self._status.state == "closed":
             raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
         while True:
@@ -261,7 +264,9 @@ class InterpCncBackend:
             if self._stopped:
                 break
             self._io(self._poll)
-            if self._card_idle() and self._marker == self._seq:
+            # a feed hold or the door (state "pause") keeps it waiting: ending the hold is the operator's; IR 1016
+            # is read only once the buffers look empty, not on every poll
+            if self._card_idle() and self._marker == self._seq and not self._io(self._axes_moving):
                 break
             time.sleep(self.options.poll_interval)
         self._set(state="idle")
@@ -271,11 +276,12 @@ class InterpCncBackend:
         """Feed hold (1200/130; the card also stops the spindle, buffers kept)."""
         self._immediate(proto.encode_pause(), "pause")
         if self._status.state in ("run", "idle"):
+            self._hold_seen = False              # "pause" until the card has reported the hold and ended it
             self._set(state="pause")
 
     def resume(self) -> None:
-        """Continue: after a pause 1200/129; after an alarm acknowledge (1200/88) and resynchronise
-        (see :meth:`reconnect_and_continue`); after a link loss, reconnect first.
+        """Continue: after a pause 1200/129; after an alarm stop and purge (1200/255), acknowledge (1200/88) and
+        resynchronise (see :meth:`reconnect_and_continue`); after a link loss, reconnect first.
 
         Refused after an alarm that means the machine position can no longer be trusted
         (``registers.ALARMS_POSITION_LOST``: limit switch, homing errors, homing required, tool setter
@@ -290,29 +296,27 @@ class InterpCncBackend:
             return
         self._immediate(proto.encode_resume(), "resume")
         if self._status.state == "pause":
+            self._hold_seen = False
             self._set(state="run")
 
     def abandon(self) -> None:
-        """Give up the interrupted stream: acknowledge the alarm (1200/88), stop and purge (1200/255), forget
-        every segment sent or kept and clear the fault; the state becomes "idle" and a new stream can be
-        sent, as after :meth:`open`.  Nothing of the old stream runs again.
+        """Give up the interrupted stream: stop and purge (1200/255), acknowledge the alarm (1200/88), purge again,
+        forget every segment sent or kept and clear the fault; the state becomes "idle" and a new stream can be
+        sent, as after :meth:`open`.  Nothing of the old stream runs again (see :meth:`_purge_and_acknowledge`).
 
         The way out of an alarm :meth:`resume` refuses (the machine position can no longer be trusted):
         home the machine before starting the program again.  Raises if the alarm is still active after the
         acknowledge (emergency stop still engaged?); reconnects first after a link loss.
         """
-        self._last_status = -math.inf
-        if self._status.state == "closed":
-            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
         try:
-            if self.link.failed:
-                self.link.connect()
+            self._reconnect()
             self._read_card()              # the status words only: the old stream's markers no longer matter
             if self._card_alarm():
-                self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
+                self._purge_and_acknowledge()
                 self._read_card()
                 if self._card_alarm():
                     self._raise_alarm_state("still active after the acknowledge (emergency stop still engaged?)")
+            # (again after an alarm: in case the card ignored the first one while in alarm, the seed does not say)
             self.link.command(proto.encode_stop(), "stop and purge, abandoning the stream")
             self._await_rest(self._read_card)
             self._reset_stream()
@@ -439,6 +443,7 @@ class InterpCncBackend:
         self._seq = self._marker = self._sub = self._done = self._gate = self._gated_seq = 0
         self._fault = None
         self._untrusted_alarm = 0
+        self._hold_seen = False
         self._stopped = False
         self.encoder.reset()
         self._set(line=0, executed=0, sent=0, alarm=0, alarm_message="")
@@ -616,6 +621,21 @@ class InterpCncBackend:
         line = self._lines.get(marker, self._status.line) if marker else 0
         level = max(1.0 - self._free / self._buffer_size, 1.0 - self._planner_free / self._planner_size)
         self._set(executed=self._done, line=line, buffer_level=level)
+        self._follow_hold()
+
+    def _follow_hold(self) -> None:
+        """A stream held by the card (feed hold, also from a hardware input L1141, or the door safety: IR 3003 bits
+        4, 6, L429) shows as state "pause", and as "run" again when the card lets it go: the progress line and a PLC
+        then see why nothing moves."""
+        held = bool(self._card_status & regs.STATUS_HELD)
+        with self._lock:
+            state = self._status.state
+            if held and state in ("run", "pause"):
+                self._hold_seen = True
+                self._status.state = "pause"
+            elif not held and state == "pause" and self._hold_seen:
+                self._hold_seen = False
+                self._status.state = "run" if self._window else "idle"
 
     def _poll(self) -> None:
         self._read_poll()
@@ -625,9 +645,26 @@ class InterpCncBackend:
             self._note_alarm(code)
             self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
             advice = (" the machine position can no longer be trusted: call abandon(), home the machine and start "
-                      "the program again;" if self._untrusted_alarm else "")
+                      "the program again;" if self._untrusted_alarm else self._gate_advice(code))
             raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: stopped sending;{advice} "
                                  f"{self._where_text()}", self._snapshot(), alarm=code, line=self._status.line)
+
+    def _gate_advice(self, code: int) -> str:
+        """For alarm 18 in a stream with gates: the gate's 1012 address convention may be wrong (audit B1).
+
+        Raised here, with the link up all along, the back-end had opened the gate (it writes the token as soon as the
+        segment's commands are accepted).  The seed gives two readings of 1012's address 100000 + r (holding r:
+        L460, L1113-L1115, which the back-end follows; input register r: L250, L775-L791, L1291).
+        """
+        if code != regs.ALARM_WAIT_TIMEOUT or not self._gated_seq:
+            return ""
+        gate = self.options.marker_register + 2
+        return (" an output or a dwell waited 65 s at its gate, which the back-end had opened (holding register "
+                f"{gate}; the card watches it as address {regs.EXTENDED_HOLDING + gate}): this card probably reads "
+                f"that address as input register {gate} instead (the protocol document gives both meanings), so no "
+                "gate can ever open - almost certainly so if it stopped at the first output or dwell of the program; "
+                "ask the card's maker which one it uses (the gate registers come from the option marker_register, "
+                f"now {self.options.marker_register});")
 
     def _note_alarm(self, code: int) -> None:
         """Remember an alarm after which the position is not trusted, even if someone acknowledges it on
@@ -639,8 +676,19 @@ class InterpCncBackend:
         return bool(self._card_status & regs.STATUS_ALARM or self._alarm_code)
 
     def _card_idle(self) -> bool:
+        # Exact: empty means free space = size (IR 3000 vs 2990, 3002 vs 2992; L423-L428, L848-L850).  Nothing in the
+        # seed says an empty buffer can report less; a card that did would make finish() wait forever (audit B5).
         return (self._free >= self._buffer_size and self._planner_free >= self._planner_size
                 and not self._card_status & regs.STATUS_CYCLE)
+
+    def _axes_moving(self) -> bool:
+        """IR 1016's low byte: an axis still moving (L260; L512 "check that the axes have really stopped").
+
+        The planner may free its last entry before the axes have stopped.  Read only where the back-end decides
+        that motion has ended (finish(), after a stop), so the status poll on the streaming path stays one request.
+        """
+        bits = self.link.read_input(regs.IR_STATUS_BITS, 1, "reading the axes-moving bits")[0]
+        return bool(bits & regs.AXES_MOVING_MASK)
 
     def _where_text(self) -> str:
         s = self._status
@@ -675,21 +723,17 @@ class InterpCncBackend:
     def _immediate(self, words: list[int], what: str) -> None:
         self._io(lambda: self.link.command(words, what))
 
-    def _io(self, fn) -> None:
+    def _io(self, fn):
         self._last_status = -math.inf            # the next status() reads the card again
         try:
-            fn()
+            return fn()
         except LinkError as exc:
             raise self._link_lost(exc) from exc
 
     def _recover(self, *, acknowledge: bool) -> None:
         """Reconnect if needed, acknowledge an alarm if allowed, then resynchronise."""
-        self._last_status = -math.inf
-        if self._status.state == "closed":
-            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
         try:
-            if self.link.failed:
-                self.link.connect()
+            self._reconnect()
             self._read_poll(purged=True)
             if self._card_alarm():
                 self._note_alarm(self._alarm_code)
@@ -698,13 +742,33 @@ class InterpCncBackend:
             if self._card_alarm():
                 if not acknowledge:
                     self._raise_alarm_state("acknowledge it with resume()")
-                self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
+                self._purge_and_acknowledge()
                 self._read_poll(purged=True)
                 if self._card_alarm():
                     self._raise_alarm_state("still active after the acknowledge (emergency stop still engaged?)")
             self._resync()
         except LinkError as exc:
             raise self._link_lost(exc) from exc
+
+    def _reconnect(self) -> None:
+        """The start of a recovery: the back-end must be open; the link is connected again if it failed
+        (raises LinkError for the caller to report)."""
+        self._last_status = -math.inf
+        if self._status.state == "closed":
+            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
+        if self.link.failed:
+            self.link.connect()
+
+    def _purge_and_acknowledge(self) -> None:
+        """1200/255 (stop, purge both buffers), then 1200/88 (acknowledge the alarm).
+
+        The seed says only 255 purges the buffers (L1225) and that a pause keeps them (L1139); nothing says an
+        alarm empties them.  A card that kept them would, once acknowledged, carry on with what was queued - after
+        alarm 18 the body behind a gate nobody opened (half an M function), after a limit switch more travel
+        toward it - for the round trips until the resynchronisation's own 255.  Purged first, nothing is left to run.
+        """
+        self.link.command(proto.encode_stop(), "stop and purge before acknowledging the alarm")
+        self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
 
     def _refuse_untrusted(self) -> None:
         """Raise (nothing sent) for an alarm of regs.ALARMS_POSITION_LOST: see resume()."""
@@ -722,6 +786,8 @@ class InterpCncBackend:
                              self._snapshot(), alarm=code, line=self._status.line)
 
     def _resync(self) -> None:
+        # after a link fault the only stop; after an alarm a second one, in case the card ignored the first (sent
+        # in alarm, _purge_and_acknowledge): the seed does not say it honours 255 then.  At rest it costs nothing.
         self.link.command(proto.encode_stop(), "stop and purge before resuming")
         self._await_rest()
         marker = self._marker
@@ -749,14 +815,14 @@ class InterpCncBackend:
 
     def _await_rest(self, read=None) -> None:
         """After a 1200/255: poll (``read``, by default the status and markers) until the card is idle with
-        empty buffers."""
+        empty buffers and no axis moving (the position read next must be where it stopped, not mid-deceleration)."""
         deadline = time.monotonic() + max(10.0, 20 * self.options.timeout)
         while True:
             if read is None:
                 self._read_poll(purged=True)
             else:
                 read()
-            if self._card_idle():
+            if self._card_idle() and not self._axes_moving():
                 return
             if time.monotonic() > deadline:
                 raise InterpCncError("the InterpCNC did not come to rest after stop (1200/255)", self._snapshot())

@@ -27,9 +27,17 @@ What it models, from seed 000:
   1110 homing (instantaneous), 1111 jog (m/min, only when idle or jogging,
   L1175), 1200/133 stop jog.
 * **Alarms** (IR 3003 bit 0, IR 3004): :meth:`Card.raise_alarm` stops at
-  once and purges both buffers, like the card.  While the alarm stands,
-  buffered commands are discarded (counted in ``discarded``).  Alarm 10
-  (emergency stop) cannot be acknowledged until :meth:`release_estop`.
+  once and purges both buffers.  The seed does not say an alarm purges them
+  (only 1200/255 does, L1225): ``keep_buffers_on_alarm`` models the other
+  reading - motion stops where it is, and after the acknowledge (1200/88)
+  the card carries on with what was queued (a 1012 wait that timed out is
+  over).  While the alarm stands, buffered commands are discarded (counted
+  in ``discarded``).  Alarm 10 (emergency stop) cannot be acknowledged until
+  :meth:`release_estop`.
+* **Holds**: ``paused`` (1200/130, IR 3003 bit 4) and ``door`` (door safety,
+  bit 6, L429) stop motion, buffers kept.  ``extra_moving``: axes-moving bits
+  reported in IR 1016 on top of the model's own (L260) - a card whose axes
+  are still stopping after its planner has emptied.
 * The **executed log**: every completed command in order (moves with their
   end point as decoded, dwells, actions), each tagged with the value the
   watched register (the back-end's sequence marker) held when it ran.
@@ -101,8 +109,9 @@ class Card:
 
     def __init__(self, *, speed: float = 1.0, buffer_size: int = 4096, planner_size: int = 35,
                  rapid_speed: float = 10000.0, resolution: float | dict[str, float] = 1000.0,
-                 limits: dict[str, tuple[float, float]] | None = None, watch_register: int = regs.HR_USER_RAM,
-                 max_lag: float = 0.02, clock=time.monotonic) -> None:
+                 limits: dict[str, tuple[float, float]] | None = None,
+                 watch_register: int = regs.DEFAULT_MARKER_REGISTER, max_lag: float = 0.02,
+                 keep_buffers_on_alarm: bool = False, clock=time.monotonic) -> None:
         if speed <= 0:
             raise ValueError("speed factor must be positive")
         self.speed = speed
@@ -123,6 +132,9 @@ class Card:
         self.feed_override = self.rapid_override = self.spindle_override = 100
         self.hr[regs.HR_FEED_OVERRIDE] = self.hr[regs.HR_RAPID_OVERRIDE] = 100
         self.paused = False
+        self.door = False                             # door safety active (IR 3003 bit 6): holds motion
+        self.extra_moving = 0                         # IR 1016 low byte bits reported on top of the model's
+        self.keep_buffers_on_alarm = keep_buffers_on_alarm
         self.alarm = 0
         self.estop = False
         self.queue: deque[proto.Command] = deque()       # CNC Modbus buffer
@@ -190,7 +202,7 @@ class Card:
         while True:
             self.time = t_end - dt
             self._refill()
-            if self.alarm or self.paused:
+            if self.alarm or self.paused or self.door:
                 return
             if self.jog is not None and not self.planner:
                 dt = self._step_move(self.jog, dt)
@@ -210,6 +222,8 @@ class Card:
             if dt <= 0 or (not e.started and not self._start(e)):
                 return
             dt = self._step_timed(e, dt) if e.kind in ("dwell", "wait") else self._step_move(e, dt)
+            if self.alarm and self.planner and self.planner[0] is e and e.kind == "wait" and e.s >= e.length:
+                self._drop_timed_out(e)                  # buffers kept: the wait that raised alarm 18 is over
             if self.alarm or e.s < e.length:
                 return
             self.time = t_end - dt
@@ -218,6 +232,11 @@ class Card:
             self._complete(e)
             if not self.planner and not self.queue:
                 self._starved = True
+
+    def _drop_timed_out(self, e: _Entry) -> None:
+        self.planner.popleft()
+        self.entries -= 1
+        self.aborted.append(Executed(e.cmd.cid, e.kind, None, dict(e.cmd.args), self.hr[self.watch], self.time))
 
     def _refill(self) -> None:
         while self.queue and (self.entries < self.planner_size or self.queue[0].cid in
@@ -356,8 +375,10 @@ class Card:
 
     # ------------------------------------------------------------ immediate actions
     def raise_alarm(self, code: int) -> None:
-        """Alarm ``code``: motion stops where it is, both buffers are purged (alarm 10 latches the e-stop)."""
-        self._abort()
+        """Alarm ``code``: motion stops where it is, both buffers are purged unless ``keep_buffers_on_alarm``
+        (alarm 10 latches the e-stop)."""
+        if not self.keep_buffers_on_alarm:
+            self._abort()
         self.alarm = code
         if code == regs.ALARM_ESTOP:
             self.estop = True
@@ -506,6 +527,8 @@ class Card:
             w |= regs.STATUS_CYCLE
         if self.paused:
             w |= regs.STATUS_PAUSED
+        if self.door:
+            w |= regs.STATUS_DOOR
         if self.jog is not None:
             w |= regs.STATUS_JOG
         if self.estop:
@@ -538,7 +561,7 @@ class Card:
         moving = 0
         if active is not None and active.end and not self.paused and not self.alarm:
             moving = sum(1 << k for k in range(NAXES) if active.start[k] != active.end[k])
-        ir[regs.IR_STATUS_BITS] = moving
+        ir[regs.IR_STATUS_BITS] = moving | self.extra_moving
         feed = self._speed(active) * 60.0 if moving else 0.0
         ir[regs.IR_CNC_FEED:regs.IR_CNC_FEED + 2] = proto.u32_words(min(round(feed), 0xFFFFFFFF))
         hr[regs.HR_FEED_OVERRIDE], hr[regs.HR_RAPID_OVERRIDE] = self.feed_override, self.rapid_override

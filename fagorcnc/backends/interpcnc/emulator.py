@@ -51,7 +51,7 @@ class Emulator:
     (Modbus TCP) or "rtu" (RTU frames over the TCP stream); ``unit`` = 0
     answers every unit id.  Other keywords go to :class:`~.card.Card`
     (``buffer_size``, ``planner_size``, ``rapid_speed`` mm/min,
-    ``resolution`` pulses/mm, ``limits`` {axis: (min, max)}, ``watch_register``).
+    ``resolution`` pulses/mm, ``limits`` {axis: (min, max)}, ``watch_register``, ``keep_buffers_on_alarm``).
     """
 
     def __init__(self, host: str = "127.0.0.1", port: int = 0, *, speed: float = 1.0, framer: str = "socket",
@@ -245,7 +245,8 @@ class Emulator:
             self.card.hold_full(seconds)
 
     def raise_alarm(self, code: int) -> None:
-        """Raise alarm ``code`` now (e.g. 2 soft limit, 10 emergency stop): motion stops, buffers purged."""
+        """Raise alarm ``code`` now (e.g. 2 soft limit, 10 emergency stop): motion stops, buffers purged (unless the
+        card was made with ``keep_buffers_on_alarm``)."""
         with self.lock:
             self.card.advance()
             self.card.raise_alarm(code)

@@ -84,7 +84,7 @@ class Options:
     ignore: frozenset[str] = frozenset(DEFAULT_IGNORED)
     poll_interval: float = 0.02              # s, status polling while streaming
     low_water: int = 8                       # planner entries below which the back-end stops sleeping
-    marker_register: int = regs.HR_USER_RAM     # user RAM registers (this and the next two): markers and gate
+    marker_register: int = regs.DEFAULT_MARKER_REGISTER   # user RAM (this and the next two): markers and gate
     axis_map: dict[str, str] = field(default_factory=dict)   # machine axis -> card axis letter
     strict_outputs: bool = False             # unmapped auxiliary function -> error instead of warning
 

@@ -35,7 +35,9 @@ Contradictions and the choice made:
   registers and plain addresses for holding registers.  This package does
   not use the index table for that reason; :func:`encode_wait_value` takes
   the extended address as given.  The back-end's gate (a 1012 wait on a
-  user register) follows the 1012 description itself: 100000 + r.
+  user register) follows the 1012 description itself: 100000 + r; its default register
+  (``DEFAULT_MARKER_REGISTER``) is chosen so that a card reading it the other way stops with alarm 18
+  at the first gate instead of opening gates by itself.
 * Command 1000 example (L872-L876): "G01 X12.2 F3000" has 15 characters but
   the example shows 8 registers whose sixth word 0x4620 is " F": the words
   spell "G01 X12.2  F3000" (two spaces).  The packing rule (first character
@@ -105,6 +107,14 @@ HR_INDEX_TABLE = 2800            # 50 x 32-bit indexes (L460, L742)
 HR_INDEXED_VALUES = 2900         # (L743)
 HR_USER_RAM = 3000               # user registers in RAM, 3000-3999 (L463)
 HR_USER_RAM_LAST = 3999
+#: Default ``marker_register`` (the back-end's sequence number, move index and gate: this and the next two).
+#: High in user RAM, for two reasons.  1012's extended address follows one of two contradictory conventions
+#: (holding registers at 100000 + r: L460, L1113-L1115; *input* registers at 100000 + r: L250, the worked example
+#: L775-L791, L1291).  Under the second, a gate on holding 3002 would watch IR 3002, the planner free space, and
+#: open by itself; no input register is documented between 3014 and 11000 (map L259-L435), so a gate on 3992 read
+#: the wrong way watches a register that stays 0 and the first gate never opens: alarm 18, loud, instead of outputs
+#: run at random.  And an embedded PLC Basic program (L71-L75, L842) most likely uses the first user registers.
+DEFAULT_MARKER_REGISTER = 3990
 HR_USER_SAVED = 4000             # saved user registers 4000-4999 (L464) - written to flash: not for markers
 HR_PARAMETERS = 32000            # card parameters, index 0-1999, 32 bits each (L177-L179, L476)
 PARAM_AXIS_RESOLUTION = 1100     # parameters 1100-1105: axis resolutions (L900)
@@ -200,6 +210,11 @@ STATUS_BITS: dict[int, str] = {
 #: rest.  Bit 8 (emergency stop) comes with alarm 10 and is handled as an alarm.
 STATUS_NOT_READY = (STATUS_TEST_MODE | STATUS_HOMING | STATUS_PAUSED | STATUS_JOG | STATUS_DOOR | STATUS_SLEEP
                     | STATUS_TOOL_CHANGE)
+#: Status bits that hold a stream in the middle (L429): a feed hold (also from a hardware input, L1141) or the door
+#: safety.  The back-end then reports the state "pause", and back to "run" when they clear.
+STATUS_HELD = STATUS_PAUSED | STATUS_DOOR
+#: IR 1016 low byte: one bit per axis still moving (L260; L512: "check that the axes have really stopped").
+AXES_MOVING_MASK = 0x00FF
 
 # ---------------------------------------------------------------- alarm codes IR 3004 (L430)
 ALARM_SOFT_LIMIT = 2

@@ -49,7 +49,7 @@ def expected_events(segments: Iterable[Segment], backend) -> list[Event]:
     return out
 
 
-def executed_events(log: Iterable[Executed], marker_register: int = regs.HR_USER_RAM) -> list[Event]:
+def executed_events(log: Iterable[Executed], marker_register: int = regs.DEFAULT_MARKER_REGISTER) -> list[Event]:
     """The same events read from an emulator's executed log."""
     out: list[Event] = []
     for e in log:
