@@ -87,8 +87,6 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
-import numpy as np
-
 from .diagnostics import CODES, Diagnostic
 from .machine import Machine, MachineError, load_machine
 
@@ -104,8 +102,6 @@ MAX_RECOVERIES = 25
 CHECK_MAX_SECONDS = 120.0
 #: Runaway guards that spent the run's budget: a re-run to look further would spend it again.
 BUDGET_CODES = ("INT080", "INT082")
-#: Tolerance of the envelope check (mm, degrees).
-ENVELOPE_TOLERANCE = 1e-6
 SCHEMA = "fagorcnc-check/1"
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 
@@ -291,8 +287,7 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
     # one streamed pass: interpreted and planned once, in constant memory whatever the program's
     # length; what the report says of the moves is gathered as they pass
     summary = _Summary()
-    envelope = _Envelope(machine)
-    result = dry_run(path, machine, block_skip=block_skip, on_record=summary.add, on_segment=envelope.add)
+    result = dry_run(path, machine, block_skip=block_skip, on_record=summary.add)
     found: list[tuple[Diagnostic, bool]] = [(d, False) for d in result.diagnostics]
     report.executed = result.executed
     report.complete = result.ok
@@ -301,7 +296,6 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
     report.ended_by = result.ended_by
     if recover and not result.ok:
         found += [(d, True) for d in _recover(path, machine, block_skip, result.diagnostics)]
-    found += [(d, False) for d in envelope.diagnostics(str(path))]
     report.tools, report.origins, report.boxes = summary.tools(), summary.origins(), summary.boxes()
     if report.cycle_time_exceeded:
         found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
@@ -350,91 +344,6 @@ def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnos
             break   # clean, or an error in another file (a global subroutine) we cannot skip
         blanked |= more
     return out
-
-
-class _Envelope:
-    """PLN100: arcs and corner blends of the planned path whose interior leaves the soft limits,
-    from the segments as they are planned (:meth:`add`), the farthest point per block and axis."""
-
-    def __init__(self, machine: Machine) -> None:
-        axes = self.axes = machine.axis_names
-        self.lo = np.array([machine.axes[a].min_limit for a in axes])
-        self.hi = np.array([machine.axes[a].max_limit for a in axes])
-        self.worst: dict[tuple[int, bool, str, str], tuple[float, float, object]] = {}
-
-    def add(self, seg) -> None:
-        piece = seg.piece
-        if piece is None or not getattr(piece, "curved", False):
-            return   # straight pieces: their end points are the interpreter's INT100 check
-        axes, lo, hi, worst, tol = self.axes, self.lo, self.hi, self.worst, ENVELOPE_TOLERANCE
-        box = _hull(piece)
-        if box is not None and (box[0] >= lo - tol).all() and (box[1] <= hi + tol).all():
-            return   # a box round the whole curve lies within the soft limits: nothing can pass them
-        pmin, pmax = piece_extent(piece)
-        # only what goes beyond the block's own end points (those are the interpreter's check, which
-        # lets an axis already beyond its limit move back); a blend joins two blocks inside them
-        rec = seg.record
-        if not seg.blend and hasattr(rec, "start") and hasattr(rec, "end"):
-            ends = np.array([[rec.start.get(a, 0.0) for a in axes], [rec.end.get(a, 0.0) for a in axes]])
-        else:
-            ends = np.vstack([piece.start, piece.end])
-        ends_lo, ends_hi = ends.min(axis=0), ends.max(axis=0)
-        for i, axis in enumerate(axes):
-            if pmax[i] > hi[i] + tol and pmax[i] > ends_hi[i] + tol:
-                key = (seg.line, seg.blend, axis, "upper")
-                if key not in worst or pmax[i] > worst[key][0]:
-                    worst[key] = (pmax[i], hi[i], rec)
-            if pmin[i] < lo[i] - tol and pmin[i] < ends_lo[i] - tol:
-                key = (seg.line, seg.blend, axis, "lower")
-                if key not in worst or pmin[i] < worst[key][0]:
-                    worst[key] = (pmin[i], lo[i], rec)
-
-    def diagnostics(self, file: str) -> list[Diagnostic]:
-        out = []
-        for (line, blend, axis, bound), (value, limit, rec) in self.worst.items():
-            src = getattr(rec, "src", None)
-            what = "the corner blend after this block" if blend else "the arc of this block"
-            out.append(Diagnostic(src.file if src else file, line, 1, "PLN100", "error",
-                                  f"{what} reaches {axis} {value:.4f} (machine), beyond its {bound} soft limit "
-                                  f"{limit:g}", src.text if src else ""))
-        return out
-
-
-def _hull(piece) -> tuple[np.ndarray, np.ndarray] | None:
-    """A box round a curved piece, cheaper than its extent: a Bézier curve lies within its control
-    points' box; an arc (helix, spiral) within its circle's square of the largest radius and, on
-    the other axes, between its end points.  None for another kind of piece."""
-    controls = getattr(piece, "controls", None)
-    if controls is not None:
-        return controls.min(axis=0), controls.max(axis=0)
-    if not hasattr(piece, "center"):
-        return None
-    lo, hi = np.minimum(piece.start, piece.end), np.maximum(piece.start, piece.end)
-    radius = max(piece.r0, piece.r0 + piece.dr * piece.length)
-    for axis, centre in zip((piece.ia, piece.io), piece.center, strict=True):
-        lo[axis], hi[axis] = centre - radius, centre + radius
-    return lo, hi
-
-
-def piece_extent(piece) -> tuple[np.ndarray, np.ndarray]:
-    """Per-axis min and max of a planned piece (machine coordinates).
-
-    Arcs (helices, spirals) are exact: their planar extremes lie where the
-    angle crosses a quarter turn.  Other curves are sampled (65 points).
-    """
-    length = piece.length
-    if hasattr(piece, "theta0") and hasattr(piece, "w") and piece.w != 0.0:
-        th0, th1 = piece.theta0, piece.theta0 + piece.w * length
-        k0, k1 = math.ceil(min(th0, th1) / (math.pi / 2)), math.floor(max(th0, th1) / (math.pi / 2))
-        ks = range(k0, min(k1, k0 + 4000) + 1)
-        s = np.clip(np.array([0.0, length, *((k * math.pi / 2 - th0) / piece.w for k in ks)]), 0.0, length)
-        q = piece.derivatives(s)[0]
-    elif hasattr(piece, "points"):
-        q = piece.points(65)
-    else:
-        q = piece.derivatives(np.linspace(0.0, length, 65))[0]
-    q = np.vstack([q, piece.start, piece.end])
-    return q.min(axis=0), q.max(axis=0)
 
 
 class _Summary:

@@ -19,6 +19,7 @@ from .backends import Backend, BackendError, Status, get_backend
 from .diagnostics import Diagnostic
 from .machine import Machine, MachineError, load_machine
 from .plan import Planner, PlanningError, Segment
+from .plan.envelope import Envelope
 from .runtime import fewer_collections
 from .simulate import FinalState, dry_run, interpret
 
@@ -106,11 +107,13 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
     pacing = be.name == "sim" and bool(getattr(be, "realtime", None))
     planner = Planner(mach, keep_profiles=keep_profiles or pacing)
     sent, clock, moves, last = 0, 0.0, 0, None
+    envelope = Envelope(mach)   # PLN100 as check says it (checked before a real run, reported after a dry one)
     stopped_by, message = None, ""
     extra: list[Diagnostic] = []
     be.open()
     try:
         for seg in planner.segments(stream):
+            envelope.add(seg)
             be.send(seg)
             sent += 1
             if seg.kind == "motion" and not seg.blend and seg.record is not last:
@@ -135,8 +138,12 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         be.close()
     if check_first:
         extra += unmapped
+    else:
+        extra += envelope.diagnostics(stream.program.file)
     diagnostics = sorted([*stream.diagnostics, *extra], key=lambda d: (d.file, d.line, d.col))
     if stopped_by is None and any(d.is_error for d in diagnostics):
-        stopped_by, message = "error", "the program stopped at an error"
+        beyond = all(d.code == "PLN100" for d in diagnostics if d.is_error)
+        stopped_by, message = "error", ("the planned path leaves the soft limits" if beyond
+                                        else "the program stopped at an error")
     return RunReport(stopped_by is None, diagnostics, status, clock, total, sent, stopped_by, message, be,
                      stream.interpreter.ended, moves, stream.state)

@@ -20,6 +20,7 @@ from .interp.state import ChannelState
 from .machine import Machine, MachineError, load_machine
 from .persist import attach_parameter_file
 from .plan import Planner, PlanningError, Segment, Trajectory, sample
+from .plan.envelope import Envelope
 from .runtime import fewer_collections
 from .syntax import parse_file, parse_text, source_encoding
 from .syntax.ast import Program
@@ -323,10 +324,12 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
         interp = Interpreter(program, mach, block_skip=block_skip, stream=body)
         attach_parameter_file(interp)   # the saved global/common parameters; a dry run never saves them
         records = _Watched(interp, on_record)
+        envelope = Envelope(mach)   # PLN100: what lies between the programmed end points
         clock = 0.0
         try:
             for seg in Planner(mach).segments(records):
                 clock = seg.t0 + seg.duration
+                envelope.add(seg)
                 if on_segment is not None:
                     on_segment(seg)
         except PlanningError as exc:
@@ -336,5 +339,5 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
                 pass
     finally:
         getattr(lines, "close", lambda: None)()
-    out = sorted([*diagnostics, *interp.diagnostics], key=_place)
+    out = sorted([*diagnostics, *interp.diagnostics, *envelope.diagnostics(file)], key=_place)
     return DryRun(True, out, clock, records.moves, interp.ended)

@@ -215,14 +215,14 @@ def test_dry_run_of_program_text_agrees_with_simulate(text):
 def test_the_envelope_box_holds_every_curve(programs):
     """The PLN100 check skips the exact extent of a curve whose cheap box (a Bézier curve's control
     points, an arc's circle) lies within the soft limits: that box must hold the whole curve."""
-    from fagorcnc.check import _hull, piece_extent
+    from fagorcnc.plan.envelope import hull, piece_extent
 
     result = fagorcnc.simulate(programs[1500])
     curved = [s.piece for s in result.segments(keep_profiles=False) if s.piece is not None and s.piece.curved]
     kinds = {type(p).__name__ for p in curved}
     assert kinds == {"ArcPiece", "BlendPiece"}
     for piece in curved:
-        lo, hi = _hull(piece)
+        lo, hi = hull(piece)
         pmin, pmax = piece_extent(piece)
         assert (lo <= pmin + 1e-9).all() and (pmax <= hi + 1e-9).all(), piece
 
@@ -238,3 +238,12 @@ def test_the_streamed_run_decodes_latin1_as_the_check_does(tmp_path):
     (shown,) = [d for d in streamed.diagnostics if d.code == "INT077"]   # the #MSG text, shown
     assert shown.message == "#MSG: réglage" and shown.source == '#MSG ["réglage"]'
     assert [str(d) for d in streamed.diagnostics] == [str(d) for d in fagorcnc.simulate(f).diagnostics]
+
+
+def test_dry_run_reports_an_arc_that_leaves_the_soft_limits_as_check_does(tmp_path):
+    # PLN100 is part of the dry run's verdict: the check, the check before a real run and the dry run agree
+    arc = tmp_path / "arc.nc"
+    arc.write_text("G0 X990 Y-20\nG3 X990 Y20 I0 J20 F1000\nM30\n")
+    result = fagorcnc.dry_run(arc)
+    assert not result.ok and [(d.code, d.line) for d in result.diagnostics] == [("PLN100", 2)]
+    assert [d.code for d in check_file(arc).diagnostics] == ["PLN100"]   # reported once, not twice

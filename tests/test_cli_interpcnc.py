@@ -39,6 +39,23 @@ def test_run_refuses_to_start_on_a_program_with_errors(tmp_path, capsys):
     assert executed == [] and requests == 0
 
 
+def test_run_sends_nothing_when_an_arc_leaves_the_soft_limits_between_its_end_points(tmp_path, capsys):
+    # both end points at X990, the arc bulges to X1010 (default limit +1000): the end-point check (INT100)
+    # passes, the planned path does not (PLN100, what check says): nothing may reach the machine
+    arc = tmp_path / "arc.nc"
+    arc.write_text("G0 X990 Y-20\nG3 X990 Y20 I0 J20 F1000\nM30\n")
+    with Emulator(port=0, speed=50.0) as emu:
+        code = main(["run", "--backend", "interpcnc", "--port", str(emu.port), str(arc)])
+        out = capsys.readouterr().out
+        executed, requests = emu.executed(), emu.requests
+    assert code == 1 and "PLN100" in out and "X 1010.0000" in out and "nothing was sent" in out, out
+    assert executed == [] and requests == 0
+    # on the simulator the dry run goes through and says so too
+    code = main(["run", str(arc)])
+    out = capsys.readouterr().out
+    assert code == 1 and "PLN100" in out and "leaves the soft limits" in out, out
+
+
 def test_emulate_command_serves_until_interrupted():
     proc = subprocess.Popen([sys.executable, "-m", "fagorcnc.cli", "emulate", "--port", "0"], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
