@@ -82,6 +82,18 @@ class _ProgressBar:
             self.stream.flush()
 
 
+def _where(report) -> str:
+    """Where the tool ended: the program's end point (part coordinates) after a complete run; after
+    an error or an alarm where the back-end last stood (machine coordinates), since the interpreter
+    may have gone on past the last move the machine made; nothing when nothing moved."""
+    if report.ok and report.state is not None:
+        pos, label = report.state.position("part"), "final position"
+    else:
+        pos, label = report.status.position, "position (machine)"
+    where = " ".join(f"{a}{v:.4f}" for a, v in pos.items())
+    return f"{label} {where}, " if where else ""
+
+
 def _clock(seconds: float) -> str:
     minutes, sec = divmod(max(seconds, 0.0), 60.0)
     hours, minutes = divmod(int(minutes), 60)
@@ -151,13 +163,11 @@ def _run_command(args: argparse.Namespace) -> int:
         if d.severity != "info" or args.verbose:
             print(d.render())
     status = report.status
-    pos = report.state.position("part") if report.state is not None else status.position
-    where = " ".join(f"{a}{v:.4f}" for a, v in pos.items())
     errors = sum(d.is_error for d in report.diagnostics)
     target = "the embedded simulator" if args.backend == "sim" else f"back-end {args.backend}"
     verdict = "OK" if report.ok else f"STOPPED ({report.message})"
     print(f"{args.file}: {verdict} on {target}: {report.moves} moves, ended by {report.ended_by or 'end of file'}, "
-          f"last block executed: line {status.line}, final position {where}, cycle time "
+          f"last block executed: line {status.line}, {_where(report)}cycle time "
           f"{_clock(report.cycle_time)} (jerk-limited plan), {errors} errors")
     if report.stopped_by == "interrupt":
         return 130

@@ -21,7 +21,7 @@ from .machine import Machine, MachineError, load_machine
 from .plan import Planner, PlanningError, Segment
 from .plan.envelope import Envelope
 from .runtime import fewer_collections
-from .simulate import FinalState, dry_run, interpret
+from .simulate import FinalState, dry_run, interpret, syntax_errors
 
 
 @dataclass
@@ -103,6 +103,11 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         if unmapped and getattr(getattr(be, "options", None), "strict_outputs", False):
             return RunReport(False, [*checked.diagnostics, *unmapped], be.status(), stopped_by="error",
                              message="auxiliary functions without an output mapping: nothing was sent", backend=be)
+    else:   # the program streams from its file; one with a syntax or structure error anywhere is not started
+        errors = syntax_errors(source)
+        if errors:
+            return RunReport(False, errors, be.status(), stopped_by="error",
+                             message="the program has errors: nothing was run", backend=be)
     stream = interpret(source, mach, block_skip=block_skip)
     pacing = be.name == "sim" and bool(getattr(be, "realtime", None))
     planner = Planner(mach, keep_profiles=keep_profiles or pacing)

@@ -287,6 +287,15 @@ def _syntax(source: str | Path, file: str) -> tuple[list[Diagnostic], str]:
         getattr(lines, "close", lambda: None)()
 
 
+def syntax_errors(source: str | Path) -> list[Diagnostic]:
+    """The syntax and structure errors of the whole program (a file's path or the program text), read
+    once in constant memory: a program with one is not started (as in :func:`simulate`)."""
+    file = str(source) if _is_file(source) else "<string>"
+    with fewer_collections():
+        diagnostics, _ = _syntax(source, file)
+    return sorted((d for d in diagnostics if d.is_error), key=_place)
+
+
 def dry_run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
             on_record: RecordWatcher | None = None,
             on_segment: Callable[[Segment], None] | None = None) -> DryRun:

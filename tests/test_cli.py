@@ -83,6 +83,26 @@ def test_run_reports_an_interpreter_error_and_exits_1(tmp_path, capsys):
     assert f"{f}:2:" in out and "INT033" in out and "STOPPED" in out and "1 moves" in out
 
 
+def test_run_does_not_start_a_program_with_a_structure_error_anywhere(tmp_path, capsys):
+    # the $WHILE is never closed, after M30: the streamed run used to execute up to M30 and say OK,
+    # while check, parse and simulate() report STR006 (as the CNC, which does not start it)
+    f = tmp_path / "open_while.nc"
+    f.write_text("P1=0\n$WHILE P1<2\nP1=P1+1\nG1 X[P1*10] F1000\nM30\n")
+    assert main(["run", str(f)]) == 1
+    out = capsys.readouterr().out
+    assert f"{f}:2:1: STR006" in out and "nothing was run" in out and "0 moves" in out
+    assert "final position" not in out and "position (machine)" not in out   # nothing moved: no position
+
+
+def test_run_stopped_by_an_error_shows_where_the_machine_stands_not_where_the_program_went(tmp_path, capsys):
+    # G1 X10 has no feed (INT060): the tool stays at the G0's end, X0 Z5 in machine coordinates
+    f = tmp_path / "no_feed.nc"
+    f.write_text("G0 X0 Y0 Z5\nG1 X10\nG1 Z-2\nM30\n")
+    assert main(["run", str(f)]) == 1
+    out = capsys.readouterr().out
+    assert "INT060" in out and "position (machine) X0.0000 Y0.0000 Z5.0000," in out, out
+
+
 def test_run_with_a_bad_machine_file_is_a_usage_error(tmp_path, capsys):
     m = tmp_path / "m.toml"
     m.write_text("[axes.X]\ntype = 'spiral'\n")
