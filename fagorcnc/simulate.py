@@ -300,7 +300,9 @@ def dry_run(source: str | Path, machine: Machine | dict | str | Path | None = No
             on_record: RecordWatcher | None = None,
             on_segment: Callable[[Segment], None] | None = None) -> DryRun:
     """A dry run in constant memory: :func:`simulate`'s diagnostics, cycle time and ending without
-    keeping the program or its records, whatever its length (a CAM program of millions of blocks).
+    keeping the program or its records, whatever its length (a CAM program of millions of blocks),
+    and PLN100 where the planned path (an arc, a corner curve) leaves the soft limits between the
+    programmed end points.
 
     The whole file is first read for its syntax (a program with a syntax error anywhere is not
     started, as in :func:`simulate`), then read again lazily, interpreted and planned in one
