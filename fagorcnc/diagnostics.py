@@ -134,6 +134,7 @@ CODES: dict[str, str] = {
     "INT113": "corner or override function in the wrong block",
     "INT114": "G193 needs linear acceleration",
     "INT115": "corner rounding type not modelled",
+    "INT116": "local subroutine called by its number with an L in front (#CALL L100)",
     "PLN001": "motion cannot be planned within the machine limits",
     # fagorcnc check: verification of the planned motion
     "PLN100": "planned path (arc or corner blend) beyond a software limit",

@@ -1254,3 +1254,19 @@ def test_tangfeed_takes_its_minimum_radius():
     for bad in ("#TANGFEED RMIN [-1]\nM30\n", "P1=-2\n#TANGFEED RMIN [P1]\nM30\n"):
         assert [d.code for d in fagorcnc.simulate(bad).diagnostics] == ["INT071"], bad
     assert fagorcnc.simulate("P1=2\n#TANGFEED RMIN [P1*3]\nG196\nG01 X10 F100\nM30\n").ok
+
+
+def test_call_l_and_the_number_of_a_local_subroutine_as_cam_posts_write_it():
+    # Autodesk's Fagor 8065 post defines "%L 100" and calls "#CALL L100" (the manual writes "#CALL 100" or
+    # "LL 100", seed 002 L10303, L10343): the local subroutine 100 runs, and a note says so once per call
+    text = ("%L 100\nG91 G1 X10 F1000\nG90\nM17\n%MAIN\nG0 X0 Y0\nP1=0\n$WHILE P1<3\nP1=P1+1\n#CALL L100\n"
+            "$ENDWHILE\nM30\n")
+    r = fagorcnc.simulate(text)
+    assert r.ok, r.diagnostics
+    assert [m.end["X"] for m in r.moves if m.kind == "linear"] == [10.0, 20.0, 30.0]
+    assert [(d.code, d.line, d.severity) for d in r.diagnostics] == [("INT116", 10, "info")]
+    # a subroutine really named L100 is still the one called; LL keeps the manual's meaning
+    named = fagorcnc.simulate("%L L100\nG1 X5 F1000\nM17\n%L 100\nG1 X7 F1000\nM17\n%MAIN\n#CALL L100\nM30\n")
+    assert [m.end["X"] for m in named.moves if m.kind == "linear"] == [5.0] and not named.diagnostics
+    assert [d.code for d in fagorcnc.simulate("%L 100\nG1 X5 F1000\nM17\n%MAIN\nLL L100\nM30\n").diagnostics] \
+        == ["INT091"]

@@ -72,6 +72,7 @@ class Interpreter:
         self.frames: list[Frame] = []
         self.modal_call: ModalCall | None = None
         self.mcs_block = False
+        self._l_calls: set = set()   # "#CALL L100" calls already reported (INT116)
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
@@ -479,6 +480,17 @@ class Interpreter:
             routine = program.subroutines.get(key)
             if routine is None and key.endswith((".NC", ".FST")):
                 routine = program.subroutines.get(key.rsplit(".", 1)[0])
+            if routine is None and kind != "LL" and key[:1] == "L" and key[1:].isdigit() and key[1:] in \
+                    program.subroutines:
+                # CAM posts (Autodesk's Fagor 8065) define "%L 100" and call it "#CALL L100"; the manual's
+                # call is "#CALL 100" or "LL 100" (seed 002 L10303, L10343): taken, and said
+                routine = program.subroutines[key[1:]]
+                block = self._current_block
+                site = (self.frames[-1].program.file, block.line if block else 0, col)
+                if site not in self._l_calls:   # once per call, not per pass of a loop
+                    self._l_calls.add(site)
+                    self.message("INT116", "info", f"#{kind} {target}: no subroutine {target}, so the local "
+                                 f"subroutine {key[1:]} (%L {key[1:]}) is called, as CAM posts write it", col)
             if routine is not None:
                 caller = self.frames[-1].source
                 if caller.kind == "local":
