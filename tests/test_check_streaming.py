@@ -247,3 +247,14 @@ def test_dry_run_reports_an_arc_that_leaves_the_soft_limits_as_check_does(tmp_pa
     result = fagorcnc.dry_run(arc)
     assert not result.ok and [(d.code, d.line) for d in result.diagnostics] == [("PLN100", 2)]
     assert [d.code for d in check_file(arc).diagnostics] == ["PLN100"]   # reported once, not twice
+
+
+def test_a_utf8_byte_order_mark_is_not_part_of_the_header(tmp_path):
+    # Windows editors may write a UTF-8 byte-order mark first: it used to stand before '%PART' (SYN002)
+    f = tmp_path / "bom.nc"
+    f.write_bytes(b"\xef\xbb\xbf%PART\nG1 X10 F1000\nM30\n")
+    assert fagorcnc.simulate(f).ok and fagorcnc.simulate(f).program.name == "PART"
+    assert fagorcnc.simulate(f.read_text(encoding="utf-8")).program.name == "PART"   # text decoded without -sig
+    assert fagorcnc.dry_run(f).ok and check_file(f).diagnostics == []
+    streamed = fagorcnc.interpret(f)
+    assert [m.end["X"] for m in streamed if m.kind == "linear"] == [10.0] and streamed.ok

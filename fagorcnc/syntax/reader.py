@@ -38,8 +38,14 @@ def line_parser() -> LineParser:
     return _parser
 
 
+#: The byte-order mark, as it reads in a text decoded as UTF-8.
+BOM = "\ufeff"
+
+
 def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
     if isinstance(source, str):
+        if source.startswith(BOM):
+            source = source[1:]   # text decoded as plain UTF-8 keeps an editor's byte-order mark
         # Only line ends separate blocks: str.splitlines() would also split on
         # \x85, \x0c, \u2028..., which can stand inside comments.
         # CR LF and a lone CR end a line too (universal newlines, like open()).
@@ -114,9 +120,11 @@ def read_source(path: Union[str, Path]) -> str:
 
 
 def source_encoding(path: Union[str, Path]) -> str:
-    """The encoding of a program file: ``"utf-8"``, or ``"latin-1"`` (files written by older
-    editors) when it is not valid UTF-8; found by reading it in chunks, in constant memory, so a
-    program read lazily line by line is decoded as :func:`read_source` decodes it whole."""
+    """The encoding of a program file: ``"utf-8-sig"`` (UTF-8, without the byte-order mark some
+    Windows editors write first, which would stand before the header), or ``"latin-1"`` (files
+    written by older editors) when it is not valid UTF-8; found by reading it in chunks, in
+    constant memory, so a program read lazily line by line is decoded as :func:`read_source`
+    decodes it whole."""
     decoder = codecs.getincrementaldecoder("utf-8")()
     with open(path, "rb") as f:
         try:
@@ -125,7 +133,7 @@ def source_encoding(path: Union[str, Path]) -> str:
             decoder.decode(b"", final=True)
         except UnicodeDecodeError:
             return "latin-1"
-    return "utf-8"
+    return "utf-8-sig"
 
 
 def parse_file(path: Union[str, Path]) -> Program:
