@@ -281,6 +281,15 @@ def _time_limited(machine: Machine, seconds: float | None) -> Machine:
     return dataclasses.replace(machine, limits=dataclasses.replace(machine.limits, max_seconds=seconds))
 
 
+def _no_block(path: Path) -> bool:
+    """Whether the file holds no block at all (read until the first one)."""
+    from .syntax import iter_lines, source_encoding
+    from .syntax.ast import Block
+
+    with open(path, encoding=source_encoding(path), errors="replace") as lines:
+        return not any(type(node) is Block for node, _ in iter_lines(lines, str(path)))
+
+
 def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool) -> None:
     from .simulate import dry_run
 
@@ -297,6 +306,9 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
     if recover and not result.ok:
         found += [(d, True) for d in _recover(path, machine, block_skip, result.diagnostics)]
     report.tools, report.origins, report.boxes = summary.tools(), summary.origins(), summary.boxes()
+    if result.executed and result.moves == 0 and result.ended_by is None and _no_block(path):
+        found.append((Diagnostic(str(path), 1, 1, "STR012", "error", "the file has no block to execute: "
+                                 "empty, or only comments (a truncated or failed post-processor output?)"), False))
     if report.cycle_time_exceeded:
         found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
                                  f"planned cycle time {_clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "

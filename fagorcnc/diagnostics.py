@@ -50,6 +50,7 @@ CODES: dict[str, str] = {
     "STR009": "$BREAK or $CONTINUE outside a loop",
     "STR010": "second program header",
     "STR011": "bare program name taken as the program header",
+    "STR012": "the file has no block to execute (fagorcnc check)",
     # interpreter
     "INT010": "unknown G function",
     "INT011": "G function not supported by fagorcnc yet",

@@ -277,3 +277,17 @@ def _demo_time() -> str:
     """The demo's planned cycle time as the reports print it (m:ss.s)."""
     minutes, seconds = divmod(fagorcnc.simulate(DEMO).cycle_time, 60.0)
     return f"{int(minutes)}:{seconds:04.1f}"
+
+
+def test_an_empty_file_or_one_of_comments_only_fails_the_check(tmp_path, capsys):
+    # a post-processor that crashed leaves an empty or truncated file: CI must not pass it
+    for name, text in (("empty.nc", ""), ("comments.nc", "; T1 D=6 FLAT END MILL\n\n(nothing else)\n")):
+        f = tmp_path / name
+        f.write_text(text)
+        status, out = _run(capsys, "--brief", "-q", f)
+        assert status == 1 and f"{f}:1:1: STR012" in out, out
+    # a program of blocks without motion is a program: only the missing M30 is said
+    f = tmp_path / "params.nc"
+    f.write_text("P1=2\n")
+    status, out = _run(capsys, "--brief", "-q", f)
+    assert status == 0 and "STR012" not in out and "INT098" in out
