@@ -135,6 +135,7 @@ class IsoExecutor:
                     raise InterpError("INT023", f"{addr} is written twice in the block", col)
                 bw.params[addr] = (ev.value(w.value), col)
             elif addr[0] in _AXIS_LETTERS:
+                self._unknown_g(words)   # "G51 A45 E0.002" (another CNC's smoothing): the G is the mistake
                 raise InterpError("INT024", f"axis {addr} does not exist on this machine", col)
             else:
                 raise InterpError("INT025", f"'{addr}' is not meaningful here", col)
@@ -145,6 +146,18 @@ class IsoExecutor:
         if axis in bw.axes:
             raise InterpError("INT023", f"axis {axis} is written twice in the block", col)
         bw.axes[axis] = (value, col)
+
+    def _unknown_g(self, words: list[Word]) -> None:
+        """Raise INT010 for a G function of the block that the 8060/8065 does not have, if any: its
+        other words may be meaningless only because of it."""
+        for w in words:
+            if w.address == "G" and w.value is not None:
+                try:
+                    n = self.ev.integer(w.value, "G", w.col, 0, 9999)
+                except InterpError:
+                    continue
+                if n not in G_FUNCTIONS:
+                    raise InterpError("INT010", f"G{n} is not a G function of the 8060/8065", w.col)
 
     def check_g(self, bw: BlockWords) -> None:
         seen: dict[str, int] = {}
