@@ -77,9 +77,10 @@ def test_unmapped_auxiliary_functions_are_reported_not_dropped():
     machine, segments = plan("G90 G0 X1\nM3\nM8\nT2 M6\nG1 X2 F100\nM30\n")
     with Emulator(port=0, speed=20.0) as emu:
         backend = InterpCncBackend(machine, port=emu.port, outputs={"M3": M3})
-        problems = backend.check(segments)                    # M8; T2, M6 and the implicit D1 of line 4
-        assert [w.split(":")[0] for w in problems] == ["line 3", "line 4", "line 4", "line 4"]
-        assert [w.split(": ")[1].split()[0] for w in problems] == ["M8", "T2", "M6", "D1"]
+        # M8; T2 and M6 of line 4 (not its implicit D1: an offset, already in the path, nothing for the card)
+        problems = backend.check(segments)
+        assert [w.split(":")[0] for w in problems] == ["line 3", "line 4", "line 4"]
+        assert [w.split(": ")[1].split()[0] for w in problems] == ["M8", "T2", "M6"]
         backend.open()
         for seg in segments:
             backend.send(seg)

@@ -42,7 +42,9 @@ from ...machine import Machine
 from ..base import BackendError
 from . import registers as regs
 
-DEFAULT_IGNORED = ("M2", "M30")   # end of program: nothing for the card to do
+#: Nothing for the card to do: the end of the program, and D, which selects a tool offset whose
+#: radius and length the path sent already includes.
+DEFAULT_IGNORED = ("M2", "M30", "D")
 
 
 @dataclass(frozen=True)
