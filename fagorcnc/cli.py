@@ -82,6 +82,10 @@ class _ProgressBar:
             self.stream.flush()
 
 
+def _not_a_file(path: str) -> str:
+    return "it is a directory" if Path(path).is_dir() else "no such file"
+
+
 def _where(report) -> str:
     """Where the tool ended: the program's end point (part coordinates) after a complete run; after
     an error or an alarm where the back-end last stood (machine coordinates), since the interpreter
@@ -126,7 +130,7 @@ def _run_command(args: argparse.Namespace) -> int:
         machine = dataclasses.replace(machine, limits=dataclasses.replace(machine.limits,
                                                                           max_seconds=args.max_seconds))
     if not Path(args.file).is_file():
-        print(f"{args.file}: cannot read the file: no such file", file=sys.stderr)
+        print(f"{args.file}: cannot read the file: {_not_a_file(args.file)}", file=sys.stderr)
         return 2
     options = {}
     if args.backend == "interpcnc":
@@ -223,7 +227,7 @@ def _plot_command(args: argparse.Namespace) -> int:
     from .plot import MatplotlibMissingError, plot_program
 
     if not Path(args.file).is_file():
-        print(f"{args.file}: cannot read the file: no such file", file=sys.stderr)
+        print(f"{args.file}: cannot read the file: {_not_a_file(args.file)}", file=sys.stderr)
         return 2
     try:
         info = plot_program(Path(args.file), args.output, args.machine, three_d=args.three_d, plane=args.plane,

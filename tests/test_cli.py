@@ -108,3 +108,11 @@ def test_run_with_a_bad_machine_file_is_a_usage_error(tmp_path, capsys):
     m.write_text("[axes.X]\ntype = 'spiral'\n")
     assert main(["run", "--machine", str(m), str(DEMO)]) == 2
     assert "axes.X.type" in capsys.readouterr().err
+
+
+def test_run_and_plot_say_a_directory_is_a_directory(tmp_path, capsys):
+    for command in (["run"], ["plot", "-o", str(tmp_path / "x.png")]):
+        assert main([*command, str(tmp_path)]) == 2
+        assert f"{tmp_path}: cannot read the file: it is a directory" in capsys.readouterr().err
+    assert main(["run", str(tmp_path / "nope.nc")]) == 2
+    assert "cannot read the file: no such file" in capsys.readouterr().err

@@ -1062,6 +1062,9 @@ def test_g01_without_any_feed_is_an_error_l4064_l4065():
     r = run("G00 X1\nG01 X10\nM30\n")
     assert errors(r) == [("INT060", 2)]
     assert len(motions(r)) == 1
+    assert "no feed programmed (F)" in r.diagnostics[0].message
+    zero = run("G01 X10 F0\nM30\n")   # F0 is a feed of 0, not a missing one: said as such
+    assert errors(zero) == [("INT060", 1)] and "the feed is 0 (F0)" in zero.diagnostics[0].message
 
 
 def test_g00_needs_no_feed_l4058_l4060():

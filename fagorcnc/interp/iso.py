@@ -717,7 +717,8 @@ class IsoExecutor:
         if st.feed is None or st.feed == 0:
             if self.machine.default("DEFAULTFEED") and self.machine.max_feed > 0:
                 return self.machine.max_feed
-            raise InterpError("INT060", "no feed programmed for this G01/G02/G03 move (F)", 1)
+            what = "the feed is 0 (F0)" if st.feed == 0 else "no feed programmed (F)"
+            raise InterpError("INT060", f"{what} for this G01/G02/G03 move", 1)
         if mode == 93:
             feed = length / st.feed * 60.0
         elif mode == 95:
