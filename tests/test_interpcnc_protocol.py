@@ -266,6 +266,10 @@ def test_options_validation_names_the_key():
         ({"outputs": {"S": {"type": 2, "output": 0}}}, "outputs.S"),
         ({"outputs": {"Q3": {"type": 1, "output": 0, "value": 1}}}, "outputs.Q3"),
         ({"outputs": {"T": {"type": 3, "register": 3990, "scale": 1}}}, "outputs.T.register"),  # the markers
+        # seed 000 L564: the position counters are never changed during a move; L476: the card's parameters
+        ({"outputs": {"T": {"type": 3, "register": 2401, "scale": 1}}}, "outputs.T.register"),
+        ({"outputs": {"T": {"type": 3, "register": 32010, "scale": 1}}}, "outputs.T.register"),
+        ({"outputs": {"T": {"type": 3, "register": 62000, "scale": 1}}}, "outputs.T.register"),
         ({"resolution": {"W": 100}}, "resolution.W"),
         ({"outputs": {"M3": [], "M03": []}}, "outputs.M03"),
         ({"axis_map": {"Z": "Q"}}, "axis_map.Z"),
@@ -276,6 +280,12 @@ def test_options_validation_names_the_key():
         with pytest.raises(BackendError) as err:
             InterpCncBackend(machine, **options)
         assert key in str(err.value), (options, str(err.value))
+
+
+def test_a_register_action_may_write_user_registers_and_overrides():
+    machine = fagorcnc.simulate("G0 X0\n").machine
+    for register in (2150, 2412, 2430, 3000, 3989, 3993, 4000, 4999, 31999, 36000, 61999):
+        InterpCncBackend(machine, outputs={"T": {"type": 3, "register": register, "scale": 1}})
 
 
 def test_outputs_schema_and_unmapped_functions_are_reported_before_streaming():

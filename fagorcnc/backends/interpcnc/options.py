@@ -190,6 +190,19 @@ def _function_key(name: Any) -> str | None:
     return key[0] + (str(int(m.group(1))) if m.group(1) else "")
 
 
+def _forbidden_register(addr: int) -> str:
+    """Why a holding register may not be an action's target ('' if it may): the position counters
+    (seed 000 L564: never to be changed during a move, and an action runs with the motion), the
+    card's parameters (L476) and its memory pointers (L477-L483)."""
+    if regs.HR_AXIS_POSITION <= addr < regs.HR_AXIS_POSITION + 12:
+        return "a position counter (seed 000 L564: never changed during a move)"
+    if regs.HR_PARAMETERS <= addr < regs.HR_PARAMETERS + 4000:
+        return "one of the card's parameters (32000-35999)"
+    if addr >= 62000:
+        return "a pointer into the card's memory (62000 and above)"
+    return ""
+
+
 def _ignore(value: Any) -> frozenset[str]:
     if not isinstance(value, list | tuple) or not all(isinstance(v, str) for v in value):
         raise _err("ignore", "expected a list of function names such as [\"M30\"]")
@@ -244,6 +257,9 @@ def _action(key: str, spec: Any, marker: int) -> OutputAction:
             if marker <= addr <= marker + 2:
                 raise _err(f"{key}.register", f"{addr} holds the sequence markers and the gate (marker_register "
                            "and the next two)")
+            forbidden = _forbidden_register(addr)
+            if forbidden:
+                raise _err(f"{key}.register", f"{addr} is {forbidden}: an auxiliary function must not write it")
             high = 0xFFFF
         if ("value" in spec) == ("scale" in spec):
             raise _err(key, "give exactly one of 'value' (fixed) or 'scale' (times the function's value)")
