@@ -8,13 +8,14 @@ through :func:`load_ini`, which returns a dict in the machine-file schema of
 What is read (seed 003 = LinuxCNC integrator manual, French; spec
 ``rosettacnc-linuxcnc.md``):
 
-* ``[TRAJ]`` ``COORDINATES`` (axis letters; a letter written twice is a gantry,
-  seed 003 L896-L900), ``LINEAR_UNITS`` (``mm``/``metric``, ``in``/``inch``/
+* ``[TRAJ]`` ``COORDINATES`` (the axis letters, a letter written twice counted
+  once, seed 003 L896-L900), ``LINEAR_UNITS`` (``mm``/``metric``, ``in``/``inch``/
   ``imperial``, L916) and ``ANGULAR_UNITS`` (``deg``/``degree``, ``rad``/
   ``radian``, ``grad``/``gon``, L919), ``MAX_LINEAR_VELOCITY`` (older
   ``MAX_VELOCITY``, L929) caps rapids and feeds (``rapid_feed``, ``max_feed``),
-  ``MAX_LINEAR_ACCELERATION`` (older ``MAX_ACCELERATION``, L932) and the angular
-  ``MAX_ANGULAR_*`` are the fallbacks of axes that give none;
+  ``MAX_LINEAR_ACCELERATION`` (older ``MAX_ACCELERATION``, L932) limits the
+  acceleration on the path (``[planner] max_path_acceleration``) and, with the
+  angular ``MAX_ANGULAR_*``, is the fallback of axes that give none;
 * ``[AXIS_X]``... (LinuxCNC 2.8+) or ``[AXIS_0]``... (older, numbered in
   ``XYZABCUVW`` order, L950-L966), and ``[JOINT_n]``: ``TYPE`` (``LINEAR`` /
   ``ANGULAR``, L968), ``WRAPPED_ROTARY`` (L969: 0..360 with the sign giving the
@@ -22,8 +23,10 @@ What is read (seed 003 = LinuxCNC integrator manual, French; spec
   override, L977), ``MAX_VELOCITY`` and ``MAX_ACCELERATION`` (L979-L980),
   ``MAX_JERK`` when present (jerk-limited LinuxCNC forks), ``MIN_LIMIT`` /
   ``MAX_LIMIT`` (soft limits, L1000-L1003), ``HOME`` (L1028).  Joints map to
-  axes through ``[KINS] KINEMATICS = trivkins coordinates=XYYZ`` or else
-  ``[TRAJ] COORDINATES`` in order; where an axis and its joints both give a
+  axes through ``[KINS] KINEMATICS = trivkins coordinates=XYYZ`` (a letter
+  written twice: a gantry) or else by trivial kinematics, X joint 0 ... A
+  joint 3 ... W joint 8 (L896-L900: ``[TRAJ] COORDINATES`` names the axes, its
+  order does not number the joints); where an axis and its joints both give a
   value the more restrictive one is taken;
 * ``[EMCMOT] SERVO_PERIOD`` in ns (L844) -> ``[planner] servo_period`` in s;
 * ``[RS274NGC] SUBROUTINE_PATH`` (``:``-separated, relative to the INI file,
@@ -172,6 +175,11 @@ def load_ini(path: str | Path) -> dict[str, Any]:
         value, key = vmax
         _positive(ini, traj, key, value)
         out["rapid_feed"] = out["max_feed"] = value * (60.0 * linear)
+    amax = _first(ini, traj, ("MAX_LINEAR_ACCELERATION", "MAX_ACCELERATION"))
+    if amax is not None:   # the trajectory's own limit (L932), on the path as well as each axis' fallback
+        value, key = amax
+        _positive(ini, traj, key, value)
+        out["planner"] = {"max_path_acceleration": value * linear}
     period = ini.number("EMCMOT", "SERVO_PERIOD")
     if period is not None:
         seconds = period * 1e-9
@@ -179,7 +187,7 @@ def load_ini(path: str | Path) -> dict[str, Any]:
             line = ini.get("EMCMOT", "SERVO_PERIOD")[1]
             raise MachineError(f"{ini.where('EMCMOT', 'SERVO_PERIOD', line)}: {period:g} ns is not a servo period "
                                f"(10000 ns to 1 s)")
-        out["planner"] = {"servo_period": seconds}
+        out.setdefault("planner", {})["servo_period"] = seconds
     paths = ini.text("RS274NGC", "SUBROUTINE_PATH")
     if paths:
         base = ini.path.resolve().parent
@@ -210,9 +218,10 @@ def _axis_letters(ini: IniFile) -> tuple[list[str], dict[str, list[str]]]:
             raise MachineError(f"{ini.where('TRAJ', 'COORDINATES', line)}: {bad[0]!r} is not an axis letter "
                                f"({' '.join(AXIS_LETTERS)})")
     kins = ini.text("KINS", "KINEMATICS") or ""
+    kins_letters: list[str] = []   # joint n drives kins_letters[n] (trivkins coordinates=XYYZ)
     for word in kins.split():
         if word.lower().startswith("coordinates="):
-            joint_letters = [c for c in word.split("=", 1)[1].upper() if c in AXIS_LETTERS]
+            kins_letters = joint_letters = [c for c in word.split("=", 1)[1].upper() if c in AXIS_LETTERS]
 
     present: list[str] = []
     for name in ini.sections:
@@ -236,7 +245,9 @@ def _axis_letters(ini: IniFile) -> tuple[list[str], dict[str, list[str]]]:
     for name in ini.sections:
         if name.startswith("JOINT_") and name[6:].isdigit():
             n = int(name[6:])
-            table = joint_letters or list(AXIS_LETTERS)
+            # without coordinates=, trivial kinematics: X is always joint 0, A joint 3, U joint 6, whatever
+            # [TRAJ] COORDINATES lists (seed 003 L896-L900: it "has no effect" on the joint numbers)
+            table = kins_letters or list(AXIS_LETTERS)
             if n < len(table):
                 joints.setdefault(table[n], []).append(name)
     return order, joints

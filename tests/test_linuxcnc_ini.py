@@ -151,3 +151,38 @@ def test_toml_includes_an_ini_and_overrides_single_keys(inch_ini, tmp_path):
     assert m.axes["X"].max_velocity == pytest.approx(2286.0)
     assert m.origins[1] == {"X": 10.0}
     assert m.parameter_file == tmp_path.resolve() / "params.var"
+
+
+def test_trivial_kinematics_number_the_joints_by_axis_letter_not_by_coordinates_order(tmp_path):
+    # seed 003 L896-L900: with trivial kinematics X is always joint 0, A joint 3, U joint 6; COORDINATES
+    # names the axes and has no effect on the joint numbers.  A lathe: COORDINATES = X Z, joints 0 and 2.
+    f = tmp_path / "lathe.ini"
+    f.write_text("[TRAJ]\nCOORDINATES = X Z\nLINEAR_UNITS = mm\n[KINS]\nKINEMATICS = trivkins\n"
+                 "[JOINT_0]\nMAX_VELOCITY = 20\nMAX_ACCELERATION = 200\n"
+                 "[JOINT_2]\nMAX_VELOCITY = 8\nMAX_ACCELERATION = 50\nMIN_LIMIT = -300\nMAX_LIMIT = 2\nHOME = 1\n")
+    m = load_machine(f)
+    x, z = m.axes["X"], m.axes["Z"]
+    assert m.axis_names == ["X", "Z"]
+    assert x.max_velocity == pytest.approx(20 * 60) and x.max_acceleration == pytest.approx(200)
+    # 8 mm/s = 480 mm/min and 50 mm/s² from JOINT_2, not the default axis
+    assert z.max_velocity == pytest.approx(480) and z.max_acceleration == pytest.approx(50)
+    assert (z.min_limit, z.max_limit, z.home) == pytest.approx((-300, 2, 1))
+    # with coordinates= the joints follow its letters: joint 1 is then Z
+    f.write_text("[TRAJ]\nCOORDINATES = X Z\n[KINS]\nKINEMATICS = trivkins coordinates=XZ\n"
+                 "[JOINT_1]\nMAX_VELOCITY = 8\n")
+    assert load_machine(f).axes["Z"].max_velocity == pytest.approx(480)
+
+
+def test_the_trajectory_acceleration_limits_the_path(tmp_path):
+    # seed 003 L932: [TRAJ] MAX_LINEAR_ACCELERATION, the trajectory's maximum acceleration (units/s²)
+    f = tmp_path / "m.ini"
+    body = "[AXIS_X]\nMAX_VELOCITY = 100\nMAX_ACCELERATION = 500\n[AXIS_Y]\nMAX_VELOCITY = 100\nMAX_ACCELERATION = 500\n"
+    f.write_text("[TRAJ]\nCOORDINATES = X Y\nMAX_LINEAR_ACCELERATION = 200\n" + body)
+    limited = load_machine(f)
+    assert limited.planner.max_path_acceleration == pytest.approx(200.0)
+    assert limited.axes["X"].max_acceleration == pytest.approx(500.0)   # the axis' own value stays
+    program = "G1 X100 F6000\nM30\n"   # 100 mm/s: 0.5 s of acceleration at 200 mm/s², 0.2 s at 500
+    slow = fagorcnc.simulate(program, limited).cycle_time
+    f.write_text("[TRAJ]\nCOORDINATES = X Y\n" + body)
+    fast = fagorcnc.simulate(program, load_machine(f)).cycle_time
+    assert slow > fast + 0.25
