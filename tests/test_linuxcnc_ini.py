@@ -176,7 +176,7 @@ def test_trivial_kinematics_number_the_joints_by_axis_letter_not_by_coordinates_
 def test_the_trajectory_acceleration_limits_the_path(tmp_path):
     # seed 003 L932: [TRAJ] MAX_LINEAR_ACCELERATION, the trajectory's maximum acceleration (units/s²)
     f = tmp_path / "m.ini"
-    body = "[AXIS_X]\nMAX_VELOCITY = 100\nMAX_ACCELERATION = 500\n[AXIS_Y]\nMAX_VELOCITY = 100\nMAX_ACCELERATION = 500\n"
+    body = "".join(f"[AXIS_{a}]\nMAX_VELOCITY = 100\nMAX_ACCELERATION = 500\n" for a in "XY")
     f.write_text("[TRAJ]\nCOORDINATES = X Y\nMAX_LINEAR_ACCELERATION = 200\n" + body)
     limited = load_machine(f)
     assert limited.planner.max_path_acceleration == pytest.approx(200.0)
