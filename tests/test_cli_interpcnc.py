@@ -28,13 +28,19 @@ def test_run_demo_on_the_emulated_card(tmp_path, capsys):
     assert len(moves) > 20
 
 
+def _run_on_the_card(path: Path, capsys) -> tuple[int, str, list, int]:
+    """``fagorcnc run --backend interpcnc`` of ``path`` on an emulated card: exit code, output, what the
+    card executed and how many Modbus requests it served."""
+    with Emulator(port=0, speed=50.0) as emu:
+        code = main(["run", "--backend", "interpcnc", "--port", str(emu.port), str(path)])
+        out = capsys.readouterr().out
+        return code, out, emu.executed(), emu.requests
+
+
 def test_run_refuses_to_start_on_a_program_with_errors(tmp_path, capsys):
     bad = tmp_path / "bad.nc"
     bad.write_text("G1 X10 F100\nP1 = 1/0\nM30\n")
-    with Emulator(port=0, speed=50.0) as emu:
-        code = main(["run", "--backend", "interpcnc", "--port", str(emu.port), str(bad)])
-        out = capsys.readouterr().out
-        executed, requests = emu.executed(), emu.requests
+    code, out, executed, requests = _run_on_the_card(bad, capsys)
     assert code == 1 and "INT033" in out and "nothing was sent" in out
     assert executed == [] and requests == 0
 
@@ -44,10 +50,7 @@ def test_run_sends_nothing_when_an_arc_leaves_the_soft_limits_between_its_end_po
     # passes, the planned path does not (PLN100, what check says): nothing may reach the machine
     arc = tmp_path / "arc.nc"
     arc.write_text("G0 X990 Y-20\nG3 X990 Y20 I0 J20 F1000\nM30\n")
-    with Emulator(port=0, speed=50.0) as emu:
-        code = main(["run", "--backend", "interpcnc", "--port", str(emu.port), str(arc)])
-        out = capsys.readouterr().out
-        executed, requests = emu.executed(), emu.requests
+    code, out, executed, requests = _run_on_the_card(arc, capsys)
     assert code == 1 and "PLN100" in out and "X 1010.0000" in out and "nothing was sent" in out, out
     assert executed == [] and requests == 0
     # on the simulator the dry run goes through and says so too
