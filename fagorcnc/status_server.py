@@ -513,7 +513,7 @@ class StatusServer:
         long(IR_SERIAL_NUMBER, self.serial_number)
 
         position = st.position
-        target = self._target or position
+        target = st.target or self._target or position   # the back-end's own, when it knows it
         for i, axis in enumerate(AXIS_SLOTS):
             pos = position.get(axis, 0.0)
             off = offsets.get(axis, 0.0)

@@ -35,6 +35,7 @@ def test_status_reports_the_block_running_and_the_position():
         st = backend.status()
         assert st.state == "run" and st.line == 1 and st.executed == 0 and st.sent == 4
         assert 1.0 < st.position["X"] < 5.0 and st.position["Y"] == 0.0
+        assert st.target == {"X": 5.0, "Y": 0.0, "Z": 0.0}        # the end of the move it is running
         assert 0.0 < st.buffer_level < 1.0
         backend.set_override(400)                             # 4x: the rest takes 1.2 s at most
         st = backend.finish()

@@ -441,3 +441,31 @@ def test_long_encoding_and_address_helpers():
     assert parse_address("0.0.0.0:502") == ("0.0.0.0", 502)
     with pytest.raises(ValueError):
         parse_address("host:port")
+
+
+def test_the_target_position_is_the_end_of_the_move_the_machine_is_running(tmp_path):
+    # seed 004 L61-L66 IR_TARGET_POSITION: the runner reports a segment after the back-end has run it, so the
+    # target read one move behind (where the tool came from); the back-end now says where it is going
+    program = tmp_path / "two.nc"
+    program.write_text("G90 G1 X100 F600\nG1 Y50\nM30\n")   # 10 s along X at y = 0, then 5 s along Y at x = 100
+    machine = fagorcnc.load_machine(None)
+    be = SimulatorBackend(machine, realtime=25.0)
+    with StatusServer(be, machine, port=0) as server:
+        client = client_for(server)
+        try:
+            run = threading.Thread(target=fagorcnc.run, args=(program, machine),
+                                   kwargs={"backend": be, "progress": server.progress_callback()})
+            run.start()
+            rows = []
+            while run.is_alive():
+                rows.append([ir_long(client, 30005 + 2 * i) for i in range(2)] +
+                            [ir_long(client, 30011 + 2 * i) for i in range(2)])
+                time.sleep(0.02)
+            run.join()
+        finally:
+            client.close()
+    along_x = [r for r in rows if r[1] == 0 and 0 < r[0] < 100000]
+    along_y = [r for r in rows if r[0] == 100000 and 0 < r[1] < 50000]
+    assert along_x and along_y, rows
+    assert all(r[2:] == [100000, 0] for r in along_x), along_x
+    assert all(r[2:] == [100000, 50000] for r in along_y), along_y

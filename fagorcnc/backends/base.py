@@ -31,7 +31,9 @@ class Status:
     code and its text (0 / "" when none); ``line``: source line of the last
     segment the machine executed (0 before the first); ``executed``/``sent``:
     segments executed and sent so far; ``position``: machine coordinates;
-    ``buffer_level``: fraction 0..1 of the back-end's buffer in use.
+    ``buffer_level``: fraction 0..1 of the back-end's buffer in use;
+    ``velocity``: per axis (mm/s) where the back-end knows it; ``target``: the end
+    (machine coordinates) of the motion segment the machine is executing, where known.
     """
 
     state: str = "idle"
@@ -43,6 +45,7 @@ class Status:
     position: dict[str, float] = field(default_factory=dict)
     buffer_level: float = 0.0
     velocity: dict[str, float] = field(default_factory=dict)
+    target: dict[str, float] = field(default_factory=dict)
 
 
 class BackendError(RuntimeError):

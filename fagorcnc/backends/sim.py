@@ -60,6 +60,8 @@ class SimulatorBackend:
         with self._lock:
             if st.state != "pause":      # a pause that came while the last segment ended stays a pause
                 st.state = "run"
+            if segment.kind == "motion":   # where the move now running goes (a PLC's target position)
+                st.target = dict(zip(self.axes, segment.piece.end.tolist(), strict=True))
         if self.realtime:
             self._pace(segment)
             if self._stopped:
@@ -125,7 +127,7 @@ class SimulatorBackend:
         """A copy of the status (call with the lock held)."""
         s = self._status
         return Status(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position), 0.0,
-                      dict(s.velocity))
+                      dict(s.velocity), dict(s.target))
 
     def close(self) -> None:
         with self._lock:

@@ -614,6 +614,9 @@ class InterpCncBackend:
         window = self._window
         while window and window[0].seq < marker:
             window.popleft()
+        if window and window[0].seq == marker and window[0].segment.kind == "motion":
+            # the move the card is running (its marker went out first): where it goes, for a PLC
+            self._set(target=dict(zip(self.axes, window[0].segment.piece.end.tolist(), strict=True)))
         if window and window[0].seq == marker and (complete or window[0].has_run(self._sub)):
             window.popleft()
             self._done = marker
@@ -878,5 +881,5 @@ class InterpCncBackend:
         with self._lock:
             s = self._status
             return Status(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position),
-                          s.buffer_level, dict(s.velocity))
+                          s.buffer_level, dict(s.velocity), dict(s.target))
 
