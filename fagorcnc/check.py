@@ -409,7 +409,7 @@ class _Summary:
             box.machine.add(p)
         for p in part_pts:
             box.part.add(p)
-        if kind != "rapid":
+        if not rec.rapid:
             for p in machine_pts:
                 box.feed_machine.add(p)
             for p in part_pts:

@@ -12,6 +12,7 @@ import pytest
 from interpcnc_helpers import assert_exactly_once, plan
 from pymodbus.client import ModbusTcpClient
 
+import fagorcnc
 from fagorcnc.backends.base import BackendError
 from fagorcnc.backends.interpcnc import InterpCncBackend, InterpCncError
 from fagorcnc.backends.interpcnc import backend as backend_module
@@ -436,3 +437,26 @@ def test_motion_ends_when_the_axes_have_stopped_not_only_when_the_buffers_are_em
         waiter.join(5.0)
         assert not waiter.is_alive() and len(done) == 1 and backend.status().state == "idle"
         backend.close()
+
+
+def test_an_arc_run_at_rapid_before_a_g00_is_sent_at_the_rapid_feed():
+    # G41 round an outside corner into a G00: the compensation's transition arc about (30, 30) from
+    # (27, 30) to (30, 33) has no feed (it runs at rapid).  The card was refused it mid-program ("a feed
+    # move without a feed"); 1003 has no rapid bit, so it goes at the channel's rapid feed (1001).
+    text = ("G90 G00 X0 Y-10\nT1 D1 M6\nG01 G41 X0 Y0 F500\nX30\nY30\nG00 X60 Y30\n"
+            "G40 G00 X80 Y50\nM30\n")
+    result = fagorcnc.simulate(text, {"tools": {"1": {"1": {"radius": 3.0}}}})
+    assert result.ok, result.diagnostics
+    segments = list(result.segments(keep_profiles=False))
+    with Emulator(port=0, speed=50.0, resolution=1000) as emu:
+        backend = InterpCncBackend(result.machine, port=emu.port, resolution=1000)
+        backend.open()
+        for seg in segments:
+            backend.send(seg)
+        st = backend.finish()
+        backend.close()
+        executed = emu.executed()
+    arcs = [e for e in executed if e.kind == "arc"]
+    assert [tuple(round(v, 3) for v in e.end[:2]) for e in arcs][-1] == (30.0, 33.0)
+    assert st.position == {"X": 80.0, "Y": 50.0, "Z": 0.0}
+    assert backend.rapid_feed == 10000.0   # the default machine: no channel rapid, X and Y at 10 m/min

@@ -124,3 +124,21 @@ def test_g39_chamfer_before_a_rapid_is_a_rapid_and_is_planned():
     # rest to rest at 1414.2 mm/s² and 28284 mm/s³ (the limits along the diagonal): four jerk phases
     # of a/j = 0.05 s reach a²/j = 70.7 mm/s and cover exactly 7.0711 mm in 0.2 s
     assert len(seg) == 1 and seg[0].duration == pytest.approx(0.2, rel=1e-6)
+
+
+def test_g36_rounding_before_a_rapid_is_run_at_rapid():
+    # seed 002 L8460, the manual's example L8474-L8490: "si le déplacement suivant est dans G00,
+    # l'arrondissement se réalisera dans G00".  The R5 rounding at (10, 50) between Y+ and X+.
+    text = "N10 G01 G94 X10 Y10 F600\nN20 G01 X10 Y50\nN30 G36 I5\nN40 G00 X50 Y50\nN50 M30\n"
+    r = fagorcnc.simulate(text)
+    assert r.ok, r.diagnostics
+    fillet = next(m for m in r.moves if m.kind == "arc")
+    assert fillet.feed is None and fillet.rapid and fillet.radius == pytest.approx(5.0)
+    assert xy(fillet.start) == (10.0, 45.0) and xy(fillet.end) == (15.0, 50.0)
+    # planned at rapid: far faster than at F600 (10 mm/s would take 0.785 s for its 7.85 mm)
+    seg = next(s for s in r.segments(keep_profiles=False) if s.kind == "motion" and s.piece.curved)
+    assert seg.duration < 0.4
+    assert estimate_time(r.machine, [fillet]) == pytest.approx(5 * math.pi / 2 / 10000 * 60)   # at 10 m/min
+    # before a G01 it keeps the feed
+    r = fagorcnc.simulate(text.replace("N40 G00", "N40 G01"))
+    assert next(m for m in r.moves if m.kind == "arc").feed == 600.0

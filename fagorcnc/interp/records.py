@@ -63,7 +63,9 @@ class Arc:
     ``center``/``center_part`` hold the centre's plane coordinates;
     ``direction`` is ``"cw"`` (G02) or ``"ccw"`` (G03) seen from the positive
     side of the plane's normal; ``turns`` counts extra full turns (0 for an
-    ordinary arc).  Other axes that change move linearly (helix).
+    ordinary arc).  Other axes that change move linearly (helix).  An arc with
+    no ``feed`` runs at rapid: one the path stage inserts before a G00 (a G36
+    rounding, seed 002 L8460; a compensation transition), see :attr:`rapid`.
     """
 
     kind: str
@@ -85,6 +87,11 @@ class Arc:
     @property
     def line(self) -> int:
         return self.src.line
+
+    @property
+    def rapid(self) -> bool:
+        """Run at rapid: an arc inserted before a G00 carries no feed."""
+        return self.feed is None
 
     @property
     def sweep(self) -> float:
@@ -170,4 +177,9 @@ def record_time(machine, record) -> float:
         if machine.rapid_feed > 0:
             t = max(t, length / machine.rapid_feed)
         return t * 60.0
+    if kind == "arc" and record.feed is None:   # at rapid: within the slowest of its plane's axes
+        speed = min(machine.axes[a].max_velocity for a in record.plane[:2])
+        if machine.rapid_feed > 0:
+            speed = min(speed, machine.rapid_feed)
+        return length / speed * 60.0
     return length / record.feed * 60.0 if record.feed else 0.0

@@ -355,7 +355,9 @@ def _apply(aid: Aid, prev, nxt):
         if got is None:
             return prev, [], nxt
         t1, t2, c, ccw = got
-        fillet = _arc_record(prev, plane, t1, t2, c, ccw, feed if feed is not None else prev.feed)
+        # before a G00 the rounding is run in G00 (seed 002 L8460): an arc without a feed
+        rounding_feed = None if nxt.kind == "rapid" else feed if feed is not None else prev.feed
+        fillet = _arc_record(prev, plane, t1, t2, c, ccw, rounding_feed)
         return _moved(prev, plane, end=t1), [fillet], _moved(nxt, plane, start=t2)
     if aid.aid == "chamfer":
         c1, c2 = chamfer(el1, el2, aid.size)

@@ -173,7 +173,7 @@ class Planner:
             return None
         cfg = self.config
         dyn = rec.dyn
-        rapid = rec.kind == "rapid"
+        rapid = rec.rapid   # G00, or an arc inserted before one (no feed: run at rapid, seed 002 L8460)
         if rapid:
             feed = self.machine.rapid_feed / 60.0 if self.machine.rapid_feed > 0 else math.inf
             feed *= min(cfg.rapid_override, 100.0) / 100.0 if cfg.rapid_override > 0 else 1.0

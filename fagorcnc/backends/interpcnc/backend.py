@@ -168,6 +168,10 @@ class InterpCncBackend:
         self.card_axes = [opt.axis_map[a] for a in self.axes]
         self.xy = ((self.card_axes.index("X"), self.card_axes.index("Y"))
                    if "X" in self.card_axes and "Y" in self.card_axes else None)
+        #: mm/min of an XY arc run at rapid (1003 follows the 1001 feed): the channel's rapid, or the
+        #: slower of the axes sent as X and Y (see translate.segment_moves)
+        self.rapid_feed = machine.rapid_feed or min((machine.axes[self.axes[i]].max_velocity for i in self.xy or ()),
+                                                    default=0.0)
         self.encoder = Encoder(self.axes, opt.axis_map)
         self.outputs = OutputTable(opt)
         self.link = Link(host=opt.host, port=opt.port, serial=opt.serial, baudrate=opt.baudrate, unit=opt.unit,
@@ -474,7 +478,7 @@ class InterpCncBackend:
         marker = proto.encode_register_write(reg, entry.seq & 0xFFFF)
         if seg.kind == "motion":
             if moves is None:
-                entry.moves = moves = segment_moves(seg, self.xy, self.options.chordal_tolerance)
+                entry.moves = moves = segment_moves(seg, self.xy, self.options.chordal_tolerance, self.rapid_feed)
             if len(entry.moves) == 1:
                 return [marker, *self.encoder.encode(moves)]
             out = []

@@ -60,10 +60,14 @@ class TranslationError(ValueError):
     """A segment cannot be expressed with the card's commands (message names the line)."""
 
 
-def segment_moves(segment: Segment, xy: tuple[int, int] | None, tolerance: float) -> list[Move]:
-    """The moves of one motion segment; ``xy`` = indices of the machine axes sent as card X and Y (or None)."""
+def segment_moves(segment: Segment, xy: tuple[int, int] | None, tolerance: float,
+                  rapid_feed: float | None = None) -> list[Move]:
+    """The moves of one motion segment; ``xy`` = indices of the machine axes sent as card X and Y (or None).
+
+    An arc run at rapid (one inserted before a G00, with no feed) goes as rapid chords, or as an XY
+    arc at ``rapid_feed`` (mm/min): 1003 has no rapid bit and follows the feed of 1001."""
     piece, record = segment.piece, segment.record
-    rapid = getattr(record, "kind", "") == "rapid"
+    rapid = bool(getattr(record, "rapid", False))
     feed = None if rapid else getattr(record, "feed", None)
     if not rapid and not (feed and feed > 0):
         raise TranslationError(f"line {segment.line}: a feed move without a feed (F) cannot be sent to the card")
@@ -71,8 +75,8 @@ def segment_moves(segment: Segment, xy: tuple[int, int] | None, tolerance: float
     end = np.asarray(piece.end, dtype=float)
     if not piece.curved:
         return [Move(start, end, rapid, feed)]
-    if not segment.blend and xy is not None and _is_xy_arc(piece, xy, tolerance):
-        return _arc_moves(piece, xy, feed)
+    if not segment.blend and xy is not None and _is_xy_arc(piece, xy, tolerance) and (not rapid or rapid_feed):
+        return _arc_moves(piece, xy, rapid_feed if rapid else feed)
     return [Move(a, b, rapid, feed) for a, b in _chords(piece, tolerance)]
 
 

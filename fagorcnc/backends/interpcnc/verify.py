@@ -33,7 +33,7 @@ def expected_events(segments: Iterable[Segment], backend) -> list[Event]:
     last: tuple | None = None
     for seq, seg in enumerate(segments, start=1):
         if seg.kind == "motion":
-            for m in segment_moves(seg, backend.xy, backend.options.chordal_tolerance):
+            for m in segment_moves(seg, backend.xy, backend.options.chordal_tolerance, backend.rapid_feed):
                 for k, v in zip(card_index, m.end, strict=True):
                     position[k] = proto.float32(float(v))
                 end = tuple(position)
