@@ -143,6 +143,7 @@ CODES: dict[str, str] = {
     "CFG001": "invalid machine configuration",
     "CFG003": "auxiliary function the back-end has no output for",
     "CFG002": "parameter file (parameter_file) cannot be read",
+    "CFG004": "a planned move the back-end cannot send (checked before a real run)",
 }
 
 

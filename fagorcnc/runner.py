@@ -64,7 +64,23 @@ def _unmapped(be, found: list[Diagnostic]):
     return watch
 
 
+def _unsendable(be, found: list[Diagnostic]):
+    """A segment watcher adding to ``found`` the planned segments the back-end could not send
+    (its ``preflight``): found before the start, not half-way through the program."""
+    preflight = getattr(be, "preflight", None)
+
+    def watch(seg) -> None:
+        why = preflight(seg) if preflight is not None else None
+        if why:
+            src = getattr(seg.record, "src", None)
+            found.append(Diagnostic(src.file if src else "", seg.line, 1, "CFG004", "error", why))
+
+    return watch
+
+
 Progress = Callable[[Segment, Status, float | None], None]
+#: Segments the back-end cannot send, reported at most (one cause usually repeats).
+MAX_UNSENDABLE = 20
 
 
 def run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, backend: str | Backend = "sim",
@@ -95,10 +111,12 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
     total = None
     if check_first:   # streamed too: a program of millions of blocks is checked in constant memory
         unmapped: list[Diagnostic] = []
-        checked = dry_run(source, mach, block_skip=block_skip, on_record=_unmapped(be, unmapped))
-        if not checked.ok:
-            return RunReport(False, checked.diagnostics, be.status(), stopped_by="error",
-                             message="the program has errors: nothing was sent", backend=be)
+        unsendable: list[Diagnostic] = []
+        checked = dry_run(source, mach, block_skip=block_skip, on_record=_unmapped(be, unmapped),
+                          on_segment=_unsendable(be, unsendable))
+        if not checked.ok or unsendable:
+            return RunReport(False, [*checked.diagnostics, *unsendable[:MAX_UNSENDABLE]], be.status(),
+                             stopped_by="error", message="the program has errors: nothing was sent", backend=be)
         total = checked.cycle_time
         if unmapped and getattr(getattr(be, "options", None), "strict_outputs", False):
             return RunReport(False, [*checked.diagnostics, *unmapped], be.status(), stopped_by="error",

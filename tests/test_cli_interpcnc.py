@@ -69,3 +69,24 @@ def test_emulate_command_serves_until_interrupted():
         proc.terminate()
         proc.wait(timeout=10)
     time.sleep(0.1)
+
+
+def test_a_move_the_card_could_not_take_stops_the_run_before_anything_is_sent(tmp_path, capsys, monkeypatch):
+    # the check before a real run asks the back-end about every planned segment (preflight): a stream
+    # that would stop half-way on a move the card refuses does not start.  Stand-in: arcs refused.
+    from fagorcnc.backends.interpcnc import backend as backend_module
+    from fagorcnc.backends.interpcnc.translate import TranslationError
+
+    real = backend_module.segment_moves
+
+    def no_arcs(segment, *args):
+        if segment.piece.curved:
+            raise TranslationError(f"line {segment.line}: no arcs on this card")
+        return real(segment, *args)
+
+    monkeypatch.setattr(backend_module, "segment_moves", no_arcs)
+    program = tmp_path / "arc.nc"
+    program.write_text("G0 X0 Y0\nG1 X10 F1000\nG2 X20 Y0 I5 J0\nG1 X30\nM30\n")
+    code, out, executed, requests = _run_on_the_card(program, capsys)
+    assert code == 1 and f"{program}:3:1: CFG004 line 3: no arcs on this card" in out and "nothing was sent" in out
+    assert executed == [] and requests == 0

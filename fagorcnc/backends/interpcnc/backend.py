@@ -378,6 +378,17 @@ class InterpCncBackend:
                 out.append(self.outputs.unmapped_message(rec.line, rec.function, rec.value))
         return out
 
+    def preflight(self, segment: Segment) -> str | None:
+        """Why ``segment`` could not be sent to the card (None when it can): the check before a real
+        run asks it of every planned segment, so that a stream never stops half-way on one."""
+        if segment.kind != "motion":
+            return None
+        try:
+            segment_moves(segment, self.xy, self.options.chordal_tolerance, self.rapid_feed)
+        except TranslationError as exc:
+            return str(exc)
+        return None
+
     def set_override(self, feed: int, rapid: int = 100) -> None:
         """Feed and rapid overrides in % (holding 2430/2431, L455-L456; avoids the 1100/1005 ambiguity)."""
         for name, v in (("feed", feed), ("rapid", rapid)):
