@@ -258,3 +258,16 @@ def test_a_utf8_byte_order_mark_is_not_part_of_the_header(tmp_path):
     assert fagorcnc.dry_run(f).ok and check_file(f).diagnostics == []
     streamed = fagorcnc.interpret(f)
     assert [m.end["X"] for m in streamed if m.kind == "linear"] == [10.0] and streamed.ok
+
+
+def test_utf16_files_are_read_and_binary_files_are_one_diagnostic(tmp_path):
+    # Windows Notepad's "Unicode" is UTF-16 with a byte-order mark: read as such, in every entry point
+    f = tmp_path / "u16.nc"
+    f.write_bytes("%U16\nG1 X10 F1000 ; réglage\nM30\n".encode("utf-16"))
+    assert fagorcnc.simulate(f).ok and fagorcnc.dry_run(f).ok and check_file(f).diagnostics == []
+    assert [m.end["X"] for m in fagorcnc.interpret(f) if m.kind == "linear"] == [10.0]
+    # a binary file (or UTF-16 without its mark) holds NUL bytes: one error, not a page of syntax errors
+    for data in (bytes(range(256)) * 8, "G1 X10 F1000\nM30\n".encode("utf-16-le")):
+        f.write_bytes(data)
+        found = check_file(f).diagnostics
+        assert [d.code for d in found] == ["SYN023"] and "not a program text file" in found[0].message

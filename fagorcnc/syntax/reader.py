@@ -71,6 +71,11 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>") -> Ite
     comment_start = None  # (line, text) of an open #COMMENT BEGIN
     first = True
     for lineno, text in enumerate(_lines(source), 1):
+        if "\x00" in text:   # no program text holds a NUL: a binary file, or UTF-16 without its mark
+            yield None, (error(file, lineno, text.index("\x00") + 1, "SYN023",
+                               "this is not a program text file (it holds NUL bytes: a binary file, or text "
+                               "saved as UTF-16 without a byte-order mark); nothing after this point is read", ""),)
+            return
         if "#COMMENT" in text:
             if comment_start is None and _COMMENT_BEGIN(text):
                 comment_start = (lineno, text)
@@ -120,13 +125,16 @@ def read_source(path: Union[str, Path]) -> str:
 
 
 def source_encoding(path: Union[str, Path]) -> str:
-    """The encoding of a program file: ``"utf-8-sig"`` (UTF-8, without the byte-order mark some
-    Windows editors write first, which would stand before the header), or ``"latin-1"`` (files
-    written by older editors) when it is not valid UTF-8; found by reading it in chunks, in
-    constant memory, so a program read lazily line by line is decoded as :func:`read_source`
-    decodes it whole."""
+    """The encoding of a program file: ``"utf-16"`` when it starts with a UTF-16 byte-order mark,
+    ``"utf-8-sig"`` (UTF-8, without the byte-order mark some Windows editors write first, which
+    would stand before the header), or ``"latin-1"`` (files written by older editors) when it is
+    not valid UTF-8; found by reading it in chunks, in constant memory, so a program read lazily
+    line by line is decoded as :func:`read_source` decodes it whole."""
     decoder = codecs.getincrementaldecoder("utf-8")()
     with open(path, "rb") as f:
+        if f.read(2) in (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE):
+            return "utf-16"   # Windows Notepad's "Unicode": its byte-order mark says which
+        f.seek(0)
         try:
             while chunk := f.read(1 << 20):
                 decoder.decode(chunk)
