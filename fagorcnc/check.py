@@ -590,10 +590,16 @@ _SARIF_LEVEL = {"error": "error", "warning": "warning", "info": "note"}
 
 
 def _uri(file: str) -> str:
+    """A file's SARIF URI: relative to the working directory (the repository a CI job checks out)
+    when it lies within it, without '..'; otherwise absolute (code scanning maps no '../' path)."""
     path = Path(file)
-    if path.is_absolute():
-        return path.as_uri()
-    return quote(path.as_posix(), safe="/")
+    if not path.is_absolute() and ".." not in path.parts:
+        return quote(path.as_posix(), safe="/")
+    try:
+        resolved = path.resolve()
+        return quote(resolved.relative_to(Path.cwd().resolve()).as_posix(), safe="/")
+    except (OSError, ValueError):
+        return path.resolve().as_uri() if not path.is_absolute() else path.as_uri()
 
 
 def sarif_report(reports: Sequence[FileReport], *, fail_on: str = "error") -> dict:

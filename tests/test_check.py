@@ -291,3 +291,20 @@ def test_an_empty_file_or_one_of_comments_only_fails_the_check(tmp_path, capsys)
     f.write_text("P1=2\n")
     status, out = _run(capsys, "--brief", "-q", f)
     assert status == 0 and "STR012" not in out and "INT098" in out
+
+
+def test_sarif_uris_have_no_dot_dot(tmp_path, capsys, monkeypatch):
+    # code scanning maps a result to a file of the repository by a path relative to its root: '../' maps nowhere
+    (tmp_path / "sub").mkdir()
+    f = tmp_path / "x.nc"
+    f.write_text("G1 X10\nM30\n")   # INT060: no feed
+
+    def uris(name: str) -> set[str]:
+        _, out = _run(capsys, "--format", "sarif", name)
+        return {loc["physicalLocation"]["artifactLocation"]["uri"]
+                for run in json.loads(out)["runs"] for res in run["results"] for loc in res["locations"]}
+
+    monkeypatch.chdir(tmp_path)
+    assert uris("sub/../x.nc") == {"x.nc"}
+    monkeypatch.chdir(tmp_path / "sub")   # outside the working directory: absolute
+    assert uris("../x.nc") == {f.resolve().as_uri()}
