@@ -559,3 +559,15 @@ def test_unsupported_g_function_is_int011():
     # G33 threading is not computed by fagorcnc yet: reported, never dropped
     r = run("G33 Z-30 K1.5\nM30\n")
     assert error_codes(r) == ["INT011"]
+
+
+def test_tool_base_and_tip_positions_in_machine_and_part_coordinates_seed002_l35734_l35859():
+    # POS/TPOS: machine, tool base (L35803); TIPPOS/TIPTPOS: machine, tool tip (L35846); APOS/ATPOS: part,
+    # tool base (L35734); ATIPPOS/ATIPTPOS: part, tool tip (L35775).  G54 Z-200, tool length 50 + wear 0.5:
+    # the tip at part Z30 is machine Z-170; the base is 50.5 above: machine Z-119.5, part Z80.5.
+    machine = {"origins": {"G54": {"Z": -200.0}}, "tools": {"1": {"1": {"length": 50.0, "length_wear": 0.5}}}}
+    names = ("POS", "TPOS", "TIPPOS", "TIPTPOS", "APOS", "ATPOS", "ATIPPOS", "ATIPTPOS")
+    reads = "".join(f"P{i}=V.A.{n}.Z\n" for i, n in enumerate(names, start=1))
+    r = ok(f"G54\nT1 D1\nM6\nG1 Z30 F1000\n{reads}M30\n", machine)
+    assert [r.state.param(i) for i in range(1, 9)] == [approx(v) for v in
+                                                       (-119.5, -119.5, -170, -170, 80.5, 80.5, 30, 30)]

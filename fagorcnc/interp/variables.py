@@ -55,10 +55,13 @@ class Variables:
             "V.A.PPOS": (lambda st, i, a: st.part_pos()[a], None),          # L35650
             "V.A.POS": (lambda st, i, a: st.machine_pos[a], None),          # L35803
             "V.A.TPOS": (lambda st, i, a: st.machine_pos[a], None),         # L35816
-            "V.A.TIPPOS": (lambda st, i, a: st.machine_pos[a], None),       # L35846
-            "V.A.TIPTPOS": (lambda st, i, a: st.machine_pos[a], None),
-            "V.A.APOS": (lambda st, i, a: st.part_pos()[a], None),          # L35734
-            "V.A.ATPOS": (lambda st, i, a: st.part_pos()[a], None),
+            # the controlled point is the tool base (POS, L35803): the tip is the tool length away from it
+            # in machine coordinates (TIPPOS, L35846), the base in part coordinates leaves the tool
+            # length out (APOS, L35734)
+            "V.A.TIPPOS": (lambda st, i, a: st.machine_pos[a] - st.length_offset.get(a, 0.0), None),
+            "V.A.TIPTPOS": (lambda st, i, a: st.machine_pos[a] - st.length_offset.get(a, 0.0), None),
+            "V.A.APOS": (lambda st, i, a: st.machine_pos[a] - st.chain(a), None),
+            "V.A.ATPOS": (lambda st, i, a: st.machine_pos[a] - st.chain(a), None),
             "V.A.ATIPPOS": (lambda st, i, a: st.part_pos()[a], None),
             "V.A.ATIPTPOS": (lambda st, i, a: st.part_pos()[a], None),
             "V.A.ORG": (lambda st, i, a: st.abs_offset[a] + st.inc_offset[a], None),  # L35123
