@@ -224,3 +224,18 @@ def test_m19_s_is_an_angular_position_modulo_360_not_a_speed():
     assert [m.feed for m in r.moves if m.kind == "linear"] == [pytest.approx(250.0)]
     # an S without M19 is still a speed, and a negative one is still refused
     assert [d.code for d in fagorcnc.simulate("S-100 M03\nM30\n").diagnostics] == ["INT027"]
+
+
+def test_a_d_programmed_with_t_is_the_offset_the_next_m6_selects():
+    # seed 002 L4946-L4966: "N20 T7 D1 (outil T7 et correcteur D1) / N30 M06 (on charge T7)"; D1 only when
+    # no other was programmed.  T1 D2 then M6: D2 (length 60) is active, V.TM.NXTOD said so before the change
+    machine = {"tools": {"1": {"1": {"length": 50.0}, "2": {"length": 60.0}}}}
+    r = fagorcnc.simulate("T1 D2\nP1=V.TM.TOD\nP2=V.TM.NXTOD\nM6\nP3=V.TM.TOD\nP4=V.TM.NXTOD\nG1 Z0 F100\n"
+                          "P5=V.A.POS.Z\nM30\n", machine)
+    assert r.ok, r.diagnostics
+    assert [r.state.param(i) for i in range(1, 6)] == [0.0, 2.0, 2.0, 0.0, 60.0]
+    assert [a.value for a in r.moves if a.kind == "aux" and a.function == "D"] == [2.0]
+    # no D with T: D1 (L4942); a D the next tool lacks is refused at its block
+    assert fagorcnc.simulate("T1\nM6\nP1=V.TM.TOD\nM30\n", machine).state.param(1) == 1.0
+    bad = fagorcnc.simulate("T1 D3\nM6\nM30\n", machine)
+    assert [(d.code, d.line) for d in bad.diagnostics] == [("INT051", 1)]

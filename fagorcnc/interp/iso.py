@@ -290,8 +290,11 @@ class IsoExecutor:
         if bw.tool is not None:
             yield from self._tool(bw, src)
         if bw.offset is not None and not any(m == 6 for m, _ in bw.m):
-            self._offset(*bw.offset)
-            yield self.aux("D", float(st.offset), "before", src)
+            if bw.tool is not None:   # "T7 D2" then "M06": D2 is the offset of T7 once loaded (seed 002 L4946-L4962)
+                self._next_offset(*bw.offset)
+            else:
+                self._offset(*bw.offset)
+                yield self.aux("D", float(st.offset), "before", src)
         for h, _col in bw.h:
             yield self.aux("H", float(h), "before", src)
         after = []
@@ -532,6 +535,12 @@ class IsoExecutor:
         st.next_tool = t
         yield self.aux("T", float(t), "before", src)
 
+    def _next_offset(self, d: int, col: int) -> None:
+        st = self.state
+        if d != 0 and st.next_tool != 0 and st.tools.get(st.next_tool, {}).get(d) is None:
+            raise InterpError("INT051", f"tool T{st.next_tool} has no offset D{d}", col)
+        st.next_offset = d
+
     def _offset(self, d: int, col: int) -> None:
         st = self.state
         if d != 0 and st.tool != 0 and st.tools.get(st.tool, {}).get(d) is None:
@@ -547,7 +556,10 @@ class IsoExecutor:
         yield self.aux("M", float(m), "before", src)
         if m == 6:  # tool change: the preselected tool goes to the spindle (L4700-L4708)
             st.tool = st.next_tool
-            d = bw.offset[0] if bw.offset is not None else (1 if st.tool else 0)   # D1 assumed (L4942)
+            # the D of this block, or the one programmed with T, or D1 (L4942, L4964-L4966)
+            d = bw.offset[0] if bw.offset is not None else st.next_offset if st.next_offset is not None \
+                else (1 if st.tool else 0)
+            st.next_offset = None
             self._offset(d, bw.offset[1] if bw.offset else col)
             yield self.aux("D", float(st.offset), "before", src)
 

@@ -55,6 +55,7 @@ class ChannelState:
         self.tool_direction = -1               # V.G.TOOLDIR: the tool points along -longitudinal
         self.tool = 0
         self.next_tool = 0
+        self.next_offset: int | None = None   # a D programmed with T: the offset the next M6 selects
         self.offset = 0                        # active D
         self.lower_limits: dict[str, float] = {a: ax.min_limit for a, ax in machine.axes.items()}
         self.upper_limits: dict[str, float] = {a: ax.max_limit for a, ax in machine.axes.items()}

@@ -96,6 +96,8 @@ class Variables:
             "V.TM.TOOL": (lambda i: float(s.tool), None),
             "V.TM.TOD": (lambda i: float(s.offset), None),
             "V.TM.NXTOOL": (lambda i: float(s.next_tool), None),
+            "V.TM.NXTOD": (lambda i: float(s.next_offset or 0), None),   # L37547: the next offset
+            "V.G.NXTOD": (lambda i: float(s.next_offset or 0), None),    # L38931
             "V.TM.NUMOFD": (lambda i: float(len(s.tools.get(s.tool, {}))), None),
         })
         for name, fld in (("TOR", "radius"), ("TOI", "radius_wear"), ("TOL", "length"), ("TOK", "length_wear")):
