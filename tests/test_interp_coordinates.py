@@ -571,3 +571,16 @@ def test_tool_base_and_tip_positions_in_machine_and_part_coordinates_seed002_l35
     r = ok(f"G54\nT1 D1\nM6\nG1 Z30 F1000\n{reads}M30\n", machine)
     assert [r.state.param(i) for i in range(1, 9)] == [approx(v) for v in
                                                        (-119.5, -119.5, -170, -170, 80.5, 80.5, 30, 30)]
+
+
+def test_under_g70_variables_read_and_write_lengths_in_inches():
+    # a program reads positions, origins and tool sizes in the units it is written in: under G70
+    # "G1 X[V.A.PPOS.X]" must stay where it is (it went from 1 inch to 25.4 inches, reading millimetres)
+    r = ok("G70\nG1 X1 F10\nP1=V.A.PPOS.X\nG1 X[P1]\nP2=V.A.POS.X\nG71\nP3=V.A.POS.X\nM30\n")
+    assert [r.state.param(i) for i in (1, 2, 3)] == [approx(1.0), approx(1.0), approx(25.4)]
+    assert [m.end["X"] for m in motions(r)] == [approx(25.4), approx(25.4)]
+    # origins and tool sizes: G54 X25.4 mm reads 1 inch, a write of 2 inches is 50.8 mm; R 2.54 mm = 0.1 inch
+    machine = {"origins": {"G54": {"X": 25.4}}, "tools": {"1": {"1": {"radius": 2.54}}}}
+    r = ok("G70 G54\nT1 D1 M6\nP1=V.A.ORGT[1].X\nP2=V.TM.TOR\nV.A.ORGT[2].X=2\nG55 G0 X0\nM30\n", machine)
+    assert (r.state.param(1), r.state.param(2)) == (approx(1.0), approx(0.1))
+    assert motions(r)[-1].end["X"] == approx(50.8)

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from .expressions import InterpError, whole
+from .expressions import InterpError
+from .iso import INCH, whole
 from .state import ChannelState
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
@@ -180,12 +181,21 @@ class Variables:
             return off
 
         def get(index: tuple) -> float:
-            return getattr(offset_of(index), fld)
+            return getattr(offset_of(index), fld) / self._unit()
 
         def put(index: tuple, value: float) -> None:
-            setattr(offset_of(index), fld, value)
+            setattr(offset_of(index), fld, value * self._unit())
 
         return get, put
+
+    def _unit(self, axis: str | None = None) -> float:
+        """mm per unit of the program's lengths: 25.4 under G70 (inch), 1 under G71 or for a rotary axis.
+        A program reads and writes positions, origins and tool sizes in the units it is written in, so
+        that 'G1 X[V.A.PPOS.X]' stays where it is (the interpreter keeps millimetres)."""
+        st = self.state
+        if st.modes["units"] != 70 or (axis is not None and st.machine.axes[axis].rotary):
+            return 1.0
+        return INCH
 
     def _feed(self, mode: int) -> float:
         """Programmed feed of a feed mode, in the active unit (0 if that mode is not active)."""
@@ -294,7 +304,7 @@ class Variables:
             return self.spindle_vars[key](extra)
         idx, axis = extra
         try:
-            return self.axis_vars[key][0](self.state, tuple(_index(x) for x in idx), axis)
+            return self.axis_vars[key][0](self.state, tuple(_index(x) for x in idx), axis) / self._unit(axis)
         except InterpError as exc:
             exc.col = col
             raise
@@ -316,7 +326,7 @@ class Variables:
         setter = self.axis_vars[key][1]
         if setter is None:
             raise InterpError("INT048", f"{key}.{axis} is read-only", col)
-        setter(self.state, tuple(_index(x) for x in idx), axis, value)
+        setter(self.state, tuple(_index(x) for x in idx), axis, value * self._unit(axis))
 
     def exists(self, name: str, index: tuple) -> bool:
         try:
