@@ -239,3 +239,17 @@ def test_a_d_programmed_with_t_is_the_offset_the_next_m6_selects():
     assert fagorcnc.simulate("T1\nM6\nP1=V.TM.TOD\nM30\n", machine).state.param(1) == 1.0
     bad = fagorcnc.simulate("T1 D3\nM6\nM30\n", machine)
     assert [(d.code, d.line) for d in bad.diagnostics] == [("INT051", 1)]
+
+
+def test_tool_table_variables_of_any_tool_and_offset():
+    # seed 002 L38632-L38725: V.TM.TORT[tl][ofd] (radius), TOIT, TOLT, TOKT of tool tl's offset ofd, read and
+    # written from the program; [tl] alone: the active offset number
+    machine = {"tools": {"1": {"1": {"radius": 5.0}},
+                         "2": {"1": {"radius": 3.0, "length": 70.0, "length_wear": 0.2}, "2": {"radius": 2.0}}}}
+    r = fagorcnc.simulate("T1 D1 M6\nP1=V.TM.TORT[2][1]\nP2=V.TM.TOLT[2][1]\nP3=V.TM.TOKT[2][1]\n"
+                          "P4=V.TM.TORT[1]\nV.TM.TORT[2][2]=2.5\nP5=V.TM.TORT[2][2]\nT2 D2 M6\nP6=V.TM.TOR\nM30\n",
+                          machine)
+    assert r.ok, r.diagnostics
+    assert [r.state.param(i) for i in range(1, 7)] == [3.0, 70.0, pytest.approx(0.2), 5.0, 2.5, 2.5]
+    bad = fagorcnc.simulate("P1=V.TM.TORT[2][9]\nM30\n", machine)
+    assert [d.code for d in bad.diagnostics] == ["INT051"]

@@ -105,6 +105,9 @@ class Variables:
             get, put = self._tool_field(fld)
             self.plain_vars[f"V.TM.{name}"] = (get, put)
             self.plain_vars[f"V.TM.{name}[]"] = (get, put)
+            # any tool of the table: V.TM.TORT[tl][ofd], [tl] alone its active offset (L38632-L38725)
+            self.plain_vars[f"V.TM.{name}T[]"] = self.plain_vars[f"V.TM.{name}T[][]"] = \
+                self._tool_field(fld, any_tool=True)
         # programmed functions (seed 002 L40015-L40258)
         self.plain_vars.update({
             "V.G.GS[]": (self._g_state, None),
@@ -170,14 +173,20 @@ class Variables:
         }
 
     # ------------------------------------------------------------------
-    def _tool_field(self, fld: str):
+    def _tool_field(self, fld: str, any_tool: bool = False):
+        """Getter and setter of an offset's field: of the active tool's offset ``[ofd]`` (the active one
+        without an index), or with ``any_tool`` of the offset ``[tl][ofd]`` of any tool of the table."""
         st = self.state
 
         def offset_of(index: tuple):
-            d = _index(index[0]) if index else st.offset
-            off = st.tools.get(st.tool, {}).get(d)
+            if any_tool:
+                tool = _index(index[0])
+                d = _index(index[1]) if len(index) > 1 else st.offset
+            else:
+                tool, d = st.tool, _index(index[0]) if index else st.offset
+            off = st.tools.get(tool, {}).get(d)
             if off is None:
-                raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", 1)
+                raise InterpError("INT051", f"tool T{tool} has no offset D{d}", 1)
             return off
 
         def get(index: tuple) -> float:
