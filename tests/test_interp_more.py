@@ -253,3 +253,17 @@ def test_tool_table_variables_of_any_tool_and_offset():
     assert [r.state.param(i) for i in range(1, 7)] == [3.0, 70.0, pytest.approx(0.2), 5.0, 2.5, 2.5]
     bad = fagorcnc.simulate("P1=V.TM.TORT[2][9]\nM30\n", machine)
     assert [d.code for d in bad.diagnostics] == ["INT051"]
+
+
+def test_longax_and_tooldir_follow_tool_ax():
+    # seed 002 L3126-L3166: #TOOL AX [Y-] makes Y the longitudinal axis with a negative orientation;
+    # V.G.LONGAX codes the axis (Y = 20), V.G.TOOLDIR 1 positive, 2 negative (the default plane's Z: 2)
+    def read(pre: str) -> tuple[float, float]:
+        r = fagorcnc.simulate(f"{pre}P1=V.G.LONGAX\nP2=V.G.TOOLDIR\nM30\n")
+        assert r.ok, r.diagnostics
+        return r.state.param(1), r.state.param(2)
+
+    assert read("") == (30.0, 2.0)
+    assert read("#TOOL AX [Y-]\n") == (20.0, 2.0)
+    assert read("#TOOL AX [Z+]\n") == (30.0, 1.0)
+    assert read("#TOOL AX [X+]\n") == (10.0, 1.0)

@@ -113,8 +113,10 @@ class Variables:
             "V.G.GS[]": (self._g_state, None),
             "V.G.MS[]": (self._m_state, None),
             "V.G.PLANE": (self._plane_code, None),
-            "V.G.LONGAX": (lambda i: float(_axis_code(s.plane_axes()[2])), None),
-            "V.G.TOOLDIR": (lambda i: 1.0 if s.tool_direction > 0 else 2.0, None),
+            # the longitudinal axis and the tool's orientation, #TOOL AX's when given (L3126-L3166):
+            # TOOLDIR 1 positive, 2 negative (L40029; the example L40073-L40078 contradicts itself)
+            "V.G.LONGAX": (lambda i: float(_axis_code(s.longitudinal()[0])), None),
+            "V.G.TOOLDIR": (lambda i: 1.0 if s.longitudinal()[1] > 0 else 2.0, None),
         })
         for k in range(1, 11):
             self.plain_vars[f"V.G.HGS{k}"] = (lambda i, k=k: float(self._hgs(k)), None)
