@@ -267,3 +267,13 @@ def test_longax_and_tooldir_follow_tool_ax():
     assert read("#TOOL AX [Y-]\n") == (20.0, 2.0)
     assert read("#TOOL AX [Z+]\n") == (30.0, 1.0)
     assert read("#TOOL AX [X+]\n") == (10.0, 1.0)
+
+
+def test_soft_limit_variables_are_read_and_set_from_the_program():
+    # seed 002 L33066-L33080: V.A.POSLIMIT / V.A.NEGLIMIT, the limits of the machine parameters; "si on
+    # modifie ces variables, la CNC assume ces valeurs comme des nouvelles limites"
+    machine = {"axes": {"X": {"min_limit": -100.0, "max_limit": 500.0}, "Y": {}, "Z": {}}}
+    r = fagorcnc.simulate("P1=V.A.POSLIMIT.X\nP2=V.A.NEGLIMIT.X\nV.A.POSLIMIT.X=50\nG1 X40 F1000\nG1 X60\nM30\n",
+                          machine)
+    assert (r.state.param(1), r.state.param(2)) == (500.0, -100.0)
+    assert [(d.code, d.line) for d in r.diagnostics if d.is_error] == [("INT100", 5)]   # beyond the new limit 50

@@ -75,6 +75,12 @@ class Variables:
                            lambda st, i, a, v: _entry(st.fixture_table, i[0], 1, "V.A.FIXT", 10).__setitem__(a, v)),
             "V.A.LOLIM": (lambda st, i, a: st.lower_limits[a], None),
             "V.A.UPLIM": (lambda st, i, a: st.upper_limits[a], None),
+            # the software limits (L33066-L33080): read and written from the program, a write makes them
+            # the limits from there on
+            "V.A.POSLIMIT": (lambda st, i, a: st.upper_limits[a],
+                             lambda st, i, a, v: st.upper_limits.__setitem__(a, v)),
+            "V.A.NEGLIMIT": (lambda st, i, a: st.lower_limits[a],
+                             lambda st, i, a, v: st.lower_limits.__setitem__(a, v)),
         }
         # the manual also writes the fixture table V.G.FIXT[n].X (L2126, spec 01 §18.8)
         self.axis_vars["V.G.FIXT[]"] = self.axis_vars["V.A.FIXT[]"]
