@@ -277,3 +277,23 @@ def test_soft_limit_variables_are_read_and_set_from_the_program():
                           machine)
     assert (r.state.param(1), r.state.param(2)) == (500.0, -100.0)
     assert [(d.code, d.line) for d in r.diagnostics if d.is_error] == [("INT100", 5)]   # beyond the new limit 50
+
+
+@pytest.mark.parametrize(("middle", "stops"), [
+    ("P1=V.A.POS.X", True),          # an execution value (L35803): reading it stops block preparation
+    ("G1 X[V.A.POS.X+10]", True),    # read in the moving block itself: the stop comes before its move
+    ("#FLUSH", True),                # L17446: preparation waits for execution
+    ("P1=V.A.PPOS.X", False),        # a preparation value (L35650): no stop
+])
+def test_reading_an_execution_value_stops_the_motion_there(middle, stops):
+    # seed 002 L17437-L17450: "sa lecture arrête la préparation des blocs"; under G05 the corner at X10 would
+    # otherwise be run through at 50 mm/s
+    r = fagorcnc.simulate(f"G5 G1 X10 F3000\n{middle}\nG1 X20 Y10\nM30\n")
+    assert r.ok, r.diagnostics
+    assert any(m.kind == "dwell" and m.seconds == 0.0 for m in r.moves) is stops
+    first = next(s for s in r.segments(keep_profiles=False) if s.kind == "motion" and s.line == 1)
+    assert (first.v1 == 0.0) is stops
+    # inside a compensated profile the read stops the motion too, and the profile is still machined
+    comp = fagorcnc.simulate(f"T1 D1 M6\nG1 G41 X0 Y0 F500\nX10\n{middle}\nY10\nG40 X0 Y20\nM30\n",
+                             {"tools": {"1": {"1": {"radius": 2.0}}}})
+    assert comp.ok, comp.diagnostics

@@ -154,8 +154,18 @@ class Interpreter:
             if block.number is not None:
                 state.last_n = block.number
             for record in self._block(block):
+                if state.sync:   # the block read an execution value: the motion before it ends first
+                    yield self._sync(block, getattr(record, "start", None))
                 state.elapsed += record_time(self.machine, record)   # V.G.CYTIME while running
                 yield record
+            if state.sync:
+                yield self._sync(block, None)
+
+    def _sync(self, block: Block, where: dict | None) -> Dwell:
+        """The synchronisation point of a block that reads an execution value or runs #FLUSH (seed 002
+        L17437-L17450): a dwell of no time, where the machine stands, which the motion stops at."""
+        self.state.sync = False
+        return Dwell("dwell", 0.0, dict(where if where is not None else self.state.machine_pos), self._src(block))
 
     # ------------------------------------------------------------------ runaway guards
     def count_block(self, col: int) -> None:

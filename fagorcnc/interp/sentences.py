@@ -162,7 +162,8 @@ def execute_sentence(interp, node, src):
         dynamics.tangfeed_statement(interp, node)
         return
     if kw == "FLUSH":
-        return  # preparation and execution are one offline (seed 002 L16998)
+        st.sync = True   # seed 002 L17446: preparation waits for execution, the motion stops here
+        return
     if kw in RECORDED:
         st.planner[kw if sub is None else f"{kw} {sub}"] = node.args
         return

@@ -56,6 +56,7 @@ class ChannelState:
         self.tool = 0
         self.next_tool = 0
         self.next_offset: int | None = None   # a D programmed with T: the offset the next M6 selects
+        self.sync = False   # a read of an execution value or #FLUSH: the motion stops before the block goes on
         self.offset = 0                        # active D
         self.lower_limits: dict[str, float] = {a: ax.min_limit for a, ax in machine.axes.items()}
         self.upper_limits: dict[str, float] = {a: ax.max_limit for a, ax in machine.axes.items()}

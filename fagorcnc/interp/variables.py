@@ -45,6 +45,21 @@ def _axis_code(name: str | None) -> int:
     return 10 * (_AXIS_ORDER.index(name[0]) + 1) + (int(name[1:]) if name[1:].isdigit() else 0)
 
 
+#: Variables whose reading "stops block preparation" (seed 002 L17437: "sa lecture arrête la préparation
+#: des blocs", marked on each in ch. 22): they give the value at execution, so the motion before the
+#: block that reads them ends there (a synchronisation point, as #FLUSH makes, L17446).
+EXECUTION_READS = frozenset({
+    "V.A.POS", "V.A.TPOS", "V.A.TIPPOS", "V.A.TIPTPOS", "V.A.APOS", "V.A.ATPOS", "V.A.ATIPPOS", "V.A.ATIPTPOS",
+    "V.A.ORGT[]", "V.TM.TOOL", "V.TM.NXTOOL", "V.TM.TOD", "V.TM.NXTOD", "V.TM.NUMOFD",
+    "V.TM.TOR", "V.TM.TOI", "V.TM.TOL", "V.TM.TOK", "V.TM.TOR[]", "V.TM.TOI[]", "V.TM.TOL[]", "V.TM.TOK[]",
+    "V.TM.TORT[]", "V.TM.TOIT[]", "V.TM.TOLT[]", "V.TM.TOKT[]",
+    "V.TM.TORT[][]", "V.TM.TOIT[][]", "V.TM.TOLT[][]", "V.TM.TOKT[][]",
+    "V.G.FEED", "V.G.FPREV", "V.G.FREAL", "V.G.PATHFEED", "V.G.FRO", "V.G.CNCFRO", "V.G.RAPID",
+    "V.G.CYTIME", "V.G.CLOCK", "V.G.PARTC", "V.G.STATUS", "V.G.FULLSTATUS", "V.G.FIRST", "V.G.M01STOP",
+    "V.G.SBLOCK", "V.G.SBOUT",
+})
+
+
 class Variables:
     """Reads and writes ``V.`` variables against a :class:`ChannelState`."""
 
@@ -310,6 +325,8 @@ class Variables:
 
     def get(self, name: str, index: tuple, col: int = 1) -> float:
         kind, key, extra = self._resolve(name, index, col)
+        if key in EXECUTION_READS:
+            self.state.sync = True   # the interpreter stops the motion before this block (see EXECUTION_READS)
         if kind == "user":
             try:
                 return self.state.user_vars[key]
