@@ -297,3 +297,15 @@ def test_reading_an_execution_value_stops_the_motion_there(middle, stops):
     comp = fagorcnc.simulate(f"T1 D1 M6\nG1 G41 X0 Y0 F500\nX10\n{middle}\nY10\nG40 X0 Y20\nM30\n",
                              {"tools": {"1": {"1": {"radius": 2.0}}}})
     assert comp.ok, comp.diagnostics
+
+
+def test_gs_reports_the_transformations_and_offsets_in_force():
+    # seed 002 L40147: V.G.GS[n] is 1 while G n is active; G158, G73, G72 and G11-G13 have no modal
+    # group but stay active while their offset, rotation, scale or mirror lasts
+    r = fagorcnc.simulate("G158 X10\nG73 Q30\nG72 S2\nG11\nP1=V.G.GS[158]\nP2=V.G.GS[73]\nP3=V.G.GS[72]\n"
+                          "P4=V.G.GS[11]\nP5=V.G.GS[12]\nP6=V.G.HGS5\nG158\nG73\nG72 S1\nG10\n"
+                          "P7=V.G.GS[158]+V.G.GS[73]+V.G.GS[72]+V.G.GS[11]\nM30\n")
+    assert r.ok, r.diagnostics
+    assert [r.state.param(i) for i in range(1, 6)] == [1.0, 1.0, 1.0, 1.0, 0.0]
+    assert int(r.state.param(6)) & (1 << (158 - 128))   # HGS5 holds G128-G159: bit 30 is G158
+    assert r.state.param(7) == 0.0

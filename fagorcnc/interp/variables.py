@@ -271,6 +271,15 @@ class Variables:
             active.add(159)
         elif origin[1:].isdigit():
             active.add(int(origin[1:]))
+        # functions without a modal group that stay active while their effect lasts (L40147)
+        tr = st.transform
+        if any(st.inc_offset.values()):
+            active.add(158)
+        if tr.angle:
+            active.add(73)
+        if tr.scale != 1.0:
+            active.add(72)
+        active.update(n for n, axis in ((11, "X"), (12, "Y"), (13, "Z")) if axis in tr.mirror)
         return active
 
     def _g_state(self, index: tuple) -> float:
