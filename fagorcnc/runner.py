@@ -130,13 +130,15 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
     pacing = be.name == "sim" and bool(getattr(be, "realtime", None))
     planner = Planner(mach, keep_profiles=keep_profiles or pacing)
     sent, clock, moves, last = 0, 0.0, 0, None
-    envelope = Envelope(mach)   # PLN100 as check says it (checked before a real run, reported after a dry one)
+    # PLN100 as check says it: checked before a real run (dry_run), reported after a run without that check
+    envelope = None if check_first else Envelope(mach)
     stopped_by, message = None, ""
     extra: list[Diagnostic] = []
     be.open()
     try:
         for seg in planner.segments(stream):
-            envelope.add(seg)
+            if envelope is not None:
+                envelope.add(seg)
             be.send(seg)
             sent += 1
             if seg.kind == "motion" and not seg.blend and seg.record is not last:
@@ -161,7 +163,7 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         be.close()
     if check_first:
         extra += unmapped
-    else:
+    if envelope is not None:
         extra += envelope.diagnostics(stream.program.file)
     diagnostics = sorted([*stream.diagnostics, *extra], key=lambda d: (d.file, d.line, d.col))
     if stopped_by is None and any(d.is_error for d in diagnostics):
