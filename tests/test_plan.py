@@ -316,3 +316,15 @@ def test_planned_segments_pickle_with_their_pieces():
                      (back.piece.d1, seg.piece.d1), (back.piece.d3, seg.piece.d3)):
             assert np.array_equal(a, b)
         assert back.piece.length == seg.piece.length
+
+
+def test_the_channel_rapid_is_a_linear_speed_not_a_cap_on_rotary_moves():
+    # rapid_feed (LinuxCNC's [TRAJ] MAX_LINEAR_VELOCITY, seed 003 L929) caps moves of the linear axes; a
+    # move of a rotary axis alone runs at its own maximum: G0 A360 at 36 000 deg/min is about 0.6 s of
+    # cruising plus the S-curve (it took 7.2 s and more held to 3 000 "mm/min")
+    machine = {"rapid_feed": 3000.0, "axes": {"X": {}, "Y": {}, "Z": {},
+                                              "A": {"type": "rotary", "max_velocity": 36000.0}}}
+    rotary = fagorcnc.simulate("G0 A360\nM30\n", machine).cycle_time
+    linear = fagorcnc.simulate("G0 X100\nM30\n", machine).cycle_time
+    assert 0.6 < rotary < 1.5
+    assert linear > 2.0   # 100 mm at 50 mm/s

@@ -114,6 +114,7 @@ class Planner:
         self.machine = m = load_machine(machine)
         self.axes = m.axis_names
         self.index = {a: i for i, a in enumerate(self.axes)}
+        self._linear = [i for i, a in enumerate(self.axes) if not m.axes[a].rotary]
         self.jerk = jerk
         self.keep = keep_profiles
         self.config = m.planner
@@ -174,8 +175,9 @@ class Planner:
         cfg = self.config
         dyn = rec.dyn
         rapid = rec.rapid   # G00, or an arc inserted before one (no feed: run at rapid, seed 002 L8460)
-        if rapid:
-            feed = self.machine.rapid_feed / 60.0 if self.machine.rapid_feed > 0 else math.inf
+        if rapid:   # the channel's rapid is a linear speed: a move of rotary axes alone is not held to it
+            linear = self.machine.rapid_feed > 0 and (piece.curved or any(piece.ul[i] for i in self._linear))
+            feed = self.machine.rapid_feed / 60.0 if linear else math.inf
             feed *= min(cfg.rapid_override, 100.0) / 100.0 if cfg.rapid_override > 0 else 1.0
         else:
             feed = rec.feed / 60.0 if rec.feed else math.inf
