@@ -584,3 +584,9 @@ def test_under_g70_variables_read_and_write_lengths_in_inches():
     r = ok("G70 G54\nT1 D1 M6\nP1=V.A.ORGT[1].X\nP2=V.TM.TOR\nV.A.ORGT[2].X=2\nG55 G0 X0\nM30\n", machine)
     assert (r.state.param(1), r.state.param(2)) == (approx(1.0), approx(0.1))
     assert motions(r)[-1].end["X"] == approx(50.8)
+
+
+def test_an_axis_by_its_number_after_an_index_seed002_l35221_l35432():
+    # V.A.ORGT[1].2: table origin 1, the channel's second axis (the manual's form, L35221, L35432)
+    r = ok("P1=V.A.ORGT[1].2\nP2=V.A.ORGT[1].Y\nP3=V.A.ORGT[1].1+.5\nM30\n", {"origins": {"G54": {"X": 100, "Y": 50}}})
+    assert [r.state.param(i) for i in (1, 2, 3)] == [50.0, 50.0, 100.5]
