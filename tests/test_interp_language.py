@@ -1273,3 +1273,22 @@ def test_call_l_and_the_number_of_a_local_subroutine_as_cam_posts_write_it():
     assert [m.end["X"] for m in named.moves if m.kind == "linear"] == [5.0] and not named.diagnostics
     assert [d.code for d in fagorcnc.simulate("%L 100\nG1 X5 F1000\nM17\n%MAIN\nLL L100\nM30\n").diagnostics] \
         == ["INT091"]
+
+
+def test_for_with_a_decimal_step_reaches_its_end_value_l17264_l17288():
+    # "De P1=0 à P1=10, en incréments de 2 (6 fois)": the end value is included; 0.1 + 0.1 + 0.1 is
+    # 0.30000000000000004 in floating point, which must still count as -0.3 / 0.3 reached
+    r = ok(run("P100=0\n$FOR P1=-0.1,-0.3,-0.1\nP100=P100+1\n$ENDFOR\nP101=0\n$FOR P2=0,0.6,0.2\n"
+               "P101=P101+1\n$ENDFOR\nP102=0\n$FOR P3=0,10,2\nP102=P102+1\n$ENDFOR\nM30\n"))
+    assert [r.state.param(n) for n in (100, 101, 102)] == [3, 4, 6]
+
+
+def test_another_call_or_g80_cancels_the_modal_subroutine_l10568_l10798(tmp_path):
+    # L10568: the modal character is cancelled by calling another subroutine (#PCALL, #CALL, L, LL, G180-G189);
+    # L10798: or by G80.  #MCALL runs CNT on its own block and after each motion block while modal.
+    write(tmp_path, "SUB180.nc", "M17\n")
+    mach = machine(tmp_path, oem_subroutines={"180": "SUB180.nc"})
+    subs = "%L CNT\nP100=P100+1\nM17\n%MAIN\nP100=0\n#MCALL CNT\nG1 X10 F100\n"
+    assert ok(run(subs + "G180\nG1 X20\nM30\n", mach)).state.param(100) == 2
+    assert ok(run(subs + "G80\nG1 X20\nG1 X30\nM30\n", mach)).state.param(100) == 2
+    assert ok(run(subs + "G1 X20\nM30\n", mach)).state.param(100) == 3   # still modal

@@ -145,9 +145,11 @@ _TABLE = [
     _g(264, "centre_correction", "default", "cancel arc-centre correction", "L7013", "recorded"),
     _g(265, "centre_correction", "default", "activate arc-centre correction", "L7013", "recorded"),
     _g(266, None, "block", "feed override forced to 100 %", "L4371", "recorded"),
+    # the canned cycles G81-G89 are another manual's; G80 also cancels a modal subroutine (L10798, L11033)
+    _g(80, None, "block", "cancel the modal subroutine (and canned cycle)", "L10798"),
 ]
 # Canned cycles and probing are described in other manuals (seed 002 L1433-L1522).
-_OTHER_MANUAL = {80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 98, 99, 100, 101, 102, 103, 104, 160, 161, 162, 163,
+_OTHER_MANUAL = {81, 82, 83, 84, 85, 86, 87, 88, 89, 98, 99, 100, 101, 102, 103, 104, 160, 161, 162, 163,
                  164, 165, 210, 211, 212, 66, 68, 69}
 
 G_FUNCTIONS: dict[int, GFunction] = {g.number: g for g in _TABLE}

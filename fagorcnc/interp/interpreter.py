@@ -29,6 +29,9 @@ from .source import RoutineSource, StreamSource
 from .state import ChannelState
 from .variables import Variables
 
+#: Rounding a $FOR end comparison allows, as a share of the step (see the $ENDFOR step).
+FOR_SLACK = 1e-9
+
 
 class _Stop(Exception):  # noqa: N818 - control flow, not an error
     """End of the run (M02/M30, #ERROR, end of the main program)."""
@@ -364,7 +367,10 @@ class Interpreter:
             target = source.get(opener).items[-1].args[0]
             v = ev.value(target) + s
             self._set_target(target, v)
-            if (s > 0 and v <= e) or (s < 0 and v >= e):
+            # the end value is included (seed 002 L17264, L17288); a decimal step reaches it within
+            # rounding (0.1 + 0.1 + 0.1 is 0.30000000000000004)
+            slack = FOR_SLACK * abs(s)
+            if (s > 0 and v <= e + slack) or (s < 0 and v >= e - slack):
                 self._count(state, source.get(opener))
                 frame.pc = opener + 1
             else:
@@ -591,6 +597,8 @@ class Interpreter:
         if name is None:
             raise InterpError("INT096", f"G{n}: no OEM subroutine is configured for it", col)
         args = self._arguments(words)
+        if self.modal_call is not None and not self.frames[-1].modal:
+            self.modal_call = None   # another call cancels the modal subroutine (L10568, L10804)
         if modal:
             self.modal_call = ModalCall(name, args, self.frames[-1].program)
         self._enter(name, "OEM", args, col, modal=modal)

@@ -315,6 +315,8 @@ class IsoExecutor:
         if 74 in gs:
             yield from self._home(gs[74][0], bw, src)
             consumed = True
+        if 80 in gs:
+            self.interp.modal_call = None   # seed 002 L10798: G80 cancels the modal subroutine
         aids = [n for n in (36, 37, 38, 39) if n in gs]
         if aids:
             yield self._aid(aids, gs, bw, src)
