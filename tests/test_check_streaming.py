@@ -271,3 +271,19 @@ def test_utf16_files_are_read_and_binary_files_are_one_diagnostic(tmp_path):
         f.write_bytes(data)
         found = check_file(f).diagnostics
         assert [d.code for d in found] == ["SYN023"] and "not a program text file" in found[0].message
+
+
+def test_a_forward_goto_into_a_structure_is_refused_in_the_streamed_run_too(tmp_path):
+    # seed 002 L17072: no jump into the body of another instruction.  simulate() said INT074; the streamed
+    # run (check, run) had not yet read the $ENDIF when it jumped, and ran the body
+    f = tmp_path / "goto_in.nc"
+    f.write_text("P1=0\n$GOTO [IN]\n$IF P1==1\n[IN] P100=1\n$ENDIF\nM30\n")
+    assert [(d.code, d.line) for d in fagorcnc.simulate(f).diagnostics] == [("INT074", 2)]
+    assert [(d.code, d.line) for d in fagorcnc.dry_run(f).diagnostics] == [("INT074", 2)]
+    streamed = fagorcnc.interpret(f)
+    list(streamed)
+    assert [(d.code, d.line) for d in streamed.diagnostics] == [("INT074", 2)]
+    # a forward jump over a whole structure, or within the one it stands in, is still allowed
+    f.write_text("P1=0\n$GOTO [OUT]\n$IF P1==1\nP100=1\n$ENDIF\n[OUT] P101=1\n$WHILE P1<2\nP1=P1+1\n"
+                 "$GOTO [NEXT]\nP102=1\n[NEXT] P103=P1\n$ENDWHILE\nM30\n")
+    assert fagorcnc.dry_run(f).ok and fagorcnc.simulate(f).state.param(103) == 2

@@ -11,6 +11,7 @@ before the program body, seed 002 L917) are read whole first.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Iterator
 
 from ..syntax.ast import Block, Program, ProgramHeader, Routine, SubroutineHeader
@@ -128,7 +129,10 @@ class StreamSource:
         return self._builder.labels[key]
 
     def spans(self) -> list:
-        return _spans(self._builder.structure, lambda i: self.get(i) if i >= self._base else _KEPT)
+        """As :meth:`ProgramSource.spans`, and the structures still open where the reading stands: their
+        closer lies beyond every block read so far, a jump target among them included (seed 002 L17072)."""
+        closed = _spans(self._builder.structure, lambda i: self.get(i) if i >= self._base else _KEPT)
+        return closed + [(entry.index, math.inf) for entry in self._builder.stack]
 
     def release(self, pc: int, keep_from: int | None = None) -> None:
         """Drop blocks before ``pc`` that no jump or loop can reach again."""
