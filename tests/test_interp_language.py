@@ -1292,3 +1292,12 @@ def test_another_call_or_g80_cancels_the_modal_subroutine_l10568_l10798(tmp_path
     assert ok(run(subs + "G180\nG1 X20\nM30\n", mach)).state.param(100) == 2
     assert ok(run(subs + "G80\nG1 X20\nG1 X30\nM30\n", mach)).state.param(100) == 2
     assert ok(run(subs + "G1 X20\nM30\n", mach)).state.param(100) == 3   # still modal
+
+
+def test_rpt_range_rules_l16206_l16241():
+    # L16206: "l'étiquette du bloc final doit être programmée seule"; L16241: the labels must differ
+    assert ok(run("P100=0\nN10: P100=P100+1\nN20:\n#RPT [N10,N20,2]\nM30\n")).state.param(100) == 3
+    for text in ("P100=0\nN10: P100=P100+1\n#RPT [N10,N10,2]\nM30\n",
+                 "P100=0\nN10: P100=P100+1\nN20: P100=P100+10\n#RPT [N10,N20]\nM30\n"):
+        r = run(text)
+        assert [c for c, _ in errors(r)] == ["INT075"], r.diagnostics

@@ -469,6 +469,13 @@ class Interpreter:
         self.guard_repetitions(count, f"#RPT count {count} repeats the blocks", node.col)
         if end < start:
             raise InterpError("INT075", "#RPT: the end block comes before the start block", node.col)
+        if end == start:   # seed 002 L16241
+            raise InterpError("INT075", "#RPT: the start and end blocks must be different blocks (to repeat one "
+                              "block, end the range at a label alone after it)", node.col)
+        closing = frame.source.get(end)
+        if closing is not None and closing.items:   # seed 002 L16206
+            raise InterpError("INT075", f"#RPT: the end block (line {closing.line}) must hold its label alone",
+                              node.col)
         if frame.repeat is not None:
             raise InterpError("INT075", "#RPT inside a repeated range is not supported", node.col)
         if count:
