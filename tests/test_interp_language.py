@@ -1301,3 +1301,23 @@ def test_rpt_range_rules_l16206_l16241():
                  "P100=0\nN10: P100=P100+1\nN20: P100=P100+10\n#RPT [N10,N20]\nM30\n"):
         r = run(text)
         assert [c for c, _ in errors(r)] == ["INT075"], r.diagnostics
+
+
+def test_rpt_ranges_nest_up_to_20_levels_l16216():
+    # "20 niveaux d'imbrication sont permis": an #RPT inside a repeated range, the manual's layout with the
+    # ranges after M30 (L16209) and one written inside the other
+    r = ok(run("P100=0\nP101=0\n#RPT [[A],[B],2]\nM30\n[A] P100=P100+1\n#RPT [[C],[D],3]\n[B]\n"
+               "[C] P101=P101+1\n[D]\n"))
+    assert (r.state.param(100), r.state.param(101)) == (2, 6)   # 2 outer passes, 3 inner each
+    # N10 runs once, twice more by the inner #RPT, then 3 outer passes of (1 + 2)
+    r = ok(run("P100=0\nN10: P100=P100+1\nN20:\nN30: #RPT [N10,N20,2]\nN40:\n#RPT [N10,N40,3]\nM30\n"))
+    assert r.state.param(100) == 12
+    # each range [Lk] repeats the next one: 20 levels run, 21 are refused
+
+    def chain(n: int) -> str:
+        levels = "".join(f"[L{k}] #RPT [[L{k + 1}],[E{k + 1}],1]\n[E{k}]\n" for k in range(1, n))
+        return f"#RPT [[L1],[E1],1]\nM30\n{levels}[L{n}] P1=1\n[E{n}]\n"
+
+    assert ok(run(chain(20))).state.param(1) == 1
+    r = run(chain(21))
+    assert [c for c, _ in errors(r)] == ["INT075"] and "20 deep" in r.diagnostics[0].message

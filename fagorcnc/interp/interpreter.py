@@ -31,6 +31,8 @@ from .variables import Variables
 
 #: Rounding a $FOR end comparison allows, as a share of the step (see the $ENDFOR step).
 FOR_SLACK = 1e-9
+#: #RPT ranges one inside another, at most (seed 002 L16216).
+RPT_LEVELS = 20
 
 
 class _Stop(Exception):  # noqa: N818 - control flow, not an error
@@ -48,6 +50,7 @@ class Frame:
     loops: dict = field(default_factory=dict)   # opener index -> loop state
     modal: bool = False       # running the modal subroutine (#MCALL)
     repeat: list | None = None  # #RPT: [start, end, remaining, return pc]
+    outer_repeats: list = field(default_factory=list)   # the #RPT ranges the running one is nested in
 
 
 @dataclass
@@ -144,7 +147,7 @@ class Interpreter:
                 if any(d.is_error for d in stream.diagnostics):
                     raise _Stop  # a syntax error ahead: nothing more is executed
                 if frame.pc & 1023 == 0:
-                    keep = [*frame.loops, frame.repeat[0]] if frame.repeat else list(frame.loops)
+                    keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
                     stream.release(frame.pc, min(keep) if keep else None)
             if block is None:
                 self._end_of_routine(frame)
@@ -476,9 +479,11 @@ class Interpreter:
         if closing is not None and closing.items:   # seed 002 L16206
             raise InterpError("INT075", f"#RPT: the end block (line {closing.line}) must hold its label alone",
                               node.col)
-        if frame.repeat is not None:
-            raise InterpError("INT075", "#RPT inside a repeated range is not supported", node.col)
         if count:
+            if frame.repeat is not None:   # seed 002 L16216: 20 levels of nesting
+                if len(frame.outer_repeats) >= RPT_LEVELS - 1:
+                    raise InterpError("INT075", f"#RPT nested more than {RPT_LEVELS} deep (L16216)", node.col)
+                frame.outer_repeats.append(frame.repeat)
             frame.repeat = [start, end, count, frame.pc]
             frame.pc = start
 
@@ -489,7 +494,7 @@ class Interpreter:
             frame.repeat[2] = remaining
             frame.pc = start
         else:
-            frame.repeat = None
+            frame.repeat = frame.outer_repeats.pop() if frame.outer_repeats else None
             frame.pc = back
         return True
 
