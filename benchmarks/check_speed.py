@@ -24,7 +24,7 @@ from plan_speed import contour, raster
 
 CHILD = """
 import json, resource, sys, time
-from fagorcnc.check import check_file
+from fagorcnc.commands.check import check_file
 from fagorcnc.runtime import keep_freed_memory
 keep_freed_memory()   # as the fagorcnc command does
 best = None

@@ -8,13 +8,12 @@
     report = fagorcnc.run("part.nc", backend="sim")      # stream to a back-end
 """
 
+from .commands.run import RunReport, run
+from .config.machine import Machine, load_machine
 from .diagnostics import CODES, Diagnostic
-from .machine import Machine, load_machine
-from .runner import RunReport, run
 from .simulate import DryRun, Result, Run, dry_run, interpret, simulate
 from .syntax import Program, iter_lines, parse_file, parse_text
-
-__version__ = "0.1.0"
+from .version import __version__
 
 
 def parse(source: str, file: str = "<string>") -> Program:

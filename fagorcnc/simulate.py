@@ -13,12 +13,12 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .config.machine import Machine, MachineError, load_machine
+from .config.parameter_file import attach_parameter_file
 from .diagnostics import Diagnostic
 from .interp.interpreter import Interpreter
 from .interp.records import record_time
 from .interp.state import ChannelState
-from .machine import Machine, MachineError, load_machine
-from .persist import attach_parameter_file
 from .plan import Planner, PlanningError, Segment, Trajectory, sample
 from .plan.envelope import Envelope
 from .runtime import fewer_collections
@@ -125,8 +125,8 @@ def simulate(source: str | Path, machine: Machine | dict | str | Path | None = N
 
     ``source`` is a path to a program file or the program text itself (text
     is recognised by containing a newline or not naming an existing file).
-    ``machine`` is a :class:`~fagorcnc.machine.Machine`, a dict or a TOML
-    path (see :func:`~fagorcnc.machine.load_machine`); ``None`` is the default
+    ``machine`` is a :class:`~fagorcnc.config.machine.Machine`, a dict or a TOML
+    path (see :func:`~fagorcnc.config.machine.load_machine`); ``None`` is the default
     machine.  Never raises on a bad program: problems are in ``diagnostics``.
     """
     try:

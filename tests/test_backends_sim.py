@@ -10,7 +10,7 @@ import pytest
 import fagorcnc
 from fagorcnc.backends import Backend, BackendError, SimulatorBackend, available, get_backend
 from fagorcnc.cli import main
-from fagorcnc.machine import load_machine
+from fagorcnc.config.machine import load_machine
 
 PROGRAM = "G90 G1 X10 F6000\nM8\nG4 K0.5\nX20 Y5\nG2 X30 Y5 I5 J0\nM9\nM30\n"
 

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 import fagorcnc
-from fagorcnc.check import FileReport, check_file, github_report
 from fagorcnc.cli import main
+from fagorcnc.commands.check import FileReport, check_file, github_report
 from fagorcnc.diagnostics import Diagnostic
 
 DEMO = Path(__file__).resolve().parents[1] / "programs" / "demo.nc"

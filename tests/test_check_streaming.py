@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import fagorcnc
-from fagorcnc.check import check_file
+from fagorcnc.commands.check import check_file
 from fagorcnc.interp.interpreter import Interpreter
 from fagorcnc.plan import Planner
 from fagorcnc.simulate import dry_run
@@ -55,9 +55,9 @@ def programs(tmp_path_factory) -> dict[int, Path]:
 #: so both reach their constant size well within 5 000 blocks.
 _PEAK = """
 import contextlib, io, resource, sys
-from fagorcnc.check import check_file
+from fagorcnc.commands.check import check_file
 from fagorcnc.cli import main
-from fagorcnc.runner import run
+from fagorcnc.commands.run import run
 machine = {"planner": {"lookahead": 50}}
 if sys.argv[1] == "check":
     assert check_file(sys.argv[2], machine).verdict() == "pass"

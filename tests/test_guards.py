@@ -16,8 +16,8 @@ from collections import Counter
 import pytest
 
 import fagorcnc
-from fagorcnc.check import check_file
 from fagorcnc.cli import main
+from fagorcnc.commands.check import check_file
 from fagorcnc.interp import interpreter
 
 WHILE_FOREVER = "P1=0\n$WHILE 1==1\nP1=P1+1\n$ENDWHILE\nM30\n"
@@ -116,7 +116,7 @@ def test_block_loop_and_nesting_guards_with_the_time_limit_on(tmp_path, text, li
 def test_bad_limits_name_the_key(tmp_path, body, key):
     f = tmp_path / "mill.toml"
     f.write_text(f"[limits]\n{body}\n")
-    with pytest.raises(fagorcnc.machine.MachineError) as err:
+    with pytest.raises(fagorcnc.config.machine.MachineError) as err:
         fagorcnc.load_machine(f)
     assert str(err.value).startswith(f"{f}: ") and key in str(err.value)
 

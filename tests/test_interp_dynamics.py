@@ -10,8 +10,8 @@ from __future__ import annotations
 import pytest
 
 import fagorcnc
+from fagorcnc.config.machine import MachineError, load_machine
 from fagorcnc.interp.dynamics import Hsc
-from fagorcnc.machine import MachineError, load_machine
 
 MOTION = ("linear", "arc", "rapid")
 

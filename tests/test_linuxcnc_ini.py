@@ -6,8 +6,8 @@ import pytest
 
 import fagorcnc
 from fagorcnc.cli import main
-from fagorcnc.linuxcnc import DEFAULT_JERK_RATE, NO_LIMIT, load_ini
-from fagorcnc.machine import MachineError, load_machine
+from fagorcnc.config.linuxcnc import DEFAULT_JERK_RATE, NO_LIMIT, load_ini
+from fagorcnc.config.machine import MachineError, load_machine
 
 INCH_MILL = """\
 # LinuxCNC 2.8+ layout, inch machine

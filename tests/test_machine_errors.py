@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from fagorcnc.cli import main
-from fagorcnc.machine import MachineError, load_machine
+from fagorcnc.config.machine import MachineError, load_machine
 
 
 @pytest.mark.parametrize(("body", "key"), [

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import fagorcnc
-from fagorcnc.check import check_file
-from fagorcnc.persist import read_parameter_file, write_parameter_file
+from fagorcnc.commands.check import check_file
+from fagorcnc.config.parameter_file import read_parameter_file, write_parameter_file
 
 COUNTER = (
     "$IF EXIST[P100] == 0\n"

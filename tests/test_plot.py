@@ -46,7 +46,7 @@ def test_demo_svg_and_3d(tmp_path):
 
 def test_compensated_path_draws_the_programmed_contour(tmp_path):
     pytest.importorskip("matplotlib")
-    from fagorcnc.plot import plot_program
+    from fagorcnc.commands.plot import plot_program
 
     prog = tmp_path / "comp.nc"
     prog.write_text("T1 D1 M6\nG0 X0 Y0\nG1 G41 X10 Y10 F500\nG1 X50\nG2 X60 Y0 R10\nG1 Y-20\nG1 X10\n"

@@ -20,7 +20,7 @@ from pymodbus.client import ModbusTcpClient
 
 import fagorcnc
 from fagorcnc.backends import SimulatorBackend, Status
-from fagorcnc.status_server import (
+from fagorcnc.plc.status_server import (
     CUSTOM_ALARM_CODE,
     MainState,
     PlcSignal,

@@ -1,4 +1,5 @@
-"""The one interface every back-end implements, and the registry that picks one by name.
+"""The one interface every back-end implements (the registry that picks one by name is
+:mod:`.registry`, so this protocol module imports no implementation).
 
 A back-end receives the planner's :class:`~fagorcnc.plan.Segment` stream in
 order.  ``send`` applies back-pressure: it blocks while the back-end cannot
@@ -6,17 +7,13 @@ take more (a card's buffer is full) and raises :class:`BackendError` when the
 machine reports an alarm or the link fails; after that nothing more is sent
 until the operator asks (``resume`` after acknowledging, or a new ``open``).
 
-Back-ends are found by name: the built-in ``sim`` and ``interpcnc``, plus any
-package that declares an entry point in the group ``fagorcnc.backends``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from importlib.metadata import entry_points
 from typing import Protocol, runtime_checkable
 
-from ..machine import Machine
 from ..plan import Segment
 
 #: Main states of a back-end (also what the status server publishes).
@@ -81,30 +78,3 @@ class Backend(Protocol):
     def status(self) -> Status: ...
 
     def close(self) -> None: ...
-
-
-def available() -> dict[str, object]:
-    """Back-end factories by name: built-ins first, then entry points."""
-    from .sim import SimulatorBackend
-
-    found: dict[str, object] = {"sim": SimulatorBackend}
-    try:
-        from .interpcnc import InterpCncBackend
-
-        found["interpcnc"] = InterpCncBackend
-    except ImportError:   # pragma: no cover - pymodbus missing
-        pass
-    for ep in entry_points(group="fagorcnc.backends"):
-        found.setdefault(ep.name, ep)
-    return found
-
-
-def get_backend(name: str, machine: Machine, **options) -> Backend:
-    """Build the back-end called ``name`` for ``machine`` (options are back-end specific)."""
-    factories = available()
-    if name not in factories:
-        raise BackendError(f"unknown back-end {name!r} (available: {', '.join(sorted(factories))})")
-    factory = factories[name]
-    if hasattr(factory, "load"):
-        factory = factory.load()
-    return factory(machine, **options)

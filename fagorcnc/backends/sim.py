@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from ..machine import Machine
+from ..config.machine import Machine
 from ..plan import Segment
 from ..plan.trajectory import Trajectory, sample
 from .base import BackendError, Status

@@ -4,7 +4,7 @@ Each known G function has a modal group (``None`` when it acts only in its
 block), what happens to it at M02/M30/reset (``reset="default"`` restores the
 group's power-on default, ``"keep"`` survives — the manual's ``!`` flag), and
 its support status in fagorcnc.  Power-on defaults that depend on a machine
-parameter are functions of the :class:`~fagorcnc.machine.Machine`.
+parameter are functions of the :class:`~fagorcnc.config.machine.Machine`.
 
 The interpreter consults only this table to know the groups, to restore the
 defaults and to report functions it cannot honour; no G number is special-
@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..machine import Machine
+from ..config.machine import Machine
 
 
 @dataclass(frozen=True)

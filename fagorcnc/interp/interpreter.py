@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from time import monotonic
 
+from ..config.machine import Machine
 from ..diagnostics import Diagnostic
-from ..machine import Machine
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word

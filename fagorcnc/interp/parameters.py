@@ -14,7 +14,7 @@ E19); ``EXIST[Pn]`` tells whether it has a value.
 
 from __future__ import annotations
 
-from ..machine import Machine
+from ..config.machine import Machine
 from .expressions import InterpError
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import copy
 
-from ..machine import Machine
+from ..config.machine import Machine
 from ..path.transform import Transform
 from .dynamics import Dynamics, build, default_roundpar
 from .gtable import power_on_modes

@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
+from ..config.machine import Machine
 from ..diagnostics import Diagnostic
-from ..machine import Machine
 
 #: Tolerance of the envelope check (mm, degrees).
 ENVELOPE_TOLERANCE = 1e-6

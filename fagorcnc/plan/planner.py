@@ -19,7 +19,7 @@ from itertools import accumulate, islice, pairwise
 
 import numpy as np
 
-from ..machine import Machine, load_machine
+from ..config.machine import Machine, load_machine
 from .corner_batch import make_blends
 from .corners import (
     CURVATURE_EPS,

@@ -86,7 +86,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...machine import Machine
+from ...config.machine import Machine
 from ...plan import Segment
 from ..base import BackendError, Status
 from . import protocol as proto

@@ -38,7 +38,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-from ...machine import Machine
+from ...config.machine import Machine
 from ..base import BackendError
 from . import registers as regs
 

@@ -3,7 +3,7 @@
 ``load_machine("machine.ini")`` (any path ending in ``.ini``) and the TOML key
 ``linuxcnc_ini = "machine.ini"`` (TOML keys then override the INI) both go
 through :func:`load_ini`, which returns a dict in the machine-file schema of
-:mod:`fagorcnc.machine`; the default machine fills in what it leaves out.
+:mod:`fagorcnc.config.machine`; the default machine fills in what it leaves out.
 
 What is read (seed 003 = LinuxCNC integrator manual, French; spec
 ``rosettacnc-linuxcnc.md``):
@@ -47,7 +47,7 @@ speeds and accelerations missing everywhere keep fagorcnc's axis defaults.
 
 Unknown sections and keys are ignored (a LinuxCNC INI holds many HAL and GUI
 settings); a key fagorcnc reads with a bad value raises
-:class:`~fagorcnc.machine.MachineError` naming the file, line, section and key.
+:class:`~fagorcnc.config.machine.MachineError` naming the file, line, section and key.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .machine import MachineError
+from .errors import MachineError
 
 #: Jerk given to an axis whose INI section has no MAX_JERK: this many times its
 #: acceleration (1/s).  20/s = full acceleration in 50 ms (fagorcnc's default machine ratio).
@@ -156,7 +156,7 @@ def read_ini(path: str | Path) -> IniFile:
 def load_ini(path: str | Path) -> dict[str, Any]:
     """A LinuxCNC INI file as a machine dict (see the module docstring for the mapping).
 
-    The result is meant for :func:`fagorcnc.machine.load_machine`, which merges
+    The result is meant for :func:`fagorcnc.config.machine.load_machine`, which merges
     it over the default machine; its ``axes`` table replaces the default axes.
     """
     ini = read_ini(path)

@@ -32,7 +32,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from .diagnostics import Diagnostic
+from ..diagnostics import Diagnostic
 from .machine import Machine
 
 

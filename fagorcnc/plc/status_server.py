@@ -118,8 +118,8 @@ from pymodbus.pdu.device import ModbusDeviceIdentification
 from pymodbus.server import ModbusTcpServer
 from pymodbus.simulator import DataType, SimData, SimDevice
 
-from .backends.base import Status
-from .machine import Machine
+from ..backends.base import Status
+from ..config.machine import Machine
 
 __all__ = [
     "CUSTOM_ALARM_CODE", "HOLDING_COUNT", "INPUT_COUNT", "INTERFACE_LEVEL", "MAX_READ", "MainState", "PlcSignal",
@@ -680,7 +680,7 @@ class StatusServer:
 
 def _version_word() -> int:
     """fagorcnc's version for 30002: major in the high byte, minor ("release") in the low byte."""
-    from . import __version__
+    from ..version import __version__
 
     parts = [*__version__.split("."), "0"][:2]
     major, minor = (int(p) if p.isdigit() else 0 for p in parts)

@@ -17,15 +17,18 @@ pyplot state.
 
 from __future__ import annotations
 
+import argparse
 import copy
 import dataclasses
 import math
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .machine import Machine, load_machine
+from ..config.machine import Machine, MachineError, load_machine
+from ._shared import clock, not_a_file
 
 #: Output formats by file suffix.
 FORMATS = (".png", ".svg", ".pdf")
@@ -112,9 +115,9 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
     contour when the program uses radius compensation; ``limits`` draws the
     soft limits.  Raises :class:`MatplotlibMissingError` without matplotlib,
     :class:`ValueError` for a bad output suffix or plane,
-    :class:`~fagorcnc.machine.MachineError` for a bad machine.
+    :class:`~fagorcnc.config.machine.MachineError` for a bad machine.
     """
-    from .simulate import simulate
+    from ..simulate import simulate
 
     output = Path(output)
     if output.suffix.lower() not in FORMATS:
@@ -141,7 +144,7 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
     count = 0
     tool = 0
     if result.moves:
-        from .plan import PlanningError
+        from ..plan import PlanningError
 
         try:
             for seg in result.segments(keep_profiles=False):
@@ -201,7 +204,7 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
         ax.set_aspect("equal", adjustable="datalim")
         ax.grid(True, linewidth=0.3, alpha=0.5)
     name = Path(str(source)).name if "\n" not in str(source) else "<program>"
-    heading = title or f"{name} — cycle time {_clock(result.cycle_time)} (planned)"
+    heading = title or f"{name} — cycle time {clock(result.cycle_time)} (planned)"
     if not result.ok:
         heading += f" — {sum(d.is_error for d in result.diagnostics)} error(s)"
     ax.set_title(heading, fontsize=10)
@@ -221,7 +224,29 @@ def _equal_3d(ax, arrays: list[np.ndarray]) -> None:
     ax.set_box_aspect(tuple(np.maximum(span / span.max(), 0.05)))
 
 
-def _clock(seconds: float) -> str:
-    minutes, sec = divmod(max(seconds, 0.0), 60.0)
-    hours, minutes = divmod(int(minutes), 60)
-    return f"{hours}:{minutes:02d}:{sec:04.1f}" if hours else f"{minutes}:{sec:04.1f}"
+
+# --- the ``fagorcnc plot`` command -----------------------------------------------------
+
+def command(args: argparse.Namespace) -> int:
+    """Handler of ``fagorcnc plot``: exit 0 when drawn from a clean program, 1 with errors, 2 on bad usage."""
+    if not Path(args.file).is_file():
+        print(f"{args.file}: cannot read the file: {not_a_file(args.file)}", file=sys.stderr)
+        return 2
+    try:
+        info = plot_program(Path(args.file), args.output, args.machine, three_d=args.three_d, plane=args.plane,
+                            programmed=not args.no_programmed, limits=args.limits, block_skip=args.block_skip)
+    except MatplotlibMissingError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return 2
+    except (MachineError, ValueError) as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    for d in info.diagnostics:
+        if d.severity != "info":
+            print(d.render(), file=sys.stderr)
+    print(f"{args.output}: {info.segments} planned segments, cycle time {clock(info.cycle_time)}"
+          + (", programmed contour drawn" if info.programmed else ""))
+    return 0 if info.ok else 1

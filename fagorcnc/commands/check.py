@@ -76,10 +76,12 @@ one workflow command per diagnostic (``::error file=F,line=L,col=C,title=CODE::m
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import json
 import math
 import os
+import sys
 from collections.abc import Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -87,8 +89,9 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
-from .diagnostics import CODES, Diagnostic
-from .machine import Machine, MachineError, load_machine
+from ..config.machine import Machine, MachineError, load_machine
+from ..diagnostics import CODES, Diagnostic
+from ._shared import clock, command_machine
 
 #: Codes of the warnings that say fagorcnc does not model something.
 UNSUPPORTED = ("INT011", "INT078", "INT079", "INT115")
@@ -283,15 +286,15 @@ def _time_limited(machine: Machine, seconds: float | None) -> Machine:
 
 def _no_block(path: Path) -> bool:
     """Whether the file holds no block at all (read until the first one)."""
-    from .syntax import iter_lines, source_encoding
-    from .syntax.ast import Block
+    from ..syntax import iter_lines, source_encoding
+    from ..syntax.ast import Block
 
     with open(path, encoding=source_encoding(path), errors="replace") as lines:
         return not any(type(node) is Block for node, _ in iter_lines(lines, str(path)))
 
 
 def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool) -> None:
-    from .simulate import dry_run
+    from ..simulate import dry_run
 
     # one streamed pass: interpreted and planned once, in constant memory whatever the program's
     # length; what the report says of the moves is gathered as they pass
@@ -311,7 +314,7 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
                                  "empty, or only comments (a truncated or failed post-processor output?)"), False))
     if report.cycle_time_exceeded:
         found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
-                                 f"planned cycle time {_clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
+                                 f"planned cycle time {clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
                                  f"the limit of {report.max_cycle_time:g} s (--max-cycle-time)"), False))
     found.sort(key=lambda x: (x[0].file != str(path), x[0].file, x[0].line, x[0].col))
     report.diagnostics = [d for d, _ in found]
@@ -319,8 +322,8 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
 
 
 def _interpreter(program, machine: Machine, block_skip: bool):
-    from .interp.interpreter import Interpreter
-    from .persist import attach_parameter_file
+    from ..config.parameter_file import attach_parameter_file
+    from ..interp.interpreter import Interpreter
 
     interp = Interpreter(program, machine, block_skip=block_skip)
     attach_parameter_file(interp)   # the same starting parameters as simulate(); never saved
@@ -329,7 +332,7 @@ def _interpreter(program, machine: Machine, block_skip: bool):
 
 def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnostic]) -> list[Diagnostic]:
     """Errors beyond the first: blank the failing lines and run again (interpreter only)."""
-    from .syntax import parse_text, read_source
+    from ..syntax import parse_text, read_source
 
     text = read_source(path).replace("\r\n", "\n").replace("\r", "\n")
     lines = text.split("\n")
@@ -473,11 +476,6 @@ def _orientation(rec, start_part: dict, end_part: dict) -> float:
     return 1.0
 
 
-def _clock(seconds: float) -> str:
-    minutes, sec = divmod(max(seconds, 0.0), 60.0)
-    hours, minutes = divmod(int(minutes), 60)
-    return f"{hours}:{minutes:02d}:{sec:04.1f}" if hours else f"{minutes}:{sec:04.1f}"
-
 
 # ----------------------------------------------------------------------------- many files
 _WORKER: dict[str, Any] = {}
@@ -497,7 +495,7 @@ def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Pat
     """Verify many files, ``jobs`` processes at a time (default: one per CPU);
     yields the reports in input order as they become available.
 
-    Raises :class:`~fagorcnc.machine.MachineError` for a bad machine configuration.
+    Raises :class:`~fagorcnc.config.machine.MachineError` for a bad machine configuration.
     """
     mach = load_machine(machine)
     options = {"block_skip": block_skip, "max_cycle_time": max_cycle_time, "recover": recover,
@@ -538,7 +536,7 @@ def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = Fal
         lines.append(f"{report.file}: {verdict.upper()}: {report.failure}")
         return "\n".join(lines)
     errors, warnings = report.count("error"), report.count("warning")
-    time = f"cycle time {_clock(report.cycle_time)} (planned"
+    time = f"cycle time {clock(report.cycle_time)} (planned"
     time += ")" if report.complete else ", up to the first error)"
     if report.cycle_time_exceeded:
         time += f" OVER the limit of {report.max_cycle_time:g} s"
@@ -571,7 +569,7 @@ def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = Fal
 
 def json_report(reports: Sequence[FileReport], *, fail_on: str = "error", machine: str | None = None) -> dict:
     """The JSON document (schema ``fagorcnc-check/1``) of a set of reports."""
-    from . import __version__
+    from ..version import __version__
 
     files = [r.to_dict(fail_on) for r in reports]
     verdicts = [f["verdict"] for f in files]
@@ -604,7 +602,7 @@ def _uri(file: str) -> str:
 
 def sarif_report(reports: Sequence[FileReport], *, fail_on: str = "error") -> dict:
     """A SARIF 2.1.0 log of a set of reports."""
-    from . import __version__
+    from ..version import __version__
 
     rules: list[dict] = []
     index: dict[str, int] = {}
@@ -675,3 +673,48 @@ def github_report(report: FileReport, *, fail_on: str = "error", verbose: bool =
 def dumps(document: dict) -> str:
     """JSON text of a report document (stable key order, 2-space indent)."""
     return json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False)
+
+
+# --- the ``fagorcnc check`` command ----------------------------------------------------
+
+def command(args: argparse.Namespace) -> int:
+    """Handler of ``fagorcnc check``: the exit status of :func:`exit_status`, 2 on bad usage."""
+    if args.jobs is not None and args.jobs < 1:
+        print("fagorcnc: --jobs must be 1 or more", file=sys.stderr)
+        return 2
+    if args.max_cycle_time is not None and not args.max_cycle_time > 0:
+        print("fagorcnc: --max-cycle-time must be a positive number of seconds", file=sys.stderr)
+        return 2
+    machine = command_machine(args)
+    if machine is None:
+        return 2
+    if not args.output:
+        return _check_report(args, machine, sys.stdout)
+    try:
+        with open(args.output, "w", encoding="utf-8") as out:
+            return _check_report(args, machine, out)
+    except OSError as exc:
+        print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+
+
+def _check_report(args: argparse.Namespace, machine, out) -> int:
+    reports = []
+    for report in check_files(args.files, machine, jobs=args.jobs, block_skip=args.block_skip,
+                              max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds):
+        reports.append(report)
+        if report.usage_error:
+            print(f"{report.file}: {report.failure}", file=sys.stderr)
+        if args.format == "text":
+            print(text_report(report, fail_on=args.fail_on, brief=args.brief, verbose=args.verbose,
+                              quiet=args.quiet), file=out, flush=True)
+        elif args.format == "github":
+            print(github_report(report, fail_on=args.fail_on, verbose=args.verbose), file=out, flush=True)
+    if args.format == "json":
+        print(dumps(json_report(reports, fail_on=args.fail_on, machine=args.machine)), file=out)
+    elif args.format == "sarif":
+        print(dumps(sarif_report(reports, fail_on=args.fail_on)), file=out)
+    elif len(reports) > 1 and not args.quiet:
+        passed = sum(r.verdict(args.fail_on) == "pass" for r in reports)
+        print(f"checked {len(reports)} files: {passed} passed, {len(reports) - passed} failed", file=out)
+    return exit_status(reports, args.fail_on)

@@ -11,17 +11,21 @@ machine executed.
 
 from __future__ import annotations
 
+import argparse
+import dataclasses
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .backends import Backend, BackendError, Status, get_backend
-from .diagnostics import Diagnostic
-from .machine import Machine, MachineError, load_machine
-from .plan import Planner, PlanningError, Segment
-from .plan.envelope import Envelope
-from .runtime import fewer_collections
-from .simulate import FinalState, dry_run, interpret, syntax_errors
+from ..backends import Backend, BackendError, Status, get_backend
+from ..config.machine import Machine, MachineError, load_machine
+from ..diagnostics import Diagnostic
+from ..plan import Planner, PlanningError, Segment
+from ..plan.envelope import Envelope
+from ..runtime import fewer_collections
+from ..simulate import FinalState, dry_run, interpret, syntax_errors
+from ._shared import clock, command_machine, not_a_file
 
 
 @dataclass
@@ -172,3 +176,134 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
                                         else "the program stopped at an error")
     return RunReport(stopped_by is None, diagnostics, status, clock, total, sent, stopped_by, message, be,
                      stream.interpreter.ended, moves, stream.state)
+
+
+# --- the ``fagorcnc run`` command ------------------------------------------------------
+
+class _ProgressBar:
+    """A one-line progress display on a terminal: block, line, planned time and ETA."""
+
+    def __init__(self, stream, label: str) -> None:
+        import time
+
+        self.stream, self.label, self.clock = stream, label, time.monotonic
+        self.last = 0.0
+        self.start = self.clock()
+
+    def __call__(self, seg, status, total) -> None:
+        now = self.clock()
+        if now - self.last < 0.2:
+            return
+        self.last = now
+        done = seg.t0 + seg.duration
+        if total:
+            frac = min(1.0, done / total)
+            bar = "#" * int(frac * 20)
+            eta = (now - self.start) * (1 - frac) / frac if frac > 0 else 0.0
+            text = f"[{bar:<20}] {frac:4.0%}  line {status.line:>6}  ETA {clock(eta)}"
+        else:
+            text = f"line {status.line:>6}  planned {clock(done)}"
+        self.stream.write(f"\r{self.label}: {text}")
+        self.stream.flush()
+
+    def close(self) -> None:
+        if self.last:
+            self.stream.write("\r\x1b[K")
+            self.stream.flush()
+
+
+def _where(report) -> str:
+    """Where the tool ended: the program's end point (part coordinates) after a complete run; after
+    an error or an alarm where the back-end last stood (machine coordinates), since the interpreter
+    may have gone on past the last move the machine made; nothing when nothing moved."""
+    if report.ok and report.state is not None:
+        pos, label = report.state.position("part"), "final position"
+    else:
+        pos, label = report.status.position, "position (machine)"
+    where = " ".join(f"{a}{v:.4f}" for a, v in pos.items())
+    return f"{label} {where}, " if where else ""
+
+
+def command(args: argparse.Namespace) -> int:
+    """Handler of ``fagorcnc run``: exit 0 when the program ran to its end, 1 when it stopped,
+    2 on bad usage, 130 when interrupted."""
+    machine = command_machine(args)
+    if machine is None:
+        return 2
+    if args.max_seconds is not None:
+        machine = dataclasses.replace(machine, limits=dataclasses.replace(machine.limits,
+                                                                          max_seconds=args.max_seconds))
+    if not Path(args.file).is_file():
+        print(f"{args.file}: cannot read the file: {not_a_file(args.file)}", file=sys.stderr)
+        return 2
+    options = {}
+    if args.backend == "interpcnc":
+        options = {k: v for k, v in (("host", args.host), ("port", args.port), ("serial", args.serial))
+                   if v is not None}
+    if args.realtime is not None:
+        if args.backend != "sim":
+            print("fagorcnc: --realtime paces the simulator only", file=sys.stderr)
+            return 2
+        options["realtime"] = args.realtime
+    if args.backend == "sim":
+        options["keep_segments"] = False   # the command reads none of them: memory stays flat however long the run
+    bar = _ProgressBar(sys.stderr, Path(args.file).name) if sys.stderr.isatty() and not args.verbose else None
+    backend, progress, server = args.backend, bar, None
+    report = None
+    try:
+        if args.status_server is not None:
+            backend, server = _start_status_server(args, machine, options)
+            if server is None:
+                return 2
+            options, progress = {}, server.progress_callback(bar)
+        report = run(Path(args.file), machine, backend=backend, block_skip=args.block_skip, progress=progress,
+                     **options)
+    except BackendError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        if bar is not None:
+            bar.close()
+        if server is not None:
+            server.finished(report is not None and report.ok)
+            server.stop()
+    for d in report.diagnostics:
+        if d.severity != "info" or args.verbose:
+            print(d.render())
+    status = report.status
+    errors = sum(d.is_error for d in report.diagnostics)
+    target = "the embedded simulator" if args.backend == "sim" else f"back-end {args.backend}"
+    verdict = "OK" if report.ok else f"STOPPED ({report.message})"
+    print(f"{args.file}: {verdict} on {target}: {report.moves} moves, ended by {report.ended_by or 'end of file'}, "
+          f"last block executed: line {status.line}, {_where(report)}cycle time "
+          f"{clock(report.cycle_time)} (jerk-limited plan), {errors} errors")
+    if report.stopped_by == "interrupt":
+        return 130
+    return 0 if report.ok else 1
+
+
+def _start_status_server(args: argparse.Namespace, machine, options: dict):
+    """Build the back-end and start the Modbus status server on it: (backend, server), server None on failure."""
+    from ..plc.status_server import PlcSignal, StatusServer, StatusServerError, parse_address
+
+    try:
+        host, port = parse_address(args.status_server)
+    except ValueError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return None, None
+    backend = get_backend(args.backend, machine, **options)
+
+    def show(signal: PlcSignal) -> None:
+        what = f"= {signal.value}" if signal.value else "cleared"
+        print(f"\nfagorcnc: PLC {signal.kind} {signal.number} (HR {signal.register}) {what}", file=sys.stderr)
+
+    server = StatusServer(backend, machine, host=host, port=port, holding_writes=args.plc_writes,
+                          program=Path(args.file), on_signal=show)
+    try:
+        server.start()
+    except StatusServerError as exc:
+        print(f"fagorcnc: {exc}", file=sys.stderr)
+        return backend, None
+    print(f"fagorcnc: status server (Modbus TCP) on {server.host}:{server.port}"
+          f"{', PLC writes enabled' if args.plc_writes else ''}", file=sys.stderr)
+    return backend, server
