@@ -137,6 +137,15 @@ CODES: dict[str, str] = {
     "INT114": "G193 needs linear acceleration",
     "INT115": "corner rounding type not modelled",
     "INT116": "local subroutine called by its number with an L in front (#CALL L100)",
+    # macros, #DEF (seed 002 ch. 21.1.16)
+    "MAC001": "macro used before it is defined",
+    "MAC002": "more than 50 macros",
+    "MAC003": "invalid macro name (1-30 letters and digits)",
+    "MAC004": "macro text longer than 140 characters",
+    "MAC005": "arithmetic operation not complete inside one macro",
+    "MAC006": "the block with its macros expanded is not a valid block",
+    "MAC007": "macros nested too deep (a macro that names itself)",
+    "MAC008": "invalid #DEF or #INIT MACROTAB statement",
     "PLN001": "motion cannot be planned within the machine limits",
     # fagorcnc check: verification of the planned motion
     "PLN100": "planned path (arc or corner blend) beyond a software limit",

@@ -20,9 +20,11 @@ from ..diagnostics import Diagnostic
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
+from ..syntax.macros import MacroUse
 from ..syntax.reader import parse_file
 from .expressions import Evaluator, InterpError
 from .iso import IsoExecutor
+from .macros import expanded_blocks
 from .parameters import Parameters
 from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
@@ -79,6 +81,7 @@ class Interpreter:
         self.modal_call: ModalCall | None = None
         self.mcs_block = False
         self._l_calls: set = set()   # "#CALL L100" calls already reported (INT116)
+        self.macros: dict[str, str] = {}   # #DEF's table, name -> block text (seed 002 L16121)
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
@@ -233,9 +236,13 @@ class Interpreter:
         items = block.items
         if not items:
             return
-        src = self._src(block)
         last = items[-1]
         t = type(last)
+        if t is MacroUse:   # "NAME" in the block: it runs as its text reads now (seed 002 L16115)
+            for expanded in expanded_blocks(self, block, last):
+                yield from self._block(expanded)
+            return
+        src = self._src(block)
         if t is Flow:
             self._flow(last, block)
             return

@@ -2,7 +2,7 @@
 
 Three kinds:
 
-* executed here: #ERROR, #WARNING, #WARNINGSTOP, #MSG, #TIME, #MCS ON/OFF,
+* executed here: #DEF and #INIT MACROTAB (interp/macros.py), #ERROR, #WARNING, #WARNINGSTOP, #MSG, #TIME, #MCS ON/OFF,
   #PATH, #RET, #RETDSBLK, #MDOFF, #DELETE, #FLUSH;
 * planning context (interp/dynamics.py): #HSC, #ROUNDPAR, #SLOPE, #TANGFEED;
 * recorded for the later stages: #ESBLK/#DSBLK, #SWTOUT, #PWMOUT ... kept in ``state.planner``;
@@ -15,7 +15,7 @@ Three kinds:
 from __future__ import annotations
 
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import dynamics
+from . import dynamics, macros
 from .expressions import InterpError
 from .records import Dwell
 
@@ -26,8 +26,7 @@ RECORDED = frozenset({"ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "DGWZ", "ESTOP", "DS
 #: through the points, L15690), #CD (loops removed, L15598).
 NOT_YET = frozenset({"TOOL", "KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
                      "SPLINE", "ASPLINE", "CD",
-                     "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
-                     "INIT", "RPT"})
+                     "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "RPT"})
 
 
 def _text_of(args) -> str:
@@ -86,6 +85,12 @@ def execute_sentence(interp, node, src):
     st = interp.state
     first = node.args[0] if node.args else None
     sub = first.name if type(first) in (Name, Keyed) else None
+    if kw == "DEF":
+        macros.define_statement(interp, node)
+        return
+    if kw == "INIT":
+        macros.init_statement(interp, node)
+        return
     if kw == "ERROR":
         # seed 002 L14139-L14212: stops the program with the error
         values = _values(interp, node.args)

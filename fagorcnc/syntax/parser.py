@@ -26,6 +26,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from ..diagnostics import Diagnostic, error
 from .ast import Block, ProgramHeader, SubroutineHeader
 from .builder import AstBuilder, split_words
+from .macros import macro_block
 
 
 def grammar_path() -> Path:
@@ -106,10 +107,13 @@ class LineParser:
         try:
             result = self._lark.parse(text)
         except UnexpectedInput as exc:
-            return None, (self._syntax_error(exc, text, line, file),)
+            macro = self._macro_block(text, line)
+            return macro if macro is not None else (None, (self._syntax_error(exc, text, line, file),))
         except VisitError as exc:  # a builder bug must not escape as a traceback
             return None, (error(file, line, 1, "SYN002", f"cannot read this block ({exc.orig_exc})", text),)
         diags = tuple(error(file, line, col, code, msg, text) for col, code, msg in builder.problems)
+        if diags and (macro := self._macro_block(text, line)) is not None:   # X["NAME"]: a string as a value
+            return macro
         kind = result[0]
         if kind == "block":
             _, skip, number, label, items = result
@@ -119,6 +123,17 @@ class LineParser:
         if kind == "program":
             return ProgramHeader(result[1], line, text), diags
         return SubroutineHeader(result[1], line, text), diags
+
+    @staticmethod
+    def _macro_block(text: str, line: int) -> tuple | None:
+        """A line that does not read as a block but uses macros ("NAME" where its words are):
+        a block of one :class:`~fagorcnc.syntax.macros.MacroUse`, read when it runs, once its
+        macros are defined (seed 002 L16115)."""
+        macro = macro_block(text) if '"' in text else None
+        if macro is None:
+            return None
+        skip, number, label, use = macro
+        return Block(line, text, skip, number, label, (use,)), ()
 
     # ------------------------------------------------------------------
     def _syntax_error(self, exc: UnexpectedInput, text: str, line: int, file: str) -> Diagnostic:
