@@ -137,6 +137,7 @@ CODES: dict[str, str] = {
     "INT114": "G193 needs linear acceleration",
     "INT115": "corner rounding type not modelled",
     "INT116": "local subroutine called by its number with an L in front (#CALL L100)",
+    "INT117": "invalid #SWTOUT or #PWMOUT statement (laser functions)",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",

@@ -24,6 +24,7 @@ from ..syntax.macros import MacroUse
 from ..syntax.reader import parse_file
 from .expressions import Evaluator, InterpError
 from .iso import IsoExecutor
+from .laser import Laser
 from .macros import expanded_blocks
 from .parameters import Parameters
 from .records import Dwell, Source, record_time
@@ -82,6 +83,8 @@ class Interpreter:
         self.mcs_block = False
         self._l_calls: set = set()   # "#CALL L100" calls already reported (INT116)
         self.macros: dict[str, str] = {}   # #DEF's table, name -> block text (seed 002 L16121)
+        self.laser = Laser()   # #SWTOUT / #PWMOUT state (seed 002 ch. 19)
+        self.variables.plain_vars.update(self.laser.variables(self.state))
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
@@ -660,6 +663,7 @@ class Interpreter:
 
     def end_program(self, m: int, src: Source) -> None:
         self.state.reset(f"M{m}")
+        self.laser.end_of_program()
         self.modal_call = None
         self.ended = f"M{m:02d}"
         raise _Stop

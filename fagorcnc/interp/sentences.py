@@ -5,7 +5,8 @@ Three kinds:
 * executed here: #DEF and #INIT MACROTAB (interp/macros.py), #ERROR, #WARNING, #WARNINGSTOP, #MSG, #TIME, #MCS ON/OFF,
   #PATH, #RET, #RETDSBLK, #MDOFF, #DELETE, #FLUSH;
 * planning context (interp/dynamics.py): #HSC, #ROUNDPAR, #SLOPE, #TANGFEED;
-* recorded for the later stages: #ESBLK/#DSBLK, #SWTOUT, #PWMOUT ... kept in ``state.planner``;
+* laser state (interp/laser.py): #SWTOUT, #PWMOUT and their V.G variables;
+* recorded for the later stages: #ESBLK/#DSBLK ... kept in ``state.planner``;
 * everything else cannot mean anything in an offline run of one channel
   (hardware, PLC, other channels) or is a transformation fagorcnc does not
   compute yet: each is reported with a warning naming it, never dropped
@@ -15,12 +16,12 @@ Three kinds:
 from __future__ import annotations
 
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import dynamics, macros
+from . import dynamics, laser, macros
 from .expressions import InterpError
 from .records import Dwell
 
 #: Sentences kept as state for the planner / path stages.
-RECORDED = frozenset({"ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
+RECORDED = frozenset({"ESBLK", "DSBLK", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
 #: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
 #: through the points, L15690), #CD (loops removed, L15598).
@@ -90,6 +91,12 @@ def execute_sentence(interp, node, src):
         return
     if kw == "INIT":
         macros.init_statement(interp, node)
+        return
+    if kw == "SWTOUT":
+        laser.swtout_statement(interp, node, sub)
+        return
+    if kw == "PWMOUT":
+        laser.pwmout_statement(interp, node, sub)
         return
     if kw == "ERROR":
         # seed 002 L14139-L14212: stops the program with the error
