@@ -15,6 +15,22 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+#: The code prefixes, by stage or feature: a code is its prefix and three digits.
+PREFIXES: dict[str, str] = {
+    "SYN": "syntax of a block",
+    "STR": "program structure: headers, subroutines, labels, $ nesting",
+    "INT": "the interpreter",
+    "MAC": "macros (#DEF)",
+    "CYC": "canned cycles",
+    "KIN": "kinematics and coordinate transformations",
+    "CAM": "constructs CAM posts write (compatibility policy) and the machinist's lint",
+    "CFG": "the machine configuration and what a back-end can do",
+    "BCK": "a back-end while it runs",
+    "PLN": "the planner and the planned motion",
+    "CHK": "fagorcnc check",
+    "CLI": "the fagorcnc command's tools",
+}
+
 #: Every code the front end emits, with a one-line description.
 CODES: dict[str, str] = {
     "SYN001": "unexpected character",
@@ -138,6 +154,8 @@ CODES: dict[str, str] = {
     "INT115": "corner rounding type not modelled",
     "INT116": "local subroutine called by its number with an L in front (#CALL L100)",
     "INT117": "invalid #SWTOUT or #PWMOUT statement (laser functions)",
+    "INT118": "function that must be alone in its block is not (G30, #MCS ON/OFF)",
+    "INT119": "function that needs another channel or an interrupt subroutine (#EXBLK to channel n, #REPOS)",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",

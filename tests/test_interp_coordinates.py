@@ -176,7 +176,7 @@ def test_g30_alone_takes_the_current_tool_position_seed002_l3961_l3967():
 
 
 def test_plane_change_resets_polar_origin_to_work_zero_seed002_l2682_l3996():
-    r = ok("G17 G30 I10 J10\nG18\nG17\nG01 R10 Q0 F100\nM30\n")
+    r = ok("G17\nG30 I10 J10\nG18\nG17\nG01 R10 Q0 F100\nM30\n")   # G30 alone in its block (L3953)
     # PO back to (0,0) after the plane changes: (0 + 10, 0) = (10, 0), not (20, 10)
     assert xy(motions(r)[0].end) == (approx(10), approx(0))
 

@@ -22,6 +22,7 @@ from ..path.compensation import CompensationError, compensate
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
 from ..syntax.reader import parse_file
+from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
 from .iso import IsoExecutor
 from .laser import Laser
@@ -245,6 +246,11 @@ class Interpreter:
             for expanded in expanded_blocks(self, block, last):
                 yield from self._block(expanded)
             return
+        if t is Sentence and last.keyword == "EXBLK" and len(items) == 1:   # a block run here (seed 002 L11294)
+            inner = exblk_block(self, last, block)
+            if inner is not None:
+                yield from self._block(inner)
+            return
         src = self._src(block)
         if t is Flow:
             self._flow(last, block)
@@ -256,6 +262,9 @@ class Interpreter:
             return
         words = [i for i in items if type(i) is Word]
         mcs_move = t is Sentence and last.keyword == "MCS" and not _is_on_off(last)
+        if t is Sentence and last.keyword == "MCS" and not mcs_move and (words or len(last.args) > 1):
+            # seed 002 L3212: "#MCS ON and #MCS OFF must be programmed alone in the block"
+            raise InterpError("INT118", "#MCS ON and #MCS OFF must be alone in their block (L3212)", last.col)
         if mcs_move:
             words += self._mcs_words(last)
         self.mcs_block = mcs_move
@@ -485,6 +494,11 @@ class Interpreter:
         if end == start:   # seed 002 L16241
             raise InterpError("INT075", "#RPT: the start and end blocks must be different blocks (to repeat one "
                               "block, end the range at a label alone after it)", node.col)
+        for opener, closer in frame.source.spans():
+            if start <= closer <= end and opener < start:   # seed 002 L16280
+                raise InterpError("INT075", f"#RPT: the range closes the $ structure opened at line "
+                                  f"{frame.source.get(opener).line}, before the range; a repeated range must hold "
+                                  "the opening of every structure it closes (L16280)", node.col)
         closing = frame.source.get(end)
         if closing is not None and closing.items:   # seed 002 L16206
             raise InterpError("INT075", f"#RPT: the end block (line {closing.line}) must hold its label alone",

@@ -642,6 +642,10 @@ class IsoExecutor:
         st = self.state
         a, o, _ = st.plane_axes()
         has_i, has_j = "I" in bw.params, "J" in bw.params
+        others = [g for g, *_ in bw.g if g != 30] + list(bw.axes) + [k for k in bw.params if k not in "IJ"]
+        if others or bw.feed or bw.speeds or bw.tool or bw.offset or bw.m or bw.h or bw.nr:
+            # seed 002 L3953: "the polar origin preset must be programmed alone in the block"
+            raise InterpError("INT118", "G30 must be alone in its block: G30 or G30 I.. J.. (L3953)", col)
         if has_i != has_j:
             raise InterpError("INT018", "G30 needs both I and J, or neither (L3960)", col)
         if has_i:

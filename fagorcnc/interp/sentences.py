@@ -21,7 +21,7 @@ from .expressions import InterpError
 from .records import Dwell
 
 #: Sentences kept as state for the planner / path stages.
-RECORDED = frozenset({"ESBLK", "DSBLK", "DGWZ", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
+RECORDED = frozenset({"ESBLK", "DSBLK", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
 #: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
 #: through the points, L15690), #CD (loops removed, L15598).
@@ -81,6 +81,22 @@ def _format(interp, args, col: int) -> str:
     return "".join(out)
 
 
+def _graphics_zone(interp, node) -> None:
+    """``#DGWZ [Xmin, Xmax, Ymin, Ymax, Zmin, Zmax]`` (a lathe: ``[Zmin, Zmax, Xmin, Xmax]``), the
+    graphics zone (seed 002 L14408-L14440): each lower limit below its upper one (L14424)."""
+    arg = node.args[0] if len(node.args) == 1 else None
+    seqs = arg.items if type(arg) is ItemList else ()
+    if len(seqs) not in (4, 6) or any(len(seq) != 1 for seq in seqs):
+        raise InterpError("INT071", "#DGWZ takes the limits in brackets: #DGWZ [Xmin, Xmax, Ymin, Ymax, Zmin, Zmax] "
+                          "(a lathe: [Zmin, Zmax, Xmin, Xmax]) (L14419)", node.col)
+    values = [interp.evaluator.value(seq[0]) for seq in seqs]
+    for k in range(0, len(values), 2):
+        if not values[k] < values[k + 1]:
+            raise InterpError("INT071", f"#DGWZ: limit {k + 1} ({values[k]:g}) must be below limit {k + 2} "
+                              f"({values[k + 1]:g}): lower limits are always below upper ones (L14424)", node.col)
+    interp.state.planner["DGWZ"] = tuple(values)
+
+
 def execute_sentence(interp, node, src):
     kw = node.keyword
     st = interp.state
@@ -91,6 +107,13 @@ def execute_sentence(interp, node, src):
         return
     if kw == "INIT":
         macros.init_statement(interp, node)
+        return
+    if kw == "REPOS":
+        # seed 002 L11114: "#REPOS is only allowed in interrupt subroutines", which the PLC starts
+        raise InterpError("INT119", "#REPOS is allowed only in an interrupt subroutine, which the PLC starts "
+                          "(L11114); a program or subroutine run here cannot use it", node.col)
+    if kw == "DGWZ":
+        _graphics_zone(interp, node)
         return
     if kw == "SWTOUT":
         laser.swtout_statement(interp, node, sub)
