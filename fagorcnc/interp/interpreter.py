@@ -30,6 +30,7 @@ from .macros import expanded_blocks
 from .parameters import Parameters
 from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
+from .spindle import SpindleModes
 from .state import ChannelState
 from .variables import Variables
 
@@ -86,6 +87,8 @@ class Interpreter:
         self.macros: dict[str, str] = {}   # #DEF's table, name -> block text (seed 002 L16121)
         self.laser = Laser()   # #SWTOUT / #PWMOUT state (seed 002 ch. 19)
         self.variables.plain_vars.update(self.laser.variables(self.state))
+        self.spindle_modes = SpindleModes()   # M19 positioning, directions, S.POS, PRGSSO (seed 002 ch. 7)
+        self.variables.spindle_vars.update(self.spindle_modes.variables(self.state))
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
@@ -678,6 +681,7 @@ class Interpreter:
     def end_program(self, m: int, src: Source) -> None:
         self.state.reset(f"M{m}")
         self.laser.end_of_program()
+        self.spindle_modes.reset()
         self.modal_call = None
         self.ended = f"M{m:02d}"
         raise _Stop

@@ -25,6 +25,8 @@ from . import dynamics
 from .expressions import InterpError, whole
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
 from .records import Arc, Aux, Dwell, Line, Source
+from .spindle import directions, orientation, targets
+from .spindle import parse_suffix as spindle_suffix
 from .state import ChannelState
 
 INCH = 25.4
@@ -53,6 +55,8 @@ class BlockWords:
     roles: list = field(default_factory=list)        # G20: (axis, type, col); an axis may repeat
     scale: tuple | None = None                       # G72 S<factor> (S after G72, L9010)
     percent: tuple | None = None                     # G131/G133 <percent> (L4437)
+    m_target: dict = field(default_factory=dict)     # index in m -> (spindle, direction) of "M3.S2", "M19.POS"
+    position_speeds: dict = field(default_factory=dict)   # spindle -> (rpm, col) of "S.POS=" (L5904)
 
 
 class IsoExecutor:
@@ -108,10 +112,29 @@ class IsoExecutor:
                 bw.tool = (ev.integer(w.value, "T", col, 0, 4294967294, floor=True), col)
             elif addr == "D":
                 bw.offset = (ev.integer(w.value, "D", col), col)
-            elif addr == "M":
+            elif addr == "M" or addr[:2] == "M.":
                 if len(bw.m) == 7:  # spec 02 §19: up to 7 M per block
                     raise InterpError("INT021", "more than 7 M functions in one block", col)
-                bw.m.append((ev.integer(w.value, "M", col, 0, 65535, floor=True), col))
+                m = ev.integer(w.value, "M", col, 0, 65535, floor=True)
+                if addr != "M":   # M3.S2, M19.POS.S1 (seed 002 L5720-L5760, L5843-L5880)
+                    if m != 19 and (".POS" in addr or ".NEG" in addr):
+                        raise InterpError("INT025", f"M{m}{addr[1:]}: only M19 takes a direction .POS/.NEG (L5843)",
+                                          col)
+                    if m not in (3, 4, 5, 19, 41, 42, 43, 44):
+                        raise InterpError("INT025", f"M{m}{addr[1:]}: a spindle suffix goes with M3, M4, M5, M19 "
+                                          "and M41-M44 (L5950)", col)
+                    bw.m_target[len(bw.m)] = spindle_suffix(addr, st.speeds, col)
+                bw.m.append((m, col))
+            elif addr[0] == "S" and addr.endswith(".POS"):   # S.POS=120, S1.POS=50 (L5904-L5934)
+                name = addr[:-4]
+                spindle = name if name in st.speeds else (next(iter(st.speeds)) if name == "S" and st.speeds
+                                                            else None)
+                if spindle is None:
+                    raise InterpError("INT020", f"spindle {name} does not exist on this machine", col)
+                speed = ev.value(w.value)
+                if speed <= 0:
+                    raise InterpError("INT027", f"M19 positioning speed {speed:g} must be positive (L5904)", col)
+                bw.position_speeds[spindle] = (speed, col)
             elif addr == "H":
                 if len(bw.h) == 7:
                     raise InterpError("INT021", "more than 7 H functions in one block", col)
@@ -277,15 +300,24 @@ class IsoExecutor:
         # 4. technology
         if bw.feed is not None:
             self._feed(*bw.feed)
-        orient = bool(bw.speeds) and any(m == 19 for m, _ in bw.m)
+        modes, master = self.interp.spindle_modes, self._master()
+        for spindle, (v, _col) in bw.position_speeds.items():
+            modes.position_speed[spindle] = v
+        orient = orientation(bw, master) if any(m == 19 for m, _ in bw.m) else {}
+        for spindle, angle in orient.items():
+            # seed 002 L5703-L5713: with M19, S is the angular position (degrees, absolute, taken modulo
+            # 360), not a speed: the speed kept for M03/M04 does not change; no S is 0 degrees
+            yield self.aux("SPOS", angle, "before", src, spindle)
+        directions(bw, modes, master)
         for spindle, (v, col) in bw.speeds.items():
-            if orient:   # seed 002 L5703-L5713: with M19, S is the angular position (degrees, absolute,
-                # taken modulo 360), not a speed: the speed kept for M03/M04 does not change
-                yield self.aux("SPOS", v % 360.0, "before", src, spindle)
+            if spindle in orient:
                 continue
             if v < 0:
                 raise InterpError("INT027", f"spindle speed {v:g} is negative", col)
             st.speeds[spindle] = v
+            if spindle in modes.positioning:   # L5705: kept as the speed of the M03/M04 that ends positioning
+                modes.new_speed.add(spindle)
+                continue
             yield self.aux("S", v, "before", src, spindle)
         if bw.tool is not None:
             yield from self._tool(bw, src)
@@ -299,11 +331,11 @@ class IsoExecutor:
             yield self.aux("H", float(h), "before", src)
         after = []
         table = self.machine.m_functions
-        for m, col in bw.m:
+        for k, (m, col) in enumerate(bw.m):
             if m in (2, 30, 17, 29) or table.get(m, "after" if m in _M_AFTER else "before") == "after":
                 after.append((m, col))
                 continue
-            yield from self._m_before(m, col, bw, src)
+            yield from self._m_before(m, col, bw, src, k)
         # 5. motion
         moved = False
         if 4 in gs:
@@ -549,13 +581,25 @@ class IsoExecutor:
             raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", col)
         st.offset = d
 
-    def _m_before(self, m: int, col: int, bw: BlockWords, src: Source):
+    def _master(self) -> str | None:
+        """The master spindle: the channel's first (seed 002 L5100)."""
+        return next(iter(self.state.spindle_state), None)
+
+    def _m_before(self, m: int, col: int, bw: BlockWords, src: Source, index: int = 0):
         st = self.state
-        if m in (3, 4, 5):
-            for s in st.spindle_state:
+        named = bw.m_target.get(index, (None, None))[0] if bw.m else None
+        if m in (3, 4, 5, 19):
+            modes = self.interp.spindle_modes
+            for s in targets(bw, index, self._master()) if bw.m else []:
+                if m == 19:
+                    modes.positioning.add(s)   # L5697: positioning mode until M03/M04
+                elif s in modes.positioning:
+                    modes.positioning.discard(s)
+                    if m != 5 and s in modes.new_speed:   # the speed programmed meanwhile applies (L5705-L5707)
+                        yield self.aux("S", st.speeds[s], "before", src, s)
+                    modes.new_speed.discard(s)
                 st.spindle_state[s] = m
-                break
-        yield self.aux("M", float(m), "before", src)
+        yield self.aux("M", float(m), "before", src, named)
         if m == 6:  # tool change: the preselected tool goes to the spindle (L4700-L4708)
             st.tool = st.next_tool
             # the D of this block, or the one programmed with T, or D1 (L4942, L4964-L4966)

@@ -192,7 +192,6 @@ class Variables:
             "PRGCSS": lambda sp: s.speeds[sp] if s.modes["css"] == 96 else 0.0,
             "SLIMIT": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
             "PRGSL": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
-            "SSO": lambda sp: 100.0,
         }
 
     # ------------------------------------------------------------------
@@ -344,7 +343,8 @@ class Variables:
         if kind == "plain":
             return self.plain_vars[key][0](extra)
         if kind == "spindle":
-            return self.spindle_vars[key](extra)
+            entry = self.spindle_vars[key]
+            return entry[0](extra) if type(entry) is tuple else entry(extra)
         idx, axis = extra
         try:
             return self.axis_vars[key][0](self.state, tuple(_index(x) for x in idx), axis) / self._unit(axis)
@@ -364,7 +364,11 @@ class Variables:
             setter(extra, value)
             return
         if kind == "spindle":
-            raise InterpError("INT048", f"{name} is read-only", col)
+            entry = self.spindle_vars[key]
+            if type(entry) is not tuple or entry[1] is None:
+                raise InterpError("INT048", f"{name} is read-only", col)
+            entry[1](extra, value)   # V.A.PRGSSO.S (seed 002 L37200)
+            return
         idx, axis = extra
         setter = self.axis_vars[key][1]
         if setter is None:

@@ -207,6 +207,18 @@ class AstBuilder(Transformer):
         tok, value = c
         return Word(tok.value, _literal(self._expr(value, tok.column)), tok.column)
 
+    def spindle_m(self, c):
+        """``M3.S2`` -> Word("M.S2", 3); ``M19.POS`` -> Word("M.POS", 19); ``M19.NEG.S1`` -> Word("M.NEG.S1", 19)."""
+        tok = c[0]
+        text = tok.value.replace(" ", "").replace("\t", "")
+        number, _, suffix = text[1:].partition(".")
+        return Word(f"M.{suffix}", float(number), tok.column)
+
+    def spindle_pos_speed(self, c):
+        """``S.POS=120`` -> Word("S.POS", 120); ``S1.POS=50`` -> Word("S1.POS", 50)."""
+        tok, value = c
+        return Word(tok.value.rstrip("= \t"), _literal(self._expr(value, tok.column)), tok.column)
+
     def param_letter(self, c):
         tok = c[0]
         return Word("P", _float(tok.value[1:]), tok.column)
