@@ -156,6 +156,8 @@ CODES: dict[str, str] = {
     "INT117": "invalid #SWTOUT or #PWMOUT statement (laser functions)",
     "INT118": "function that must be alone in its block is not (G30, #MCS ON/OFF)",
     "INT119": "function that needs another channel or an interrupt subroutine (#EXBLK to channel n, #REPOS)",
+    "INT170": "manual intervention G200: the program waits for the operator (offline nothing moves by hand)",
+    "INT171": "invalid manual intervention (G200-G202 #AXIS, #CONTJOG, #INCJOG, #MPG, #SET OFFSET, #SYNC POS)",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",

@@ -27,6 +27,7 @@ from .expressions import Evaluator, InterpError
 from .iso import IsoExecutor
 from .laser import Laser
 from .macros import expanded_blocks
+from .manual import ManualIntervention
 from .parameters import Parameters
 from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
@@ -87,6 +88,9 @@ class Interpreter:
         self.macros: dict[str, str] = {}   # #DEF's table, name -> block text (seed 002 L16121)
         self.laser = Laser()   # #SWTOUT / #PWMOUT state (seed 002 ch. 19)
         self.variables.plain_vars.update(self.laser.variables(self.state))
+        self.manual = ManualIntervention()   # G200-G202, #CONTJOG, #INCJOG, #MPG, #SET OFFSET (seed 002 ch. 8.9)
+        self.axis_sentence = None   # the #AXIS of the block being executed
+        self.variables.axis_vars.update(self.manual.variables())
         self.spindle_modes = SpindleModes()   # M19 positioning, directions, S.POS, PRGSSO (seed 002 ch. 7)
         self.variables.spindle_vars.update(self.spindle_modes.variables(self.state))
         self.ended: str | None = None
@@ -271,13 +275,16 @@ class Interpreter:
         if mcs_move:
             words += self._mcs_words(last)
         self.mcs_block = mcs_move
+        self.axis_sentence = last if t is Sentence and last.keyword == "AXIS" else None   # G200-G202 #AXIS [..]
+        if self.axis_sentence is not None and not words:
+            raise InterpError("INT171", "#AXIS goes with G200, G201 or G202: G201 #AXIS [X, Z] (L7743)", last.col)
         try:
             if words:
                 bw = self.iso.classify(words)
                 yield from self.iso.execute(bw, src)
                 if bw.call is not None:
                     self._oem_call(bw.call, src)
-            if t is Sentence and not mcs_move:
+            if t is Sentence and not mcs_move and self.axis_sentence is None:
                 yield from self._sentence(last, src)
             elif t is SubroutineCall:
                 self._call(last)
@@ -285,6 +292,7 @@ class Interpreter:
                 self._repeat(last)
         finally:
             self.mcs_block = False
+            self.axis_sentence = None
 
     def _mcs_words(self, node: Sentence) -> list:
         out = []
@@ -682,6 +690,7 @@ class Interpreter:
         self.state.reset(f"M{m}")
         self.laser.end_of_program()
         self.spindle_modes.reset()
+        self.manual.reset()
         self.modal_call = None
         self.ended = f"M{m:02d}"
         raise _Stop

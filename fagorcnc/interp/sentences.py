@@ -16,7 +16,7 @@ Three kinds:
 from __future__ import annotations
 
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import dynamics, laser, macros
+from . import dynamics, laser, macros, manual
 from .expressions import InterpError
 from .records import Dwell
 
@@ -114,6 +114,9 @@ def execute_sentence(interp, node, src):
                           "(L11114); a program or subroutine run here cannot use it", node.col)
     if kw == "DGWZ":
         _graphics_zone(interp, node)
+        return
+    if kw in ("CONTJOG", "INCJOG", "MPG") or (kw == "SET" and sub == "OFFSET") or (kw == "SYNC" and sub == "POS"):
+        manual.statement(interp, node)
         return
     if kw == "SWTOUT":
         laser.swtout_statement(interp, node, sub)
