@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
-from . import dynamics, manual
+from . import dynamics
 from .expressions import InterpError, whole
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
 from .records import Arc, Aux, Dwell, Line, Source
@@ -345,7 +345,7 @@ class IsoExecutor:
             self._polar_preset(gs[30][0], bw)
             consumed = True
         if 200 in gs or 201 in gs or 202 in gs:   # manual intervention (seed 002 ch. 8.9)
-            yield from manual.g_functions(self.interp, gs, src)
+            yield from self.interp.manual.g_functions(self.interp, gs, src)
         elif self.interp.axis_sentence is not None:
             raise InterpError("INT171", "#AXIS goes with G200, G201 or G202: G201 #AXIS [X, Z] (L7743)",
                               self.interp.axis_sentence.col)

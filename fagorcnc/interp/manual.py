@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 from ..syntax.ast import ItemList, Keyed, Name
 from .expressions import InterpError
+from .iso import INCH
 from .records import Dwell
 
 
@@ -41,6 +42,34 @@ class ManualIntervention:
 
         return {"V.A.MANOF": (none_moved, None), "V.A.ADDMANOF": (none_moved, None)}
 
+    def g_functions(self, interp, gs: dict, src):
+        """G200, G201, G202 of a block, with the block's ``#AXIS`` (``interp.axis_sentence``)."""
+        state = self
+        node = interp.axis_sentence
+        used = [n for n in (200, 201, 202) if n in gs]
+        col = gs[used[0]][0]
+        if len(used) > 1:   # L7726: G201, G202 and G200 are incompatible with one another
+            raise InterpError("INT012", f"G{used[0]} and G{used[1]} are incompatible in one block (L7726)",
+                              gs[used[1]][0])
+        n = used[0]
+        axes = axis_list(interp, node, f"G{n}") if node is not None else []
+        if n == 201:
+            if not axes:   # L7745: G201 always with #AXIS and at least one axis
+                raise InterpError("INT171", "G201 needs the axes: G201 #AXIS [X, Z] (L7745)", col)
+            state.additive.update(axes)
+            return
+        if n == 202:
+            for axis in axes or list(state.additive):   # G202 alone: every axis (L7754)
+                state.additive.discard(axis)
+                state.offset_limits.pop(axis, None)
+            return
+        # G200: the program stops; the operator moves the axes (all without #AXIS, L7806) and presses
+        # [CYCLE START] (L7793)
+        shown = ", ".join(axes) if axes else "every axis"
+        interp.message("INT170", "info", f"G200: the program stops for manual intervention on {shown} until [CYCLE "
+                       "START]; offline the axes stay where the program left them", col)
+        yield Dwell("dwell", 0.0, dict(interp.state.machine_pos), src)
+
     def reset(self) -> None:
         """M02, M30, reset: G202 (L7728-L7729) and the settings gone (L7841-L7843)."""
         self.additive.clear()
@@ -51,8 +80,6 @@ class ManualIntervention:
 
 
 def _unit(interp) -> float:
-    from .iso import INCH  # iso imports this module
-
     return INCH if interp.state.modes["units"] == 70 else 1.0
 
 
@@ -77,34 +104,6 @@ def axis_list(interp, node, what: str) -> list[str]:
                               node.col)
         names.append(_axis(interp, seq[0].name, seq[0].col, what))
     return names
-
-
-def g_functions(interp, gs: dict, src):
-    """G200, G201, G202 of a block, with the block's ``#AXIS`` (``interp.axis_sentence``)."""
-    state = interp.manual
-    node = interp.axis_sentence
-    used = [n for n in (200, 201, 202) if n in gs]
-    col = gs[used[0]][0]
-    if len(used) > 1:   # L7726: G201, G202 and G200 are incompatible with one another
-        raise InterpError("INT012", f"G{used[0]} and G{used[1]} are incompatible in one block (L7726)", gs[used[1]][0])
-    n = used[0]
-    axes = axis_list(interp, node, f"G{n}") if node is not None else []
-    if n == 201:
-        if not axes:   # L7745: G201 always with #AXIS and at least one axis
-            raise InterpError("INT171", "G201 needs the axes: G201 #AXIS [X, Z] (L7745)", col)
-        state.additive.update(axes)
-        return
-    if n == 202:
-        for axis in axes or list(state.additive):   # G202 alone: every axis (L7754)
-            state.additive.discard(axis)
-            state.offset_limits.pop(axis, None)
-        return
-    # G200: the program stops; the operator moves the axes (all without #AXIS, L7806) and presses
-    # [CYCLE START] (L7793)
-    shown = ", ".join(axes) if axes else "every axis"
-    interp.message("INT170", "info", f"G200: the program stops for manual intervention on {shown} until [CYCLE "
-                   "START]; offline the axes stay where the program left them", col)
-    yield Dwell("dwell", 0.0, dict(interp.state.machine_pos), src)
 
 
 def _values(interp, arg) -> list:
