@@ -58,7 +58,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "40009-40016 custom warnings are shown)")
     run.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     run.add_argument("--max-seconds", type=float, metavar="SECONDS",
-                     help="stop a program whose interpretation takes longer (INT082; 0 = no limit; "
+                     help="stop a program whose interpretation takes longer, in CPU seconds (INT082; 0 = no limit; "
                           "default: the machine's limits.max_seconds, none)")
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
     run.set_defaults(func=run_command.command)
@@ -72,8 +72,8 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--fail-on", choices=("error", "warning"), default="error",
                        help="fail on errors only (default) or on warnings too")
     check.add_argument("--max-seconds", type=float, metavar="SECONDS",
-                       help="fail a program whose interpretation takes longer (INT082; 0 = no limit; default: "
-                            "the machine's limits.max_seconds, else 120)")
+                       help="fail a program whose interpretation takes longer, in CPU seconds (INT082; 0 = no "
+                            "limit; default: the machine's limits.max_seconds, else 120)")
     check.add_argument("--jobs", "-j", type=int, metavar="N", help="files checked in parallel (default: CPU count)")
     check.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     check.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE instead of the output")

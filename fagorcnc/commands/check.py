@@ -97,11 +97,12 @@ from ._shared import clock, command_machine
 UNSUPPORTED = ("INT011", "INT078", "INT079", "INT115")
 #: Re-runs after an error to find the errors further on.
 MAX_RECOVERIES = 25
-#: Seconds of interpretation per run when neither --max-seconds nor the machine's
-#: limits.max_seconds sets a limit.  A CI job wants a verdict in minutes: on a loaded 2-core
-#: machine 120 s interpret about 3 million blocks (the check streams in constant memory, so a
-#: longer CAM program only needs a larger --max-seconds), while an endless $GOTO loop of moves
-#: stops there instead of running on to limits.max_blocks (an hour or more).
+#: Seconds of interpretation (CPU time of the checking process, so a busy runner does not bring
+#: the limit closer) per run when neither --max-seconds nor the machine's limits.max_seconds sets
+#: a limit.  A CI job wants a verdict in minutes: 120 s of CPU interpret about 3 million blocks
+#: (the check streams in constant memory, so a longer CAM program only needs a larger
+#: --max-seconds), while an endless $GOTO loop of moves stops there instead of running on to
+#: limits.max_blocks (an hour or more).
 CHECK_MAX_SECONDS = 120.0
 #: Runaway guards that spent the run's budget: a re-run to look further would spend it again.
 BUDGET_CODES = ("INT080", "INT082")

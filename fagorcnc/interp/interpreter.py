@@ -13,7 +13,7 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from time import monotonic
+from time import process_time as cpu_time
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
@@ -102,7 +102,7 @@ class Interpreter:
             # tool radius compensation G41/G42
             for record in compensate(apply_aids(self._guarded(), self._aid_error)):
                 self.cycle_time += record_time(machine, record)
-                handed = monotonic()
+                handed = cpu_time()
                 yield record
                 clock.exclude(handed)   # the consumer's time is not interpretation time
         except CompensationError as exc:
@@ -683,9 +683,13 @@ class Interpreter:
 
 
 class _Clock:
-    """Interpretation time against limits.max_seconds: wall-clock time since :meth:`start`,
-    less the time the records spent with the consumer (the planner, a back-end, a machine
-    executing them), so a long real run is not cut by a limit meant for runaway programs."""
+    """Interpretation time against limits.max_seconds: CPU time of the interpreting process since
+    :meth:`start`, less the CPU time the records spent with the consumer (the planner, a
+    back-end), so a long real run is not cut by a limit meant for runaway programs.  CPU time,
+    not wall-clock time: a machine busy with other jobs (a loaded CI runner) slows the run down
+    but does not bring the limit closer, so the verdict does not depend on the machine's load
+    (issue 25.1).  Time the process spends waiting (a back-end's back-pressure, a paced
+    simulator) is not CPU time either."""
 
     __slots__ = ("deadline", "seconds")
 
@@ -695,13 +699,13 @@ class _Clock:
 
     def start(self) -> None:
         if self.seconds > 0:
-            self.deadline = monotonic() + self.seconds
+            self.deadline = cpu_time() + self.seconds
 
     def exclude(self, since: float) -> None:
-        self.deadline += monotonic() - since
+        self.deadline += cpu_time() - since
 
     def expired(self) -> bool:
-        return monotonic() > self.deadline
+        return cpu_time() > self.deadline
 
 
 def _is_on_off(node: Sentence) -> bool:
