@@ -74,6 +74,8 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--max-seconds", type=float, metavar="SECONDS",
                        help="fail a program whose interpretation takes longer, in CPU seconds (INT082; 0 = no "
                             "limit; default: the machine's limits.max_seconds, else 120)")
+    check.add_argument("--max-per-code", type=int, default=None, metavar="N",
+                       help="list at most N diagnostics of each code, count the others (default 20; 0 = all)")
     check.add_argument("--jobs", "-j", type=int, metavar="N", help="files checked in parallel (default: CPU count)")
     check.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     check.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE instead of the output")

@@ -9,12 +9,13 @@ that does not grow with the program) and reported on:
   check of the *planned* path: an arc or a corner blend whose interior goes
   beyond a soft limit although its end points do not is ``PLN100``;
 * **error recovery**: the control stops at the first error, so a check would
-  show one error at a time.  After an error the verifier blanks the failing
-  line(s) and runs the program again (at most :data:`MAX_RECOVERIES` times) to
-  report the errors further on; those are marked ``recovered`` (they may be
-  consequences of the skipped block).  Everything else in the report (tools,
-  boxes, cycle time) describes the program as the control would run it: up to
-  its first error;
+  show one error at a time.  After an error the verifier runs the program once
+  more, streamed, skipping every block in error as if its line were blank
+  (:mod:`fagorcnc.commands.recovery`), to report the errors further on; those
+  are marked ``recovered`` (they may be consequences of a skipped block).  At
+  most ``--max-per-code`` diagnostics of each code are listed, the others are
+  counted (``not_shown``).  Everything else in the report (tools, boxes, cycle
+  time) describes the program as the control would run it: up to its first error;
 * **unsupported features**: the warnings that say fagorcnc does not compute
   something (``INT011``, ``INT078``, ``INT079``, ``INT115``), grouped;
 * **tools** (T selected, loaded by M06, D offsets used) and **work offsets**
@@ -51,7 +52,8 @@ new keys may be added::
         "ended_by": "M30" | null, "moves": 63,
         "cycle_time": 91.777,         # s, planned (jerk-limited), up to the first error
         "max_cycle_time": 60.0 | null, "cycle_time_exceeded": false,
-        "counts": {"error": 0, "warning": 1, "info": 0},
+        "counts": {"error": 0, "warning": 1, "info": 0},   # found, listed or not
+        "not_shown": [{"code": "INT100", "severity": "error", "count": 99980}],   # beyond --max-per-code
         "diagnostics": [{"file": "part.nc", "line": 3, "col": 1, "code": "INT010",
                          "severity": "error" | "warning" | "info", "message": "...",
                          "source": "G1000", "recovered": false}],
@@ -92,11 +94,10 @@ from urllib.parse import quote
 from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import CODES, Diagnostic
 from ._shared import clock, command_machine
+from .recovery import BUDGET_CODES, MAX_PER_CODE, recovery_pass  # noqa: F401 - BUDGET_CODES: public name
 
 #: Codes of the warnings that say fagorcnc does not model something.
 UNSUPPORTED = ("INT011", "INT078", "INT079", "INT115")
-#: Re-runs after an error to find the errors further on.
-MAX_RECOVERIES = 25
 #: Seconds of interpretation (CPU time of the checking process, so a busy runner does not bring
 #: the limit closer) per run when neither --max-seconds nor the machine's limits.max_seconds sets
 #: a limit.  A CI job wants a verdict in minutes: 120 s of CPU interpret about 3 million blocks
@@ -104,8 +105,6 @@ MAX_RECOVERIES = 25
 #: --max-seconds), while an endless $GOTO loop of moves stops there instead of running on to
 #: limits.max_blocks (an hour or more).
 CHECK_MAX_SECONDS = 120.0
-#: Runaway guards that spent the run's budget: a re-run to look further would spend it again.
-BUDGET_CODES = ("INT080", "INT082")
 SCHEMA = "fagorcnc-check/1"
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 
@@ -190,9 +189,18 @@ class FileReport:
     complete: bool = False          # ran to its end without error (cycle time of the whole program)
     failure: str | None = None      # the file could not be checked
     usage_error: bool = False       # ... because it cannot be read (exit status 2)
+    #: diagnostics found but not listed (beyond ``max_per_code`` of their code): (code, severity) -> how many
+    not_shown: dict[tuple[str, str], int] = field(default_factory=dict)
 
     def count(self, severity: str) -> int:
-        return sum(d.severity == severity for d in self.diagnostics)
+        """Diagnostics of ``severity`` found, listed or not."""
+        return sum(d.severity == severity for d in self.diagnostics) + sum(
+            n for (_, sev), n in self.not_shown.items() if sev == severity)
+
+    def not_shown_lines(self) -> list[str]:
+        """One line per code with diagnostics not listed: "N more CODE (description) not shown"."""
+        return [f"{n} more {code} ({CODES.get(code, severity)}) not shown (--max-per-code)"
+                for (code, severity), n in sorted(self.not_shown.items())]
 
     @property
     def cycle_time_exceeded(self) -> bool:
@@ -226,6 +234,7 @@ class FileReport:
         if diagnostics:
             out["diagnostics"] = [_diagnostic_dict(d, r) for d, r in zip(self.diagnostics, self.recovered,
                                                                           strict=True)]
+        out["not_shown"] = [{"code": c, "severity": sev, "count": n} for (c, sev), n in sorted(self.not_shown.items())]
         out["unsupported"] = self.unsupported()
         out["tools"] = [{"tool": t.tool, "loaded": t.loaded, "offsets": t.offsets, "lines": t.lines}
                         for t in self.tools]
@@ -251,11 +260,13 @@ def _num(v: float) -> str:
 # ----------------------------------------------------------------------------- checking one file
 def check_file(path: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
                max_cycle_time: float | None = None, recover: bool = True,
-               max_seconds: float | None = None) -> FileReport:
+               max_seconds: float | None = None, max_per_code: int = MAX_PER_CODE) -> FileReport:
     """Verify one program file; never raises (problems are in the report).
 
     ``machine`` as for :func:`fagorcnc.load_machine`; ``max_cycle_time`` in
-    seconds; ``recover`` re-runs after an error to report the errors further on;
+    seconds; ``recover`` runs the program once more after an error to report the errors
+    further on (:mod:`~fagorcnc.commands.recovery`); ``max_per_code``: diagnostics listed per
+    code, the others counted in ``not_shown`` (0 = all);
     ``max_seconds``: interpretation time limit per run (0 = none; None = the
     machine's ``limits.max_seconds`` or :data:`CHECK_MAX_SECONDS`).
     """
@@ -272,7 +283,7 @@ def check_file(path: str | Path, machine: Machine | dict | str | Path | None = N
         report.failure, report.usage_error = f"bad machine configuration: {exc}", True
         return report
     try:
-        _check(report, Path(path), mach, block_skip, recover)
+        _check(report, Path(path), mach, block_skip, recover, max_per_code)
     except Exception as exc:   # a bug in fagorcnc must not hide the other files' results
         report.failure = f"internal error of fagorcnc: {type(exc).__name__}: {exc}"
     return report
@@ -294,7 +305,8 @@ def _no_block(path: Path) -> bool:
         return not any(type(node) is Block for node, _ in iter_lines(lines, str(path)))
 
 
-def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool) -> None:
+def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool,
+           max_per_code: int) -> None:
     from ..simulate import dry_run
 
     # one streamed pass: interpreted and planned once, in constant memory whatever the program's
@@ -307,8 +319,11 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
     report.cycle_time = result.cycle_time
     report.moves = result.moves
     report.ended_by = result.ended_by
-    if recover and not result.ok:
-        found += [(d, True) for d in _recover(path, machine, block_skip, result.diagnostics)]
+    if recover and not result.ok:   # one more streamed pass for the errors beyond the first (see .recovery)
+        findings = recovery_pass(path, machine, block_skip, result.diagnostics, max_per_code)
+        found += [(d, True) for d in findings.kept]
+        for slot, n in findings.more.items():
+            report.not_shown[slot] = report.not_shown.get(slot, 0) + n
     report.tools, report.origins, report.boxes = summary.tools(), summary.origins(), summary.boxes()
     if result.executed and result.moves == 0 and result.ended_by is None and _no_block(path):
         found.append((Diagnostic(str(path), 1, 1, "STR012", "error", "the file has no block to execute: "
@@ -318,48 +333,16 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
                                  f"planned cycle time {clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
                                  f"the limit of {report.max_cycle_time:g} s (--max-cycle-time)"), False))
     found.sort(key=lambda x: (x[0].file != str(path), x[0].file, x[0].line, x[0].col))
-    report.diagnostics = [d for d, _ in found]
-    report.recovered = [r for _, r in found]
-
-
-def _interpreter(program, machine: Machine, block_skip: bool):
-    from ..config.parameter_file import attach_parameter_file
-    from ..interp.interpreter import Interpreter
-
-    interp = Interpreter(program, machine, block_skip=block_skip)
-    attach_parameter_file(interp)   # the same starting parameters as simulate(); never saved
-    return interp
-
-
-def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnostic]) -> list[Diagnostic]:
-    """Errors beyond the first: blank the failing lines and run again (interpreter only)."""
-    from ..syntax import parse_text, read_source
-
-    text = read_source(path).replace("\r\n", "\n").replace("\r", "\n")
-    lines = text.split("\n")
-    name = str(path)
-    seen = {(d.file, d.line, d.code, d.message) for d in first}
-    blanked = {d.line for d in first if d.is_error and d.file == name}
-    out: list[Diagnostic] = []
-    for _ in range(MAX_RECOVERIES):
-        if not blanked or any(d.code in BUDGET_CODES for d in (*first, *out)):
-            break
-        program = parse_text("\n".join("" if i in blanked else s for i, s in enumerate(lines, start=1)), name)
-        if not program.ok:   # blanking broke the structure ($IF without $ENDIF ...): stop here
-            break
-        interp = _interpreter(program, machine, block_skip)
-        for _record in interp.run():
-            pass
-        for d in interp.diagnostics:
-            key = (d.file, d.line, d.code, d.message)
-            if key not in seen:
-                seen.add(key)
-                out.append(d)
-        more = {d.line for d in interp.diagnostics if d.is_error and d.file == name} - blanked
-        if not more or any(d.is_error and d.file != name for d in interp.diagnostics):
-            break   # clean, or an error in another file (a global subroutine) we cannot skip
-        blanked |= more
-    return out
+    listed: dict[str, int] = {}
+    for d, recovered in found:   # the first max_per_code of each code, in file order; the control's error always
+        n = listed.get(d.code, 0)
+        if max_per_code and n >= max_per_code and (recovered or not d.is_error):
+            slot = (d.code, d.severity)
+            report.not_shown[slot] = report.not_shown.get(slot, 0) + 1
+            continue
+        listed[d.code] = n + 1
+        report.diagnostics.append(d)
+        report.recovered.append(recovered)
 
 
 class _Summary:
@@ -492,7 +475,8 @@ def _work(path: str) -> FileReport:
 
 def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Path | None = None, *,
                 jobs: int | None = None, block_skip: bool = False, max_cycle_time: float | None = None,
-                recover: bool = True, max_seconds: float | None = None) -> Iterator[FileReport]:
+                recover: bool = True, max_seconds: float | None = None,
+                max_per_code: int = MAX_PER_CODE) -> Iterator[FileReport]:
     """Verify many files, ``jobs`` processes at a time (default: one per CPU);
     yields the reports in input order as they become available.
 
@@ -500,7 +484,7 @@ def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Pat
     """
     mach = load_machine(machine)
     options = {"block_skip": block_skip, "max_cycle_time": max_cycle_time, "recover": recover,
-               "max_seconds": max_seconds}
+               "max_seconds": max_seconds, "max_per_code": max_per_code}
     names = [str(p) for p in paths]
     jobs = min(jobs or os.cpu_count() or 1, len(names))
     if jobs <= 1:
@@ -532,6 +516,7 @@ def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = Fal
         if d.severity == "info" and not verbose:
             continue
         lines.append(str(d) if brief else d.render())
+    lines += [f"{report.file}: {text}" for text in report.not_shown_lines()]
     verdict = report.verdict(fail_on)
     if report.failure is not None:
         lines.append(f"{report.file}: {verdict.upper()}: {report.failure}")
@@ -683,6 +668,9 @@ def command(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         print("fagorcnc: --jobs must be 1 or more", file=sys.stderr)
         return 2
+    if args.max_per_code is not None and args.max_per_code < 0:
+        print("fagorcnc: --max-per-code must be 0 (all) or more", file=sys.stderr)
+        return 2
     if args.max_cycle_time is not None and not args.max_cycle_time > 0:
         print("fagorcnc: --max-cycle-time must be a positive number of seconds", file=sys.stderr)
         return 2
@@ -702,7 +690,8 @@ def command(args: argparse.Namespace) -> int:
 def _check_report(args: argparse.Namespace, machine, out) -> int:
     reports = []
     for report in check_files(args.files, machine, jobs=args.jobs, block_skip=args.block_skip,
-                              max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds):
+                              max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds,
+                              max_per_code=MAX_PER_CODE if args.max_per_code is None else args.max_per_code):
         reports.append(report)
         if report.usage_error:
             print(f"{report.file}: {report.failure}", file=sys.stderr)

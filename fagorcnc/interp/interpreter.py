@@ -35,6 +35,10 @@ FOR_SLACK = 1e-9
 RPT_LEVELS = 20
 
 
+#: The runaway guards: they end a run even in recovery mode.
+RUNAWAY_CODES = frozenset({"INT080", "INT081", "INT082"})
+
+
 class _Stop(Exception):  # noqa: N818 - control flow, not an error
     """End of the run (M02/M30, #ERROR, end of the main program)."""
 
@@ -64,8 +68,12 @@ class Interpreter:
     """Runs one program; iterate :meth:`run` for the records."""
 
     def __init__(self, program: Program, machine: Machine, *, block_skip: bool = False,
-                 search_paths: list[Path] | None = None, stream: StreamSource | None = None) -> None:
+                 search_paths: list[Path] | None = None, stream: StreamSource | None = None,
+                 recover: bool = False) -> None:
         self.program = program
+        # recover: an error skips the block it is in and the run goes on (``fagorcnc check``'s search for
+        # the errors beyond the first; the control itself stops at the first).  Runaway guards still stop.
+        self.recover = recover
         self.stream = stream
         self.machine = machine
         self.state = ChannelState(machine)
@@ -90,7 +98,7 @@ class Interpreter:
     # ------------------------------------------------------------------ run
     def run(self) -> Iterator:
         """Yield the motion records of the program, in execution order."""
-        if not self.program.ok:
+        if not self.program.ok and not self.recover:
             return  # a program with syntax errors is not executed
         main = self.stream if self.stream is not None else RoutineSource(self.program.main)
         self.frames.append(Frame(main, self.program))
@@ -144,7 +152,7 @@ class Interpreter:
                 continue
             block = frame.source.get(frame.pc)
             if frame.source is stream:
-                if any(d.is_error for d in stream.diagnostics):
+                if not self.recover and any(d.is_error for d in stream.diagnostics):
                     raise _Stop  # a syntax error ahead: nothing more is executed
                 if frame.pc & 1023 == 0:
                     keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
@@ -159,6 +167,9 @@ class Interpreter:
                 continue
             if block.number is not None:
                 state.last_n = block.number
+            if self.recover:
+                yield from self._skipping_errors(block)
+                continue
             for record in self._block(block):
                 if state.sync:   # the block read an execution value: the motion before it ends first
                     yield self._sync(block, getattr(record, "start", None))
@@ -166,6 +177,24 @@ class Interpreter:
                 yield record
             if state.sync:
                 yield self._sync(block, None)
+
+    def _skipping_errors(self, block: Block) -> Iterator:
+        """One block in recovery mode: an error is reported and the rest of the block skipped (as if its
+        line were blank); the runaway guards (INT080-INT082) still end the run."""
+        state = self.state
+        try:
+            for record in self._block(block):
+                if state.sync:
+                    yield self._sync(block, getattr(record, "start", None))
+                state.elapsed += record_time(self.machine, record)
+                yield record
+            if state.sync:
+                yield self._sync(block, None)
+        except InterpError as exc:
+            if exc.code in RUNAWAY_CODES:
+                raise
+            state.sync = False
+            self._error(exc, block)
 
     def _sync(self, block: Block, where: dict | None) -> Dwell:
         """The synchronisation point of a block that reads an execution value or runs #FLUSH (seed 002
