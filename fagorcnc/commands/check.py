@@ -50,6 +50,8 @@ new keys may be added::
         "executed": true,             # false: syntax errors, the control would not start it
         "complete": true,             # ran to its end without error (else: stopped at its first error)
         "ended_by": "M30" | null, "moves": 63,
+        "ending": {"cause": "M30" | "M02" | "end of file" | "error" | "not started" | ..., "line": 0,
+                   "alarm": 0, "file": null, "text": "error at line 12"},   # fagorcnc.summary.Ending
         "cycle_time": 91.777,         # s, planned (jerk-limited), up to the first error
         "max_cycle_time": 60.0 | null, "cycle_time_exceeded": false,
         "counts": {"error": 0, "warning": 1, "info": 0},   # found, listed or not
@@ -93,6 +95,7 @@ from urllib.parse import quote
 
 from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import CODES, Diagnostic
+from ..summary import Ending, RunSummary
 from ._shared import clock, command_machine
 from .recovery import BUDGET_CODES, MAX_PER_CODE, recovery_pass  # noqa: F401 - BUDGET_CODES: public name
 
@@ -189,6 +192,7 @@ class FileReport:
     complete: bool = False          # ran to its end without error (cycle time of the whole program)
     failure: str | None = None      # the file could not be checked
     usage_error: bool = False       # ... because it cannot be read (exit status 2)
+    ending: Ending = field(default_factory=lambda: Ending("not started"))   # what ended the run (fagorcnc.summary)
     #: diagnostics found but not listed (beyond ``max_per_code`` of their code): (code, severity) -> how many
     not_shown: dict[tuple[str, str], int] = field(default_factory=dict)
 
@@ -226,7 +230,8 @@ class FileReport:
         """The JSON form (schema ``fagorcnc-check/1``)."""
         out: dict[str, Any] = {
             "file": self.file, "verdict": self.verdict(fail_on), "failure": self.failure,
-            "executed": self.executed, "complete": self.complete, "ended_by": self.ended_by, "moves": self.moves,
+            "executed": self.executed, "complete": self.complete, "ended_by": self.ended_by,
+            "ending": self.ending.to_dict(), "moves": self.moves,
             "cycle_time": round(self.cycle_time, 3), "max_cycle_time": self.max_cycle_time,
             "cycle_time_exceeded": self.cycle_time_exceeded,
             "counts": {s: self.count(s) for s in ("error", "warning", "info")},
@@ -296,15 +301,6 @@ def _time_limited(machine: Machine, seconds: float | None) -> Machine:
     return dataclasses.replace(machine, limits=dataclasses.replace(machine.limits, max_seconds=seconds))
 
 
-def _no_block(path: Path) -> bool:
-    """Whether the file holds no block at all (read until the first one)."""
-    from ..syntax import iter_lines, source_encoding
-    from ..syntax.ast import Block
-
-    with open(path, encoding=source_encoding(path), errors="replace") as lines:
-        return not any(type(node) is Block for node, _ in iter_lines(lines, str(path)))
-
-
 def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool,
            max_per_code: int) -> None:
     from ..simulate import dry_run
@@ -319,15 +315,13 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
     report.cycle_time = result.cycle_time
     report.moves = result.moves
     report.ended_by = result.ended_by
+    report.ending = result.ending
     if recover and not result.ok:   # one more streamed pass for the errors beyond the first (see .recovery)
         findings = recovery_pass(path, machine, block_skip, result.diagnostics, max_per_code)
         found += [(d, True) for d in findings.kept]
         for slot, n in findings.more.items():
             report.not_shown[slot] = report.not_shown.get(slot, 0) + n
     report.tools, report.origins, report.boxes = summary.tools(), summary.origins(), summary.boxes()
-    if result.executed and result.moves == 0 and result.ended_by is None and _no_block(path):
-        found.append((Diagnostic(str(path), 1, 1, "STR012", "error", "the file has no block to execute: "
-                                 "empty, or only comments (a truncated or failed post-processor output?)"), False))
     if report.cycle_time_exceeded:
         found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
                                  f"planned cycle time {clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
@@ -526,8 +520,8 @@ def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = Fal
     time += ")" if report.complete else ", up to the first error)"
     if report.cycle_time_exceeded:
         time += f" OVER the limit of {report.max_cycle_time:g} s"
-    run = f"{report.moves} moves, ended by {report.ended_by or 'end of file'}" if report.executed else \
-        "not executed (syntax errors)"
+    run = str(RunSummary(report.moves, report.ending)) if report.executed else \
+        f"not executed (syntax errors): {report.ending}"
     lines.append(f"{report.file}: {verdict.upper()}: {errors} errors, {warnings} warnings; {time}; {run}")
     if quiet:
         return "\n".join(lines)

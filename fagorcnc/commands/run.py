@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -23,8 +24,19 @@ from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import Diagnostic
 from ..plan import Planner, PlanningError, Segment
 from ..plan.envelope import Envelope
+from ..program_files import resolve, source_name
 from ..runtime import fewer_collections
 from ..simulate import FinalState, dry_run, interpret, syntax_errors
+from ..summary import (
+    Ending,
+    MoveCounter,
+    RunSummary,
+    backend_ending,
+    interrupted,
+    not_started,
+    program_ending,
+    stopping_error,
+)
 from ._shared import clock, command_machine, not_a_file
 
 
@@ -49,9 +61,15 @@ class RunReport:
     stopped_by: str | None = None
     message: str = ""
     backend: Backend | None = field(default=None, repr=False)
-    ended_by: str | None = None     # "M30", "M02" ... or None (end of file / stopped)
-    moves: int = 0                  # motion blocks (records) sent
+    ended_by: str | None = None     # "M30" or "M02" when the program ended that way (see ``ending``)
+    moves: int = 0                  # moves given to the back-end (counted as check and simulate() count them)
     state: FinalState | None = field(default=None, repr=False)   # the interpreter's final state
+    ending: Ending = field(default_factory=lambda: Ending("not started"))   # what really ended the run
+
+    @property
+    def summary(self) -> RunSummary:
+        """Moves and ending, as every entry point counts and names them (:mod:`fagorcnc.summary`)."""
+        return RunSummary(self.moves, self.ending)
 
 
 def _unmapped(be, found: list[Diagnostic]):
@@ -87,9 +105,10 @@ Progress = Callable[[Segment, Status, float | None], None]
 MAX_UNSENDABLE = 20
 
 
-def run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, backend: str | Backend = "sim",
-        block_skip: bool = False, check_first: bool | None = None, progress: Progress | None = None,
-        keep_profiles: bool = False, **backend_options) -> RunReport:
+def run(source: str | os.PathLike | None = None, machine: Machine | dict | str | Path | None = None, *,
+        text: str | None = None, backend: str | Backend = "sim", block_skip: bool = False,
+        check_first: bool | None = None, progress: Progress | None = None, keep_profiles: bool = False,
+        **backend_options) -> RunReport:
     """Run a program on a back-end (``"sim"`` by default, ``"interpcnc"`` for the card).
 
     ``check_first`` (default: True except on the plain simulator) plans the
@@ -98,6 +117,7 @@ def run(source: str | Path, machine: Machine | dict | str | Path | None = None, 
     ``progress(segment, status, total_time)`` is called after each segment.
     ``backend_options`` go to the back-end (e.g. ``host``, ``port``, ``serial``).
     """
+    source = resolve(source, text)   # a file or program text, as simulate() decides (FileNotFoundError)
     with fewer_collections():
         return _run(source, machine, backend, block_skip, check_first, progress, keep_profiles, backend_options)
 
@@ -119,50 +139,61 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         checked = dry_run(source, mach, block_skip=block_skip, on_record=_unmapped(be, unmapped),
                           on_segment=_unsendable(be, unsendable))
         if not checked.ok or unsendable:
-            return RunReport(False, [*checked.diagnostics, *unsendable[:MAX_UNSENDABLE]], be.status(),
-                             stopped_by="error", message="the program has errors: nothing was sent", backend=be)
+            found = [*checked.diagnostics, *unsendable[:MAX_UNSENDABLE]]
+            return RunReport(False, found, be.status(), stopped_by="error",
+                             message="the program has errors: nothing was sent", backend=be,
+                             ending=not_started(found, source_name(source)))
         total = checked.cycle_time
         if unmapped and getattr(getattr(be, "options", None), "strict_outputs", False):
-            return RunReport(False, [*checked.diagnostics, *unmapped], be.status(), stopped_by="error",
-                             message="auxiliary functions without an output mapping: nothing was sent", backend=be)
+            found = [*checked.diagnostics, *unmapped]
+            return RunReport(False, found, be.status(), stopped_by="error",
+                             message="auxiliary functions without an output mapping: nothing was sent", backend=be,
+                             ending=Ending("not started", unmapped[0].line))
     else:   # the program streams from its file; one with a syntax or structure error anywhere is not started
         errors = syntax_errors(source)
         if errors:
             return RunReport(False, errors, be.status(), stopped_by="error",
-                             message="the program has errors: nothing was run", backend=be)
+                             message="the program has errors: nothing was run", backend=be,
+                             ending=not_started(errors, source_name(source)))
     stream = interpret(source, mach, block_skip=block_skip)
     pacing = be.name == "sim" and bool(getattr(be, "realtime", None))
     planner = Planner(mach, keep_profiles=keep_profiles or pacing)
-    sent, clock, moves, last = 0, 0.0, 0, None
+    sent, clock = 0, 0.0
+    counted = MoveCounter(stream)
+    ending: Ending | None = None
+    planning: Diagnostic | None = None
     # PLN100 as check says it: checked before a real run (dry_run), reported after a run without that check
     envelope = None if check_first else Envelope(mach)
     stopped_by, message = None, ""
     extra: list[Diagnostic] = []
     be.open()
     try:
-        for seg in planner.segments(stream):
+        for seg in planner.segments(counted):
             if envelope is not None:
                 envelope.add(seg)
             be.send(seg)
             sent += 1
-            if seg.kind == "motion" and not seg.blend and seg.record is not last:
-                moves, last = moves + 1, seg.record
+            counted.sent(seg.record)
             clock = seg.t0 + seg.duration
             if progress is not None:
                 progress(seg, be.status(), total)
+        counted.finished()
         status = be.finish()
     except BackendError as exc:
         stopped_by, message = "alarm", str(exc)
         status = exc.status or be.status()
+        ending = backend_ending(exc, status)
     except PlanningError as exc:
         stopped_by, message = "error", str(exc)
         file = exc.record.src.file if exc.record is not None else stream.program.file
-        extra.append(Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc)))
+        planning = Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc))
+        extra.append(planning)
         status = be.finish()
     except KeyboardInterrupt:
         be.stop()
         stopped_by, message = "interrupt", "stopped by the operator (Ctrl-C)"
         status = be.status()
+        ending = interrupted(status)
     finally:
         be.close()
     if check_first:
@@ -174,8 +205,12 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         beyond = all(d.code == "PLN100" for d in diagnostics if d.is_error)
         stopped_by, message = "error", ("the planned path leaves the soft limits" if beyond
                                         else "the program stopped at an error")
+    if ending is None:
+        ending = program_ending(stream.interpreter.ended, stopping_error(stream.run_order, planning),
+                                stream.program.file)
     return RunReport(stopped_by is None, diagnostics, status, clock, total, sent, stopped_by, message, be,
-                     stream.interpreter.ended, moves, stream.state)
+                     ending.program_end, counted.sent_moves, stream.state, ending)
+
 
 
 # --- the ``fagorcnc run`` command ------------------------------------------------------
@@ -274,7 +309,7 @@ def command(args: argparse.Namespace) -> int:
     errors = sum(d.is_error for d in report.diagnostics)
     target = "the embedded simulator" if args.backend == "sim" else f"back-end {args.backend}"
     verdict = "OK" if report.ok else f"STOPPED ({report.message})"
-    print(f"{args.file}: {verdict} on {target}: {report.moves} moves, ended by {report.ended_by or 'end of file'}, "
+    print(f"{args.file}: {verdict} on {target}: {report.summary}, "
           f"last block executed: line {status.line}, {_where(report)}cycle time "
           f"{clock(report.cycle_time)} (jerk-limited plan), {errors} errors")
     if report.stopped_by == "interrupt":
