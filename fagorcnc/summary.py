@@ -21,7 +21,7 @@ exception (else the status' ``line``) is the last block the machine started.
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 
 from .diagnostics import Diagnostic
@@ -132,8 +132,9 @@ class MoveCounter:
     back-end was given: :meth:`sent` with the record of each segment sent (records in the planner's
     look-ahead are not counted until a segment of theirs, or of a record after them, is sent)."""
 
-    def __init__(self, records: Iterable) -> None:
+    def __init__(self, records: Iterable, on_move: Callable[[object], None] | None = None) -> None:
         self._records = iter(records)
+        self._on_move = on_move        # called with each move as it counts as given to the back-end
         self.moves = 0                 # moves that entered the planner
         self.sent_moves = 0            # moves up to the last record a segment was sent for
         self._pending: deque = deque()
@@ -155,13 +156,20 @@ class MoveCounter:
         pending = self._pending
         while pending:
             rec, n = pending[0]
+            self._count(n, rec)
             if rec is record:
-                self.sent_moves = n
                 return
             pending.popleft()
+
+    def _count(self, n: int, rec) -> None:
+        if n > self.sent_moves:
             self.sent_moves = n
+            if self._on_move is not None:
+                self._on_move(rec)
 
     def finished(self) -> None:
         """Everything planned was sent (the run ended normally)."""
+        for rec, n in self._pending:
+            self._count(n, rec)
         self.sent_moves = self.moves
         self._pending.clear()

@@ -86,6 +86,7 @@ import json
 import math
 import os
 import sys
+import tempfile
 from collections.abc import Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -95,8 +96,9 @@ from urllib.parse import quote
 
 from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import CODES, Diagnostic
+from ..program_files import PROGRAM_EXTENSIONS, program_files
 from ..summary import Ending, RunSummary
-from ._shared import clock, command_machine
+from ._shared import STDIN_NAME, clock, command_machine, stdin_copy
 from .recovery import BUDGET_CODES, MAX_PER_CODE, recovery_pass  # noqa: F401 - BUDGET_CODES: public name
 
 #: Codes of the warnings that say fagorcnc does not model something.
@@ -671,21 +673,63 @@ def command(args: argparse.Namespace) -> int:
     machine = command_machine(args)
     if machine is None:
         return 2
-    if not args.output:
-        return _check_report(args, machine, sys.stdout)
-    try:
-        with open(args.output, "w", encoding="utf-8") as out:
-            return _check_report(args, machine, out)
-    except OSError as exc:
-        print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
-        return 2
+    with tempfile.TemporaryDirectory(prefix="fagorcnc-check-") as scratch:
+        files = _program_files(args, scratch)
+        if files is None:
+            return 2
+        if not args.output:
+            return _check_report(args, machine, sys.stdout, files)
+        try:
+            with open(args.output, "w", encoding="utf-8") as out:
+                return _check_report(args, machine, out, files)
+        except OSError as exc:
+            print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
+            return 2
 
 
-def _check_report(args: argparse.Namespace, machine, out) -> int:
+def _program_files(args: argparse.Namespace, scratch: str) -> list[tuple[str, str]] | None:
+    """(name in the report, file to read) for every FILE argument: a directory stands for its program files
+    (recursively, ``--extensions``), ``-`` for standard input (copied to ``scratch``); None after a usage error."""
+    extensions = PROGRAM_EXTENSIONS
+    if args.extensions is not None:
+        extensions = tuple("." + e.strip().lstrip(".") if e.strip() else "" for e in args.extensions.split(","))
+    files: list[tuple[str, str]] = []
+    for name in args.files:
+        if name == "-":
+            if any(shown == STDIN_NAME for shown, _ in files):
+                print("fagorcnc: '-' (standard input) given twice", file=sys.stderr)
+                return None
+            files.append((STDIN_NAME, str(stdin_copy(scratch))))
+        elif Path(name).is_dir():
+            found = [str(p) for p in program_files(name, extensions)]
+            if not found:
+                print(f"fagorcnc: {name}: no program files in this directory (extensions "
+                      f"{', '.join(e or '(none)' for e in extensions)}; see --extensions)", file=sys.stderr)
+                return None
+            files += [(p, p) for p in found]
+        else:
+            files.append((name, name))
+    return files
+
+
+def _shown_as(report: FileReport, name: str) -> FileReport:
+    """The report of a file read from a copy (standard input) under the name the user gave."""
+    if report.file == name:
+        return report
+    copy = report.file
+    report.diagnostics = [dataclasses.replace(d, file=name) if d.file == copy else d for d in report.diagnostics]
+    report.file = name
+    return report
+
+
+def _check_report(args: argparse.Namespace, machine, out, files: list[tuple[str, str]]) -> int:
     reports = []
-    for report in check_files(args.files, machine, jobs=args.jobs, block_skip=args.block_skip,
-                              max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds,
-                              max_per_code=MAX_PER_CODE if args.max_per_code is None else args.max_per_code):
+    names = [shown for shown, _ in files]
+    for shown, report in zip(names, check_files(
+            [path for _, path in files], machine, jobs=args.jobs, block_skip=args.block_skip,
+            max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds,
+            max_per_code=MAX_PER_CODE if args.max_per_code is None else args.max_per_code), strict=True):
+        report = _shown_as(report, shown)
         reports.append(report)
         if report.usage_error:
             print(f"{report.file}: {report.failure}", file=sys.stderr)

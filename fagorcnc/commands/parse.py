@@ -6,7 +6,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..syntax import parse_file
+from ..program_files import no_block
+from ..syntax import parse_file, parse_text
+from ._shared import STDIN_NAME
 
 
 def command(args: argparse.Namespace) -> int:
@@ -14,11 +16,13 @@ def command(args: argparse.Namespace) -> int:
     status = 0
     for path in args.files:
         try:
-            program = parse_file(path)
+            program = parse_text(sys.stdin.read(), STDIN_NAME) if path == "-" else parse_file(path)
         except OSError as exc:
             print(f"{path}: cannot read the file: {exc.strerror or exc}", file=sys.stderr)
             status = 2
             continue
+        if program.ok and not program.main.blocks and not program.subroutines:
+            program.diagnostics.append(no_block(program.file))   # the verdict run and check give too
         shown = [d for d in program.diagnostics if args.verbose or d.severity != "info"]
         for d in shown:
             print(d.render() if not args.brief else str(d))
