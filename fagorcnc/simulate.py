@@ -162,7 +162,7 @@ def _empty(program: Program) -> bool:
 def _simulate(source: Source, mach: Machine, block_skip: bool) -> Result:
     program = parse_file(source) if _is_file(source) else parse_text(str(source))
     if _empty(program):
-        program.diagnostics.append(no_block(program.file))
+        program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))
     interp = Interpreter(program, mach, block_skip=block_skip)
     attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
     moves = list(interp.run())

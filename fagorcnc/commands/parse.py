@@ -22,7 +22,8 @@ def command(args: argparse.Namespace) -> int:
             status = 2
             continue
         if program.ok and not program.main.blocks and not program.subroutines:
-            program.diagnostics.append(no_block(program.file))   # the verdict run and check give too
+            # the verdict run and check give too
+            program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))
         shown = [d for d in program.diagnostics if args.verbose or d.severity != "info"]
         for d in shown:
             print(d.render() if not args.brief else str(d))
@@ -33,6 +34,6 @@ def command(args: argparse.Namespace) -> int:
         if not args.quiet:
             blocks = len(program.blocks) + sum(len(r.blocks) for r in program.subroutines.values())
             name = f" %{program.name}" if program.name else ""
-            print(f"{path}{name}: {blocks} blocks, {len(program.subroutines)} local subroutines, "
+            print(f"{program.file}{name}: {blocks} blocks, {len(program.subroutines)} local subroutines, "
                   f"{errors} errors, {warnings} warnings")
     return status
