@@ -178,3 +178,30 @@ def test_function_0x84_frames_print_nothing_on_standard_error():
     out = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, env=env, timeout=60)
     assert out.stdout.strip() == "done"
     assert out.stderr == "", out.stderr
+
+
+def test_a_plc_alarm_is_the_ending_of_the_run_not_m30():
+    # issue 30.17: HR 40001 = 5 stops the run with alarm 9001; the summary said "ended by M30"
+    demo = Path(__file__).resolve().parents[1] / "programs" / "demo.nc"
+    machine = fagorcnc.load_machine(None)
+    be = SimulatorBackend(machine, realtime=60.0)   # demo.nc plans ~92 s: ~1.5 s of wall clock
+    with StatusServer(be, machine, port=0, holding_writes=True) as server:
+        client = client_for(server)
+        result: list = []
+        thread = threading.Thread(target=lambda: result.append(fagorcnc.run(
+            demo, machine, backend=be, keep_profiles=True, progress=server.progress_callback())))
+        thread.start()
+        try:
+            deadline = time.monotonic() + 10
+            while not (ir(client, 30071) == [MainState.RUN] and decode_long(ir(client, 30076, 2)) >= 15):
+                assert time.monotonic() < deadline, "the run did not reach line 15"
+                time.sleep(0.01)
+            assert not client.write_register(hr_address(40001), 5).isError()
+        finally:
+            thread.join(10)
+            client.close()
+        (report,) = result
+        assert report.stopped_by == "alarm" and report.ended_by is None
+        assert report.ending.cause == "alarm" and report.ending.alarm == 9001
+        assert report.ending.line == report.status.line < 48
+        assert str(report.summary).endswith(f"ended by alarm 9001 at line {report.status.line}")
