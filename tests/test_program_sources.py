@@ -133,10 +133,12 @@ def test_durations_accept_minutes_and_seconds(tmp_path, capsys):
     assert "PLN101" in capsys.readouterr().out
     assert main(["check", "--max-seconds", "2:00", str(f)]) == 0
     capsys.readouterr()
-    for bad in ("1:75", "x", "1::2", "-5"):
+    for bad in ("1:75", "x", "1::2", "1:-5"):
         with pytest.raises(SystemExit):
             main(["check", "--max-cycle-time", bad, str(f)])
-        assert "is not a duration" in capsys.readouterr().err or bad == "-5"
+        assert "is not a duration" in capsys.readouterr().err
+    assert main(["check", "--max-cycle-time", "-5", str(f)]) == 2   # a number, but not a positive one
+    assert "--max-cycle-time must be a positive" in capsys.readouterr().err
 
 
 def test_cli_messages_name_no_library_method():

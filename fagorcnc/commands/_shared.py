@@ -38,8 +38,14 @@ def command_machine(args: argparse.Namespace):
 
 def duration(text: str) -> float:
     """A duration option: seconds (``90``, ``12.5``), ``m:ss`` (``1:30``) or ``h:mm:ss`` (``1:02:03.5``);
-    an ``argparse`` type (a bad one is a usage error naming the forms accepted)."""
+    an ``argparse`` type (a bad one is a usage error naming the forms accepted).  A plain negative number
+    is returned as is: each option says itself what it accepts (``--max-seconds -1`` is refused naming it)."""
     parts = text.strip().split(":")
+    if len(parts) == 1:
+        try:
+            return float(parts[0])
+        except ValueError:
+            pass
     try:
         if len(parts) > 3 or any(not p.strip() for p in parts):
             raise ValueError(text)
