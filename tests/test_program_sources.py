@@ -170,3 +170,22 @@ def test_the_command_prints_no_log_record_of_the_library(tmp_path):
                             "least 8 bytes')\n", "")
     out = subprocess.run([sys.executable, "-c", script, str(f)], capture_output=True, text=True, env=env)
     assert out.returncode == 0 and out.stderr == "", out.stderr
+
+
+def test_a_lost_link_at_the_command_line_says_what_to_do_there(tmp_path, capsys):
+    # issue 25.8: after a link fault the command said "Call reconnect_and_continue() when the link is back"
+    from fagorcnc.backends.interpcnc.emulator import Emulator
+
+    f = tmp_path / "part.nc"
+    f.write_text("G90 G1 X0 Y0 F3000\n" + "".join(f"G1 X{k % 20} Y{k % 7}\n" for k in range(1, 60)) + "M30\n")
+    machine = tmp_path / "m.toml"
+    machine.write_text("[backends.interpcnc]\ntimeout = 0.2\n")
+    with Emulator(port=0, speed=50.0) as emu:
+        emu.drop_connection(after_commands=20)   # the 21st command write closes the connection
+        code = main(["run", "--machine", str(machine), "--backend", "interpcnc", "--port", str(emu.port), str(f)])
+    captured = capsys.readouterr()
+    assert code == 1, captured.out
+    text = captured.out + captured.err
+    assert "reconnect_and_continue" not in text and "()" not in text
+    assert "link lost at line" in captured.out
+    assert "run the program again (fagorcnc run)" in captured.out
