@@ -18,8 +18,8 @@ serves the simulator and the InterpCNC card alike::
 (function 04) and 40001 is *holding register address 0* (functions 03, 06, 16,
 22, 23): ``address = reference - 30001`` or ``reference - 40001``.  The input
 block is 30001-30097 and the holding block 40001-40034; the gaps of the seed's
-table (30035-30046, 30095, 40017, 40033) read as 0.  Coils and discrete inputs
-do not exist (exception 01).  The server answers every unit id unless
+table (30038-30046, 30095, 40017, 40033) read as 0 (30035-30037: fagorcnc's end of
+run, below).  Coils and discrete inputs do not exist (exception 01).  The server answers every unit id unless
 ``device_id`` is set (RosettaCNC lets the slave id be configured, seed 004 L20).
 
 ======================  =========  ==============================================================
@@ -31,6 +31,8 @@ register                size       content
 30005, 30007, 30009     L          machine position X, Y, Z, µm (L57-L59)
 30011 ... 30021         L          target position X Y Z A B C, µm or 1/1000 degree (L61-L66)
 30023 ... 30033         L          program position X Y Z A B C (L68-L73)
+30035                   W          fagorcnc: end reason of the last run, :data:`END_REASONS` (0 while running)
+30036                   L          fagorcnc: line the last run ended at (0 when it does not apply)
 30047 ... 30057         L          working offset X Y Z A B C (L75-L80)
 30059 ... 30069         L          actual velocity X Y Z A B C, mm/min or degree/min (L82-L87)
 30071                   W          main state, :class:`MainState` (L89-L105)
@@ -79,6 +81,17 @@ with exception 03 (illegal data value).  Holding registers can always be read;
 writes only when ``holding_writes=True`` ("Enable write operations", seed 004
 L170), otherwise exception 01 (illegal function).
 
+**End of a run.**  :meth:`StatusServer.finished` publishes how the run ended (30072 b1, and
+30035/30036 in the gap the seed's table leaves, [CONSTRUCTION]) and :meth:`StatusServer.linger`
+keeps serving that final state ``linger`` seconds (default :data:`DEFAULT_LINGER`) before it
+stops, so a PLC polling every 20 ms can tell a finished program from an alarm or a crash.
+
+**Refusals change nothing.**  Function 23 (read/write) writes only once its read part is valid
+(pymodbus hands over the write before it checks the read range); functions 20, 21 and 24
+(file records, read FIFO), which pymodbus would answer from no table, are refused with
+exception 01; pymodbus' log records get a NullHandler, so a malformed frame (0x84...) prints
+nothing on the run's standard error.
+
 **Main state** (30071).  Back-end states map as ``idle`` -> 3 Idle, ``run`` ->
 6 Run, ``pause`` -> 7 Pause, ``alarm`` (or any alarm code, or any custom alarm
 register non-zero) -> 2 Alarm, ``closed`` -> ``closed_state`` (3 Idle by
@@ -125,7 +138,8 @@ from ..backends.base import Status
 from ..config.machine import Machine
 
 __all__ = [
-    "CUSTOM_ALARM_CODE", "HOLDING_COUNT", "INPUT_COUNT", "INTERFACE_LEVEL", "MAX_READ", "MainState", "PlcSignal",
+    "CUSTOM_ALARM_CODE", "DEFAULT_LINGER", "END_REASONS", "HOLDING_COUNT", "INPUT_COUNT", "INTERFACE_LEVEL",
+    "MAX_READ", "MainState", "PlcSignal",
     "StatusServer", "StatusServerError", "decode_long", "encode_long", "hr_address", "ir_address", "parse_address",
 ]
 
