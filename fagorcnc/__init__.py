@@ -8,12 +8,17 @@
     report = fagorcnc.run("part.nc", backend="sim")      # stream to a back-end
 """
 
+import logging as _logging
+
 from .commands.run import RunReport, run
 from .config.machine import Machine, load_machine
 from .diagnostics import CODES, Diagnostic
 from .simulate import DryRun, Result, Run, dry_run, interpret, simulate
 from .syntax import Program, iter_lines, parse_file, parse_text
 from .version import __version__
+
+# a library logs, the application decides what is shown (the fagorcnc command: nothing unless --log-level)
+_logging.getLogger(__name__).addHandler(_logging.NullHandler())
 
 
 def parse(source: str, file: str = "<string>") -> Program:

@@ -23,6 +23,8 @@ from .commands import emulate as emulate_command
 from .commands import parse as parse_command
 from .commands import plot as plot_command
 from .commands import run as run_command
+from .commands._shared import configure_logging, duration
+from .program_files import PROGRAM_EXTENSIONS
 from .runtime import keep_freed_memory
 from .version import __version__
 
@@ -32,16 +34,19 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="fagorcnc", description="Fagor CNC 8060/8065 part-program interpreter and motion kernel.")
     parser.add_argument("--version", action="version", version=f"fagorcnc {__version__}")
+    parser.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default=None,
+                        help="print the library's log records (fagorcnc, pymodbus) of this level and above on "
+                             "standard error (default: none)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in ("parse", "lint"):
         p = sub.add_parser(name, help="check the syntax of programs and list every problem")
-        p.add_argument("files", nargs="+", metavar="FILE", help="part program files")
+        p.add_argument("files", nargs="+", metavar="FILE", help="part program files ('-': standard input)")
         p.add_argument("-q", "--quiet", action="store_true", help="print only diagnostics")
         p.add_argument("--brief", action="store_true", help="one line per diagnostic, no source excerpt")
         p.add_argument("-v", "--verbose", action="store_true", help="also print informational notes")
         p.set_defaults(func=parse_command.command)
     run = sub.add_parser("run", help="run a program (embedded simulator by default, or an InterpCNC card)")
-    run.add_argument("file", metavar="FILE", help="part program file")
+    run.add_argument("file", metavar="FILE", help="part program file ('-': standard input)")
     run.add_argument("--machine", metavar="M", help="machine configuration (TOML); default: built-in machine")
     run.add_argument("--backend", default="sim", metavar="NAME",
                      help="where the motion goes: sim (default) or interpcnc")
@@ -56,24 +61,35 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--plc-writes", action="store_true",
                      help="with --status-server: accept PLC writes (40001-40008 custom alarms stop the run, "
                           "40009-40016 custom warnings are shown)")
+    run.add_argument("--status-linger", type=duration, metavar="SECONDS",
+                     help="with --status-server: keep serving the final state and the end reason this long after "
+                          "the end (default 3 s; 0 = close at once)")
     run.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
-    run.add_argument("--max-seconds", type=float, metavar="SECONDS",
-                     help="stop a program whose interpretation takes longer (INT082; 0 = no limit; "
+    run.add_argument("--max-seconds", type=duration, metavar="SECONDS",
+                     help="stop a program whose interpretation takes longer, in CPU seconds (INT082; 0 = no limit; "
                           "default: the machine's limits.max_seconds, none)")
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
     run.set_defaults(func=run_command.command)
     check = sub.add_parser("check", help="verify programs offline for CI: diagnostics, limits, tools, cycle time")
-    check.add_argument("files", nargs="+", metavar="FILE", help="part program files")
+    check.add_argument("files", nargs="+", metavar="FILE",
+                       help="part program files, or directories (their program files, recursively); '-': "
+                            "standard input")
+    check.add_argument("--extensions", metavar="EXT,...", default=None,
+                       help="program extensions looked for in a directory (default: "
+                            + ",".join(e.lstrip(".") for e in PROGRAM_EXTENSIONS) + ")")
     check.add_argument("--machine", metavar="M", help="machine configuration (TOML or LinuxCNC INI)")
     check.add_argument("--format", choices=("text", "json", "sarif", "github"), default="text",
                        help="report format (default: text)")
-    check.add_argument("--max-cycle-time", type=float, metavar="SECONDS",
-                       help="fail a program whose planned cycle time is longer")
+    check.add_argument("--max-cycle-time", type=duration, metavar="DURATION",
+                       help="fail a program whose planned cycle time is longer: seconds (90), m:ss (1:30) or "
+                            "h:mm:ss")
     check.add_argument("--fail-on", choices=("error", "warning"), default="error",
                        help="fail on errors only (default) or on warnings too")
-    check.add_argument("--max-seconds", type=float, metavar="SECONDS",
-                       help="fail a program whose interpretation takes longer (INT082; 0 = no limit; default: "
-                            "the machine's limits.max_seconds, else 120)")
+    check.add_argument("--max-seconds", type=duration, metavar="SECONDS",
+                       help="fail a program whose interpretation takes longer, in CPU seconds (INT082; 0 = no "
+                            "limit; default: the machine's limits.max_seconds, else 120)")
+    check.add_argument("--max-per-code", type=int, default=None, metavar="N",
+                       help="list at most N diagnostics of each code, count the others (default 20; 0 = all)")
     check.add_argument("--jobs", "-j", type=int, metavar="N", help="files checked in parallel (default: CPU count)")
     check.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     check.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE instead of the output")
@@ -107,6 +123,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    configure_logging(args.log_level)
     keep_freed_memory()   # the planner's arrays: reused, not faulted in again (see fagorcnc.runtime)
     try:
         return args.func(args)

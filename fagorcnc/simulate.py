@@ -9,6 +9,7 @@ planner; ``trajectory()`` samples the planned motion.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,9 +22,11 @@ from .interp.records import record_time
 from .interp.state import ChannelState
 from .plan import Planner, PlanningError, Segment, Trajectory, sample
 from .plan.envelope import Envelope
+from .program_files import Source, no_block, resolve, source_name
 from .runtime import fewer_collections
+from .summary import Ending, RunSummary, is_move, not_started, program_ending, stopping_error
 from .syntax import parse_file, parse_text, source_encoding
-from .syntax.ast import Program
+from .syntax.ast import Block, Program
 
 
 class FinalState:
@@ -94,8 +97,14 @@ class Result:
     state: FinalState | None
     cycle_time: float
     program: Program | None
-    ended_by: str | None = None
+    ended_by: str | None = None     # "M30" or "M02" when the program ended that way (see ``ending``)
     machine: Machine | None = None
+    ending: Ending = field(default_factory=lambda: Ending("not started"))
+
+    @property
+    def summary(self) -> RunSummary:
+        """Moves and ending, as every entry point counts and names them (:mod:`fagorcnc.summary`)."""
+        return RunSummary(sum(map(is_move, self.moves)), self.ending)
 
     @property
     def errors(self) -> list[Diagnostic]:
@@ -119,32 +128,41 @@ def estimate_time(machine: Machine, moves: list) -> float:
     return sum(record_time(machine, m) for m in moves)
 
 
-def simulate(source: str | Path, machine: Machine | dict | str | Path | None = None, *,
-             block_skip: bool = False) -> Result:
+def simulate(source: str | os.PathLike | None = None, machine: Machine | dict | str | Path | None = None, *,
+             text: str | None = None, block_skip: bool = False) -> Result:
     """Run a program offline.
 
-    ``source`` is a path to a program file or the program text itself (text
-    is recognised by containing a newline or not naming an existing file).
+    ``source`` is a program file (a path, or a ``str`` naming one) or the program text itself;
+    ``text="..."`` is always program text (see :func:`fagorcnc.program_files.resolve`: a one-line
+    string that looks like a path but names no file raises :class:`FileNotFoundError`).
     ``machine`` is a :class:`~fagorcnc.config.machine.Machine`, a dict or a TOML
     path (see :func:`~fagorcnc.config.machine.load_machine`); ``None`` is the default
     machine.  Never raises on a bad program: problems are in ``diagnostics``.
     """
+    program_source = resolve(source, text)
     try:
         mach = load_machine(machine)
     except MachineError as exc:
         d = Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))
         return Result(False, [d], [], None, 0.0, None)
     with fewer_collections():
-        return _simulate(source, mach, block_skip)
+        return _simulate(program_source, mach, block_skip)
 
 
-def _is_file(source: str | Path) -> bool:
-    """Whether ``source`` names a program file (else it is the program text)."""
-    return isinstance(source, Path) or ("\n" not in str(source) and Path(str(source)).is_file())
+def _is_file(source: Source) -> bool:
+    """Whether a resolved ``source`` is a program file (else it is the program text)."""
+    return isinstance(source, Path)
 
 
-def _simulate(source: str | Path, mach: Machine, block_skip: bool) -> Result:
+def _empty(program: Program) -> bool:
+    """A program without any block (empty, or comments only) and without syntax errors."""
+    return program.ok and not program.main.blocks and not program.subroutines
+
+
+def _simulate(source: Source, mach: Machine, block_skip: bool) -> Result:
     program = parse_file(source) if _is_file(source) else parse_text(str(source))
+    if _empty(program):
+        program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))
     interp = Interpreter(program, mach, block_skip=block_skip)
     attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
     moves = list(interp.run())
@@ -161,9 +179,14 @@ def _simulate(source: str | Path, mach: Machine, block_skip: bool) -> Result:
         file = exc.record.src.file if exc.record is not None else program.file
         diagnostics.append(Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc)))
     cycle_time = sim.cycle_time
+    planning = next((d for d in diagnostics if d.code == "PLN001"), None)
+    if not program.ok:
+        ending = not_started(program.diagnostics, program.file)
+    else:
+        ending = program_ending(interp.ended, stopping_error(interp.diagnostics, planning), program.file)
     diagnostics.sort(key=lambda d: (d.file, d.line, d.col))
     ok = not any(d.is_error for d in diagnostics)
-    return Result(ok, diagnostics, moves, FinalState(interp), cycle_time, program, interp.ended, mach)
+    return Result(ok, diagnostics, moves, FinalState(interp), cycle_time, program, ending.program_end, mach, ending)
 
 
 class Run:
@@ -204,10 +227,19 @@ class Run:
     def ok(self) -> bool:
         return not any(d.is_error for d in self.diagnostics)
 
+    @property
+    def run_order(self) -> list[Diagnostic]:
+        """The interpreter's diagnostics in the order they arose (the first error is where it stopped),
+        then the syntax errors met in the stream (one stops the run at the block before it)."""
+        seen = {id(d) for d in self.program.diagnostics}
+        ahead = [d for d in self._stream.diagnostics if id(d) not in seen and d.is_error]
+        return [*self.interpreter.diagnostics, *ahead]
 
-def interpret(source: str | Path, machine: Machine | dict | str | Path | None = None, *,
-              block_skip: bool = False) -> Run:
-    """Stream a program (a file path, or text) through the interpreter; see :class:`Run`."""
+
+def interpret(source: str | os.PathLike | None = None, machine: Machine | dict | str | Path | None = None, *,
+              text: str | None = None, block_skip: bool = False) -> Run:
+    """Stream a program (a file, or ``text=``, as for :func:`simulate`) through the interpreter; see :class:`Run`."""
+    source = resolve(source, text)
     mach = load_machine(machine)
     if _is_file(source):
         path = Path(source)
@@ -231,7 +263,13 @@ class DryRun:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     cycle_time: float = 0.0
     moves: int = 0
-    ended_by: str | None = None
+    ended_by: str | None = None     # "M30" or "M02" when the program ended that way (see ``ending``)
+    ending: Ending = field(default_factory=lambda: Ending("not started"))
+
+    @property
+    def summary(self) -> RunSummary:
+        """Moves and ending, as every entry point counts and names them (:mod:`fagorcnc.summary`)."""
+        return RunSummary(self.moves, self.ending)
 
     @property
     def ok(self) -> bool:
@@ -258,21 +296,21 @@ class _Watched:
 
     def __next__(self):
         rec = next(self._records)
-        if rec.kind not in ("aux", "dwell"):
+        if is_move(rec):
             self.moves += 1
         if self._watch is not None:
             self._watch(rec, self._interp)
         return rec
 
 
-def _lines_of(source: str | Path, encoding: str):
+def _lines_of(source: Source, encoding: str):
     """The program's lines: an open file (read lazily), or the text itself (split as parse_text does)."""
     if _is_file(source):
         return open(source, encoding=encoding)   # closed by the caller
     return str(source)
 
 
-def _syntax(source: str | Path, file: str) -> tuple[list[Diagnostic], str]:
+def _syntax(source: Source, file: str) -> tuple[list[Diagnostic], str]:
     """The syntax and structure diagnostics of the whole program, read once in constant memory,
     and the file's encoding: UTF-8, or Latin-1 for files written by older editors (as
     :func:`~fagorcnc.syntax.read_source` decides)."""
@@ -281,23 +319,35 @@ def _syntax(source: str | Path, file: str) -> tuple[list[Diagnostic], str]:
 
     encoding = source_encoding(source) if _is_file(source) else "utf-8"
     lines = _lines_of(source, encoding)
+    blocks = [False]
+
+    def noting_blocks(pairs):
+        for pair in pairs:
+            if type(pair[0]) is Block:
+                blocks[0] = True
+            yield pair
+
     try:
-        return list(assemble(iter_lines(lines, file), file, keep_body=False).diagnostics), encoding
+        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file)), file, keep_body=False).diagnostics)
     finally:
         getattr(lines, "close", lambda: None)()
+    if not blocks[0] and not any(d.is_error for d in diagnostics):
+        diagnostics.append(no_block(file))
+    return diagnostics, encoding
 
 
-def syntax_errors(source: str | Path) -> list[Diagnostic]:
-    """The syntax and structure errors of the whole program (a file's path or the program text), read
-    once in constant memory: a program with one is not started (as in :func:`simulate`)."""
-    file = str(source) if _is_file(source) else "<string>"
+def syntax_errors(source: str | os.PathLike | None = None, *, text: str | None = None) -> list[Diagnostic]:
+    """The syntax and structure errors of the whole program (a file, or ``text=``, as for :func:`simulate`),
+    read once in constant memory: a program with one is not started (as in :func:`simulate`)."""
+    source = resolve(source, text)
+    file = source_name(source)
     with fewer_collections():
         diagnostics, _ = _syntax(source, file)
     return sorted((d for d in diagnostics if d.is_error), key=_place)
 
 
-def dry_run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
-            on_record: RecordWatcher | None = None,
+def dry_run(source: str | os.PathLike | None = None, machine: Machine | dict | str | Path | None = None, *,
+            text: str | None = None, block_skip: bool = False, on_record: RecordWatcher | None = None,
             on_segment: Callable[[Segment], None] | None = None) -> DryRun:
     """A dry run in constant memory: :func:`simulate`'s diagnostics, cycle time and ending without
     keeping the program or its records, whatever its length (a CAM program of millions of blocks),
@@ -307,17 +357,19 @@ def dry_run(source: str | Path, machine: Machine | dict | str | Path | None = No
     The whole file is first read for its syntax (a program with a syntax error anywhere is not
     started, as in :func:`simulate`), then read again lazily, interpreted and planned in one
     stream.  ``on_record`` sees every motion record, ``on_segment`` every planned segment: what
-    a caller wants to know of them it keeps itself.  Never raises on a bad program.
+    a caller wants to know of them it keeps itself.  Never raises on a bad program (a missing file
+    raises :class:`FileNotFoundError`, as for :func:`simulate`).
     """
+    source = resolve(source, text)
     try:
         mach = load_machine(machine)
     except MachineError as exc:
         return DryRun(False, [Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))])
-    file = str(source) if _is_file(source) else "<string>"
+    file = source_name(source)
     with fewer_collections():
         diagnostics, encoding = _syntax(source, file)
         if any(d.is_error for d in diagnostics):
-            return DryRun(False, sorted(diagnostics, key=_place))
+            return DryRun(False, sorted(diagnostics, key=_place), ending=not_started(diagnostics, file))
         return _dry_run(source, file, encoding, mach, block_skip, diagnostics, on_record, on_segment)
 
 
@@ -337,6 +389,7 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
         records = _Watched(interp, on_record)
         envelope = Envelope(mach)   # PLN100: what lies between the programmed end points
         clock = 0.0
+        planning = None
         try:
             for seg in Planner(mach).segments(records):
                 clock = seg.t0 + seg.duration
@@ -344,11 +397,13 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
                 if on_segment is not None:
                     on_segment(seg)
         except PlanningError as exc:
-            diagnostics = [*diagnostics, Diagnostic(exc.record.src.file if exc.record is not None else file,
-                                                    exc.line, 1, "PLN001", "error", str(exc))]
+            planning = Diagnostic(exc.record.src.file if exc.record is not None else file, exc.line, 1, "PLN001",
+                                  "error", str(exc))
+            diagnostics = [*diagnostics, planning]
             for _ in records:   # the rest is still interpreted, for its diagnostics (as simulate() does)
                 pass
     finally:
         getattr(lines, "close", lambda: None)()
     out = sorted([*diagnostics, *interp.diagnostics, *envelope.diagnostics(file)], key=_place)
-    return DryRun(True, out, clock, records.moves, interp.ended)
+    ending = program_ending(interp.ended, stopping_error(interp.diagnostics, planning), file)
+    return DryRun(True, out, clock, records.moves, ending.program_end, ending)

@@ -78,13 +78,33 @@ def test_endless_streamed_program_stops_at_the_time_limit():
 
 def test_the_time_the_consumer_holds_the_records_does_not_count(monkeypatch):
     # a fake clock that only the consumer advances: 10 s per record would be 30 000 s of
-    # wall clock, yet the interpretation itself took no time at all
+    # CPU time, yet the interpretation itself took no time at all
     now = [0.0]
-    monkeypatch.setattr(interpreter, "monotonic", lambda: now[0])
+    monkeypatch.setattr(interpreter, "cpu_time", lambda: now[0])
     run = fagorcnc.interpret("G90 G1 X1 F1000\nG1 X0\n" * 1500 + "M30\n", {"limits": {"max_seconds": 1}})
     for _ in run:
         now[0] += 10.0
     assert run.ok, [str(d) for d in run.diagnostics]
+
+
+def test_the_time_limit_counts_cpu_time_not_a_busy_machines_wall_clock(monkeypatch):
+    # issue 25.1: a loaded CI runner leaves the interpreter off the CPU; simulated by a 0.4 s sleep
+    # (wall-clock time, no CPU time) at block 1000 of 1500.  The limit (0.25 s) is checked every
+    # 1024 blocks: on a wall clock the check at block 1024 sees 0.4 s > 0.25 s and stops a legitimate
+    # program (INT082); in CPU time 1024 short blocks take a few hundredths of a second.
+    import time
+
+    count_block = interpreter.Interpreter.count_block
+
+    def descheduled(self, col):
+        count_block(self, col)
+        if self.state.executed_blocks == 1000:
+            time.sleep(0.4)
+
+    monkeypatch.setattr(interpreter.Interpreter, "count_block", descheduled)
+    r = fagorcnc.simulate("G90 G1 X1 F1000\nG1 X0\n" * 750 + "M30\n", {"limits": {"max_seconds": 0.25}})
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert moves(r) == 1500
 
 
 # ----------------------------------------------------------------------------- memory

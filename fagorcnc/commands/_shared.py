@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from pathlib import Path
 
@@ -33,3 +34,71 @@ def command_machine(args: argparse.Namespace):
     except MachineError as exc:
         print(f"fagorcnc: {exc}", file=sys.stderr)
         return None
+
+
+def duration(text: str) -> float:
+    """A duration option: seconds (``90``, ``12.5``), ``m:ss`` (``1:30``) or ``h:mm:ss`` (``1:02:03.5``);
+    an ``argparse`` type (a bad one is a usage error naming the forms accepted).  A plain negative number
+    is returned as is: each option says itself what it accepts (``--max-seconds -1`` is refused naming it)."""
+    parts = text.strip().split(":")
+    if len(parts) == 1:
+        try:
+            return float(parts[0])
+        except ValueError:
+            pass
+    try:
+        if len(parts) > 3 or any(not p.strip() for p in parts):
+            raise ValueError(text)
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a duration: seconds (90), m:ss (1:30) or h:mm:ss") \
+            from None
+    if any(not math.isfinite(v) or v < 0 for v in values) or any(v >= 60 for v in values[1:]):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a duration: seconds (90), m:ss (1:30) or h:mm:ss")
+    seconds = 0.0
+    for v in values:
+        seconds = seconds * 60.0 + v
+    return seconds
+
+
+#: The name ``-`` (standard input) has in reports.
+STDIN_NAME = "<stdin>"
+
+
+def stdin_copy(directory: str) -> Path:
+    """Standard input copied to a file in ``directory`` (in chunks: constant memory), for ``-`` as a FILE."""
+    target = Path(directory) / "stdin.nc"
+    with open(target, "wb") as out:
+        source = sys.stdin.buffer
+        while chunk := source.read(1 << 20):
+            out.write(chunk)
+    return target
+
+
+_LIBRARY_ADVICE = re.compile(r"[;,.]?\s*(?:[Cc]all|then call)\s+[a-z_]+\(\)[^.;]*(?:[.;]|$)")
+
+
+def cli_message(message: str) -> str:
+    """A back-end's message for the command line: advice to call a library method (``reconnect_and_continue()``,
+    ``resume()``...) is for programs embedding fagorcnc; at the command line the way on is a new run."""
+    cleaned = _LIBRARY_ADVICE.sub(".", message).strip()
+    while ".." in cleaned:
+        cleaned = cleaned.replace("..", ".")
+    return cleaned.rstrip(" .;,")
+
+
+def configure_logging(level: str | None) -> None:
+    """The command's logging: quiet unless ``--log-level`` asks (fagorcnc's and pymodbus' records then go to
+    standard error).  Without it no handler prints them: pymodbus' own warnings ("No response received...")
+    would otherwise reach the terminal through Python's last-resort handler."""
+    import logging
+
+    for name in ("fagorcnc", "pymodbus"):
+        logger = logging.getLogger(name)
+        if not any(isinstance(h, logging.NullHandler) for h in logger.handlers):
+            logger.addHandler(logging.NullHandler())
+    if level is not None:
+        logging.basicConfig(level=level.upper(), stream=sys.stderr,
+                            format="%(asctime)s %(name)s %(levelname)s: %(message)s")
+        for name in ("fagorcnc", "pymodbus"):
+            logging.getLogger(name).setLevel(level.upper())

@@ -9,12 +9,13 @@ that does not grow with the program) and reported on:
   check of the *planned* path: an arc or a corner blend whose interior goes
   beyond a soft limit although its end points do not is ``PLN100``;
 * **error recovery**: the control stops at the first error, so a check would
-  show one error at a time.  After an error the verifier blanks the failing
-  line(s) and runs the program again (at most :data:`MAX_RECOVERIES` times) to
-  report the errors further on; those are marked ``recovered`` (they may be
-  consequences of the skipped block).  Everything else in the report (tools,
-  boxes, cycle time) describes the program as the control would run it: up to
-  its first error;
+  show one error at a time.  After an error the verifier runs the program once
+  more, streamed, skipping every block in error as if its line were blank
+  (:mod:`fagorcnc.commands.recovery`), to report the errors further on; those
+  are marked ``recovered`` (they may be consequences of a skipped block).  At
+  most ``--max-per-code`` diagnostics of each code are listed, the others are
+  counted (``not_shown``).  Everything else in the report (tools, boxes, cycle
+  time) describes the program as the control would run it: up to its first error;
 * **unsupported features**: the warnings that say fagorcnc does not compute
   something (``INT011``, ``INT078``, ``INT079``, ``INT115``), grouped;
 * **tools** (T selected, loaded by M06, D offsets used) and **work offsets**
@@ -49,9 +50,12 @@ new keys may be added::
         "executed": true,             # false: syntax errors, the control would not start it
         "complete": true,             # ran to its end without error (else: stopped at its first error)
         "ended_by": "M30" | null, "moves": 63,
+        "ending": {"cause": "M30" | "M02" | "end of file" | "error" | "not started" | ..., "line": 0,
+                   "alarm": 0, "file": null, "text": "error at line 12"},   # fagorcnc.summary.Ending
         "cycle_time": 91.777,         # s, planned (jerk-limited), up to the first error
         "max_cycle_time": 60.0 | null, "cycle_time_exceeded": false,
-        "counts": {"error": 0, "warning": 1, "info": 0},
+        "counts": {"error": 0, "warning": 1, "info": 0},   # found, listed or not
+        "not_shown": [{"code": "INT100", "severity": "error", "count": 99980}],   # beyond --max-per-code
         "diagnostics": [{"file": "part.nc", "line": 3, "col": 1, "code": "INT010",
                          "severity": "error" | "warning" | "info", "message": "...",
                          "source": "G1000", "recovered": false}],
@@ -82,6 +86,7 @@ import json
 import math
 import os
 import sys
+import tempfile
 from collections.abc import Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -91,20 +96,20 @@ from urllib.parse import quote
 
 from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import CODES, Diagnostic
-from ._shared import clock, command_machine
+from ..program_files import PROGRAM_EXTENSIONS, program_files
+from ..summary import Ending, RunSummary
+from ._shared import STDIN_NAME, clock, command_machine, stdin_copy
+from .recovery import BUDGET_CODES, MAX_PER_CODE, recovery_pass  # noqa: F401 - BUDGET_CODES: public name
 
 #: Codes of the warnings that say fagorcnc does not model something.
 UNSUPPORTED = ("INT011", "INT078", "INT079", "INT115")
-#: Re-runs after an error to find the errors further on.
-MAX_RECOVERIES = 25
-#: Seconds of interpretation per run when neither --max-seconds nor the machine's
-#: limits.max_seconds sets a limit.  A CI job wants a verdict in minutes: on a loaded 2-core
-#: machine 120 s interpret about 3 million blocks (the check streams in constant memory, so a
-#: longer CAM program only needs a larger --max-seconds), while an endless $GOTO loop of moves
-#: stops there instead of running on to limits.max_blocks (an hour or more).
+#: Seconds of interpretation (CPU time of the checking process, so a busy runner does not bring
+#: the limit closer) per run when neither --max-seconds nor the machine's limits.max_seconds sets
+#: a limit.  A CI job wants a verdict in minutes: 120 s of CPU interpret about 3 million blocks
+#: (the check streams in constant memory, so a longer CAM program only needs a larger
+#: --max-seconds), while an endless $GOTO loop of moves stops there instead of running on to
+#: limits.max_blocks (an hour or more).
 CHECK_MAX_SECONDS = 120.0
-#: Runaway guards that spent the run's budget: a re-run to look further would spend it again.
-BUDGET_CODES = ("INT080", "INT082")
 SCHEMA = "fagorcnc-check/1"
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 
@@ -189,9 +194,19 @@ class FileReport:
     complete: bool = False          # ran to its end without error (cycle time of the whole program)
     failure: str | None = None      # the file could not be checked
     usage_error: bool = False       # ... because it cannot be read (exit status 2)
+    ending: Ending = field(default_factory=lambda: Ending("not started"))   # what ended the run (fagorcnc.summary)
+    #: diagnostics found but not listed (beyond ``max_per_code`` of their code): (code, severity) -> how many
+    not_shown: dict[tuple[str, str], int] = field(default_factory=dict)
 
     def count(self, severity: str) -> int:
-        return sum(d.severity == severity for d in self.diagnostics)
+        """Diagnostics of ``severity`` found, listed or not."""
+        return sum(d.severity == severity for d in self.diagnostics) + sum(
+            n for (_, sev), n in self.not_shown.items() if sev == severity)
+
+    def not_shown_lines(self) -> list[str]:
+        """One line per code with diagnostics not listed: "N more CODE (description) not shown"."""
+        return [f"{n} more {code} ({CODES.get(code, severity)}) not shown (--max-per-code)"
+                for (code, severity), n in sorted(self.not_shown.items())]
 
     @property
     def cycle_time_exceeded(self) -> bool:
@@ -217,7 +232,8 @@ class FileReport:
         """The JSON form (schema ``fagorcnc-check/1``)."""
         out: dict[str, Any] = {
             "file": self.file, "verdict": self.verdict(fail_on), "failure": self.failure,
-            "executed": self.executed, "complete": self.complete, "ended_by": self.ended_by, "moves": self.moves,
+            "executed": self.executed, "complete": self.complete, "ended_by": self.ended_by,
+            "ending": self.ending.to_dict(), "moves": self.moves,
             "cycle_time": round(self.cycle_time, 3), "max_cycle_time": self.max_cycle_time,
             "cycle_time_exceeded": self.cycle_time_exceeded,
             "counts": {s: self.count(s) for s in ("error", "warning", "info")},
@@ -225,6 +241,7 @@ class FileReport:
         if diagnostics:
             out["diagnostics"] = [_diagnostic_dict(d, r) for d, r in zip(self.diagnostics, self.recovered,
                                                                           strict=True)]
+        out["not_shown"] = [{"code": c, "severity": sev, "count": n} for (c, sev), n in sorted(self.not_shown.items())]
         out["unsupported"] = self.unsupported()
         out["tools"] = [{"tool": t.tool, "loaded": t.loaded, "offsets": t.offsets, "lines": t.lines}
                         for t in self.tools]
@@ -250,11 +267,13 @@ def _num(v: float) -> str:
 # ----------------------------------------------------------------------------- checking one file
 def check_file(path: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
                max_cycle_time: float | None = None, recover: bool = True,
-               max_seconds: float | None = None) -> FileReport:
+               max_seconds: float | None = None, max_per_code: int = MAX_PER_CODE) -> FileReport:
     """Verify one program file; never raises (problems are in the report).
 
     ``machine`` as for :func:`fagorcnc.load_machine`; ``max_cycle_time`` in
-    seconds; ``recover`` re-runs after an error to report the errors further on;
+    seconds; ``recover`` runs the program once more after an error to report the errors
+    further on (:mod:`~fagorcnc.commands.recovery`); ``max_per_code``: diagnostics listed per
+    code, the others counted in ``not_shown`` (0 = all);
     ``max_seconds``: interpretation time limit per run (0 = none; None = the
     machine's ``limits.max_seconds`` or :data:`CHECK_MAX_SECONDS`).
     """
@@ -271,7 +290,7 @@ def check_file(path: str | Path, machine: Machine | dict | str | Path | None = N
         report.failure, report.usage_error = f"bad machine configuration: {exc}", True
         return report
     try:
-        _check(report, Path(path), mach, block_skip, recover)
+        _check(report, Path(path), mach, block_skip, recover, max_per_code)
     except Exception as exc:   # a bug in fagorcnc must not hide the other files' results
         report.failure = f"internal error of fagorcnc: {type(exc).__name__}: {exc}"
     return report
@@ -284,16 +303,8 @@ def _time_limited(machine: Machine, seconds: float | None) -> Machine:
     return dataclasses.replace(machine, limits=dataclasses.replace(machine.limits, max_seconds=seconds))
 
 
-def _no_block(path: Path) -> bool:
-    """Whether the file holds no block at all (read until the first one)."""
-    from ..syntax import iter_lines, source_encoding
-    from ..syntax.ast import Block
-
-    with open(path, encoding=source_encoding(path), errors="replace") as lines:
-        return not any(type(node) is Block for node, _ in iter_lines(lines, str(path)))
-
-
-def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool) -> None:
+def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, recover: bool,
+           max_per_code: int) -> None:
     from ..simulate import dry_run
 
     # one streamed pass: interpreted and planned once, in constant memory whatever the program's
@@ -306,59 +317,28 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
     report.cycle_time = result.cycle_time
     report.moves = result.moves
     report.ended_by = result.ended_by
-    if recover and not result.ok:
-        found += [(d, True) for d in _recover(path, machine, block_skip, result.diagnostics)]
+    report.ending = result.ending
+    if recover and not result.ok:   # one more streamed pass for the errors beyond the first (see .recovery)
+        findings = recovery_pass(path, machine, block_skip, result.diagnostics, max_per_code)
+        found += [(d, True) for d in findings.kept]
+        for slot, n in findings.more.items():
+            report.not_shown[slot] = report.not_shown.get(slot, 0) + n
     report.tools, report.origins, report.boxes = summary.tools(), summary.origins(), summary.boxes()
-    if result.executed and result.moves == 0 and result.ended_by is None and _no_block(path):
-        found.append((Diagnostic(str(path), 1, 1, "STR012", "error", "the file has no block to execute: "
-                                 "empty, or only comments (a truncated or failed post-processor output?)"), False))
     if report.cycle_time_exceeded:
         found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
                                  f"planned cycle time {clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
                                  f"the limit of {report.max_cycle_time:g} s (--max-cycle-time)"), False))
     found.sort(key=lambda x: (x[0].file != str(path), x[0].file, x[0].line, x[0].col))
-    report.diagnostics = [d for d, _ in found]
-    report.recovered = [r for _, r in found]
-
-
-def _interpreter(program, machine: Machine, block_skip: bool):
-    from ..config.parameter_file import attach_parameter_file
-    from ..interp.interpreter import Interpreter
-
-    interp = Interpreter(program, machine, block_skip=block_skip)
-    attach_parameter_file(interp)   # the same starting parameters as simulate(); never saved
-    return interp
-
-
-def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnostic]) -> list[Diagnostic]:
-    """Errors beyond the first: blank the failing lines and run again (interpreter only)."""
-    from ..syntax import parse_text, read_source
-
-    text = read_source(path).replace("\r\n", "\n").replace("\r", "\n")
-    lines = text.split("\n")
-    name = str(path)
-    seen = {(d.file, d.line, d.code, d.message) for d in first}
-    blanked = {d.line for d in first if d.is_error and d.file == name}
-    out: list[Diagnostic] = []
-    for _ in range(MAX_RECOVERIES):
-        if not blanked or any(d.code in BUDGET_CODES for d in (*first, *out)):
-            break
-        program = parse_text("\n".join("" if i in blanked else s for i, s in enumerate(lines, start=1)), name)
-        if not program.ok:   # blanking broke the structure ($IF without $ENDIF ...): stop here
-            break
-        interp = _interpreter(program, machine, block_skip)
-        for _record in interp.run():
-            pass
-        for d in interp.diagnostics:
-            key = (d.file, d.line, d.code, d.message)
-            if key not in seen:
-                seen.add(key)
-                out.append(d)
-        more = {d.line for d in interp.diagnostics if d.is_error and d.file == name} - blanked
-        if not more or any(d.is_error and d.file != name for d in interp.diagnostics):
-            break   # clean, or an error in another file (a global subroutine) we cannot skip
-        blanked |= more
-    return out
+    listed: dict[str, int] = {}
+    for d, recovered in found:   # the first max_per_code of each code, in file order; the control's error always
+        n = listed.get(d.code, 0)
+        if max_per_code and n >= max_per_code and (recovered or not d.is_error):
+            slot = (d.code, d.severity)
+            report.not_shown[slot] = report.not_shown.get(slot, 0) + 1
+            continue
+        listed[d.code] = n + 1
+        report.diagnostics.append(d)
+        report.recovered.append(recovered)
 
 
 class _Summary:
@@ -491,7 +471,8 @@ def _work(path: str) -> FileReport:
 
 def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Path | None = None, *,
                 jobs: int | None = None, block_skip: bool = False, max_cycle_time: float | None = None,
-                recover: bool = True, max_seconds: float | None = None) -> Iterator[FileReport]:
+                recover: bool = True, max_seconds: float | None = None,
+                max_per_code: int = MAX_PER_CODE) -> Iterator[FileReport]:
     """Verify many files, ``jobs`` processes at a time (default: one per CPU);
     yields the reports in input order as they become available.
 
@@ -499,7 +480,7 @@ def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Pat
     """
     mach = load_machine(machine)
     options = {"block_skip": block_skip, "max_cycle_time": max_cycle_time, "recover": recover,
-               "max_seconds": max_seconds}
+               "max_seconds": max_seconds, "max_per_code": max_per_code}
     names = [str(p) for p in paths]
     jobs = min(jobs or os.cpu_count() or 1, len(names))
     if jobs <= 1:
@@ -531,6 +512,7 @@ def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = Fal
         if d.severity == "info" and not verbose:
             continue
         lines.append(str(d) if brief else d.render())
+    lines += [f"{report.file}: {text}" for text in report.not_shown_lines()]
     verdict = report.verdict(fail_on)
     if report.failure is not None:
         lines.append(f"{report.file}: {verdict.upper()}: {report.failure}")
@@ -540,8 +522,8 @@ def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = Fal
     time += ")" if report.complete else ", up to the first error)"
     if report.cycle_time_exceeded:
         time += f" OVER the limit of {report.max_cycle_time:g} s"
-    run = f"{report.moves} moves, ended by {report.ended_by or 'end of file'}" if report.executed else \
-        "not executed (syntax errors)"
+    run = str(RunSummary(report.moves, report.ending)) if report.executed else \
+        f"not executed (syntax errors): {report.ending}"
     lines.append(f"{report.file}: {verdict.upper()}: {errors} errors, {warnings} warnings; {time}; {run}")
     if quiet:
         return "\n".join(lines)
@@ -682,26 +664,72 @@ def command(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         print("fagorcnc: --jobs must be 1 or more", file=sys.stderr)
         return 2
+    if args.max_per_code is not None and args.max_per_code < 0:
+        print("fagorcnc: --max-per-code must be 0 (all) or more", file=sys.stderr)
+        return 2
     if args.max_cycle_time is not None and not args.max_cycle_time > 0:
         print("fagorcnc: --max-cycle-time must be a positive number of seconds", file=sys.stderr)
         return 2
     machine = command_machine(args)
     if machine is None:
         return 2
-    if not args.output:
-        return _check_report(args, machine, sys.stdout)
-    try:
-        with open(args.output, "w", encoding="utf-8") as out:
-            return _check_report(args, machine, out)
-    except OSError as exc:
-        print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
-        return 2
+    with tempfile.TemporaryDirectory(prefix="fagorcnc-check-") as scratch:
+        files = _program_files(args, scratch)
+        if files is None:
+            return 2
+        if not args.output:
+            return _check_report(args, machine, sys.stdout, files)
+        try:
+            with open(args.output, "w", encoding="utf-8") as out:
+                return _check_report(args, machine, out, files)
+        except OSError as exc:
+            print(f"fagorcnc: cannot write {args.output}: {exc.strerror or exc}", file=sys.stderr)
+            return 2
 
 
-def _check_report(args: argparse.Namespace, machine, out) -> int:
+def _program_files(args: argparse.Namespace, scratch: str) -> list[tuple[str, str]] | None:
+    """(name in the report, file to read) for every FILE argument: a directory stands for its program files
+    (recursively, ``--extensions``), ``-`` for standard input (copied to ``scratch``); None after a usage error."""
+    extensions = PROGRAM_EXTENSIONS
+    if args.extensions is not None:
+        extensions = tuple("." + e.strip().lstrip(".") if e.strip() else "" for e in args.extensions.split(","))
+    files: list[tuple[str, str]] = []
+    for name in args.files:
+        if name == "-":
+            if any(shown == STDIN_NAME for shown, _ in files):
+                print("fagorcnc: '-' (standard input) given twice", file=sys.stderr)
+                return None
+            files.append((STDIN_NAME, str(stdin_copy(scratch))))
+        elif Path(name).is_dir():
+            found = [str(p) for p in program_files(name, extensions)]
+            if not found:
+                print(f"fagorcnc: {name}: no program files in this directory (extensions "
+                      f"{', '.join(e or '(none)' for e in extensions)}; see --extensions)", file=sys.stderr)
+                return None
+            files += [(p, p) for p in found]
+        else:
+            files.append((name, name))
+    return files
+
+
+def _shown_as(report: FileReport, name: str) -> FileReport:
+    """The report of a file read from a copy (standard input) under the name the user gave."""
+    if report.file == name:
+        return report
+    copy = report.file
+    report.diagnostics = [dataclasses.replace(d, file=name) if d.file == copy else d for d in report.diagnostics]
+    report.file = name
+    return report
+
+
+def _check_report(args: argparse.Namespace, machine, out, files: list[tuple[str, str]]) -> int:
     reports = []
-    for report in check_files(args.files, machine, jobs=args.jobs, block_skip=args.block_skip,
-                              max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds):
+    names = [shown for shown, _ in files]
+    for shown, report in zip(names, check_files(
+            [path for _, path in files], machine, jobs=args.jobs, block_skip=args.block_skip,
+            max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds,
+            max_per_code=MAX_PER_CODE if args.max_per_code is None else args.max_per_code), strict=True):
+        report = _shown_as(report, shown)
         reports.append(report)
         if report.usage_error:
             print(f"{report.file}: {report.failure}", file=sys.stderr)

@@ -12,8 +12,11 @@ machine executed.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
+import os
 import sys
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,9 +26,20 @@ from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import Diagnostic
 from ..plan import Planner, PlanningError, Segment
 from ..plan.envelope import Envelope
+from ..program_files import resolve, source_name
 from ..runtime import fewer_collections
 from ..simulate import FinalState, dry_run, interpret, syntax_errors
-from ._shared import clock, command_machine, not_a_file
+from ..summary import (
+    Ending,
+    MoveCounter,
+    RunSummary,
+    backend_ending,
+    interrupted,
+    not_started,
+    program_ending,
+    stopping_error,
+)
+from ._shared import STDIN_NAME, cli_message, clock, command_machine, not_a_file, stdin_copy
 
 
 @dataclass
@@ -49,9 +63,15 @@ class RunReport:
     stopped_by: str | None = None
     message: str = ""
     backend: Backend | None = field(default=None, repr=False)
-    ended_by: str | None = None     # "M30", "M02" ... or None (end of file / stopped)
-    moves: int = 0                  # motion blocks (records) sent
+    ended_by: str | None = None     # "M30" or "M02" when the program ended that way (see ``ending``)
+    moves: int = 0                  # moves given to the back-end (counted as check and simulate() count them)
     state: FinalState | None = field(default=None, repr=False)   # the interpreter's final state
+    ending: Ending = field(default_factory=lambda: Ending("not started"))   # what really ended the run
+
+    @property
+    def summary(self) -> RunSummary:
+        """Moves and ending, as every entry point counts and names them (:mod:`fagorcnc.summary`)."""
+        return RunSummary(self.moves, self.ending)
 
 
 def _unmapped(be, found: list[Diagnostic]):
@@ -87,23 +107,27 @@ Progress = Callable[[Segment, Status, float | None], None]
 MAX_UNSENDABLE = 20
 
 
-def run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, backend: str | Backend = "sim",
-        block_skip: bool = False, check_first: bool | None = None, progress: Progress | None = None,
-        keep_profiles: bool = False, **backend_options) -> RunReport:
+def run(source: str | os.PathLike | None = None, machine: Machine | dict | str | Path | None = None, *,
+        text: str | None = None, backend: str | Backend = "sim", block_skip: bool = False,
+        check_first: bool | None = None, progress: Progress | None = None, keep_profiles: bool = False,
+        on_move: Callable[[object], None] | None = None, **backend_options) -> RunReport:
     """Run a program on a back-end (``"sim"`` by default, ``"interpcnc"`` for the card).
 
     ``check_first`` (default: True except on the plain simulator) plans the
     whole program before sending anything and refuses to start when it has an
     error; it also gives ``progress`` the total time for an ETA.
     ``progress(segment, status, total_time)`` is called after each segment.
-    ``backend_options`` go to the back-end (e.g. ``host``, ``port``, ``serial``).
+    ``on_move(record)`` is called for each move as it is given to the back-end (the moves the report
+    counts).  ``backend_options`` go to the back-end (e.g. ``host``, ``port``, ``serial``).
     """
+    source = resolve(source, text)   # a file or program text, as simulate() decides (FileNotFoundError)
     with fewer_collections():
-        return _run(source, machine, backend, block_skip, check_first, progress, keep_profiles, backend_options)
+        return _run(source, machine, backend, block_skip, check_first, progress, keep_profiles, backend_options,
+                    on_move)
 
 
 def _run(source, machine, backend, block_skip: bool, check_first: bool | None, progress: Progress | None,
-         keep_profiles: bool, backend_options: dict) -> RunReport:
+         keep_profiles: bool, backend_options: dict, on_move: Callable[[object], None] | None = None) -> RunReport:
     try:
         mach = load_machine(machine)
     except MachineError as exc:
@@ -119,50 +143,61 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         checked = dry_run(source, mach, block_skip=block_skip, on_record=_unmapped(be, unmapped),
                           on_segment=_unsendable(be, unsendable))
         if not checked.ok or unsendable:
-            return RunReport(False, [*checked.diagnostics, *unsendable[:MAX_UNSENDABLE]], be.status(),
-                             stopped_by="error", message="the program has errors: nothing was sent", backend=be)
+            found = [*checked.diagnostics, *unsendable[:MAX_UNSENDABLE]]
+            return RunReport(False, found, be.status(), stopped_by="error",
+                             message="the program has errors: nothing was sent", backend=be,
+                             ending=not_started(found, source_name(source)))
         total = checked.cycle_time
         if unmapped and getattr(getattr(be, "options", None), "strict_outputs", False):
-            return RunReport(False, [*checked.diagnostics, *unmapped], be.status(), stopped_by="error",
-                             message="auxiliary functions without an output mapping: nothing was sent", backend=be)
+            found = [*checked.diagnostics, *unmapped]
+            return RunReport(False, found, be.status(), stopped_by="error",
+                             message="auxiliary functions without an output mapping: nothing was sent", backend=be,
+                             ending=Ending("not started", unmapped[0].line))
     else:   # the program streams from its file; one with a syntax or structure error anywhere is not started
         errors = syntax_errors(source)
         if errors:
             return RunReport(False, errors, be.status(), stopped_by="error",
-                             message="the program has errors: nothing was run", backend=be)
+                             message="the program has errors: nothing was run", backend=be,
+                             ending=not_started(errors, source_name(source)))
     stream = interpret(source, mach, block_skip=block_skip)
     pacing = be.name == "sim" and bool(getattr(be, "realtime", None))
     planner = Planner(mach, keep_profiles=keep_profiles or pacing)
-    sent, clock, moves, last = 0, 0.0, 0, None
+    sent, clock = 0, 0.0
+    counted = MoveCounter(stream, on_move)
+    ending: Ending | None = None
+    planning: Diagnostic | None = None
     # PLN100 as check says it: checked before a real run (dry_run), reported after a run without that check
     envelope = None if check_first else Envelope(mach)
     stopped_by, message = None, ""
     extra: list[Diagnostic] = []
     be.open()
     try:
-        for seg in planner.segments(stream):
+        for seg in planner.segments(counted):
             if envelope is not None:
                 envelope.add(seg)
             be.send(seg)
             sent += 1
-            if seg.kind == "motion" and not seg.blend and seg.record is not last:
-                moves, last = moves + 1, seg.record
+            counted.sent(seg.record)
             clock = seg.t0 + seg.duration
             if progress is not None:
                 progress(seg, be.status(), total)
+        counted.finished()
         status = be.finish()
     except BackendError as exc:
         stopped_by, message = "alarm", str(exc)
         status = exc.status or be.status()
+        ending = backend_ending(exc, status)
     except PlanningError as exc:
         stopped_by, message = "error", str(exc)
         file = exc.record.src.file if exc.record is not None else stream.program.file
-        extra.append(Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc)))
+        planning = Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc))
+        extra.append(planning)
         status = be.finish()
     except KeyboardInterrupt:
         be.stop()
         stopped_by, message = "interrupt", "stopped by the operator (Ctrl-C)"
         status = be.status()
+        ending = interrupted(status)
     finally:
         be.close()
     if check_first:
@@ -174,8 +209,12 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         beyond = all(d.code == "PLN100" for d in diagnostics if d.is_error)
         stopped_by, message = "error", ("the planned path leaves the soft limits" if beyond
                                         else "the program stopped at an error")
+    if ending is None:
+        ending = program_ending(stream.interpreter.ended, stopping_error(stream.run_order, planning),
+                                stream.program.file)
     return RunReport(stopped_by is None, diagnostics, status, clock, total, sent, stopped_by, message, be,
-                     stream.interpreter.ended, moves, stream.state)
+                     ending.program_end, counted.sent_moves, stream.state, ending)
+
 
 
 # --- the ``fagorcnc run`` command ------------------------------------------------------
@@ -233,9 +272,16 @@ def command(args: argparse.Namespace) -> int:
     if args.max_seconds is not None:
         machine = dataclasses.replace(machine, limits=dataclasses.replace(machine.limits,
                                                                           max_seconds=args.max_seconds))
+    if args.file == "-":   # standard input: copied to a file first (the run reads the program twice)
+        with tempfile.TemporaryDirectory(prefix="fagorcnc-run-") as scratch:
+            return _command(args, machine, stdin_copy(scratch), STDIN_NAME)
     if not Path(args.file).is_file():
         print(f"{args.file}: cannot read the file: {not_a_file(args.file)}", file=sys.stderr)
         return 2
+    return _command(args, machine, Path(args.file), args.file)
+
+
+def _command(args: argparse.Namespace, machine, path: Path, shown: str) -> int:
     options = {}
     if args.backend == "interpcnc":
         options = {k: v for k, v in (("host", args.host), ("port", args.port), ("serial", args.serial))
@@ -247,44 +293,78 @@ def command(args: argparse.Namespace) -> int:
         options["realtime"] = args.realtime
     if args.backend == "sim":
         options["keep_segments"] = False   # the command reads none of them: memory stays flat however long the run
-    bar = _ProgressBar(sys.stderr, Path(args.file).name) if sys.stderr.isatty() and not args.verbose else None
+    bar = _ProgressBar(sys.stderr, Path(shown).name) if sys.stderr.isatty() and not args.verbose else None
     backend, progress, server = args.backend, bar, None
     report = None
+    on_move = _MoveList(sys.stdout) if args.verbose else None
     try:
         if args.status_server is not None:
-            backend, server = _start_status_server(args, machine, options)
+            backend, server = _start_status_server(args, machine, options, path)
             if server is None:
                 return 2
             options, progress = {}, server.progress_callback(bar)
-        report = run(Path(args.file), machine, backend=backend, block_skip=args.block_skip, progress=progress,
-                     **options)
+        report = run(path, machine, backend=backend, block_skip=args.block_skip, progress=progress,
+                     on_move=on_move, **options)
     except BackendError as exc:
-        print(f"fagorcnc: {exc}", file=sys.stderr)
+        print(f"fagorcnc: {cli_message(str(exc))}", file=sys.stderr)
+        if server is not None:
+            server.stop()
         return 2
     finally:
         if bar is not None:
             bar.close()
-        if server is not None:
-            server.finished(report is not None and report.ok)
+        if server is not None and report is None:
             server.stop()
     for d in report.diagnostics:
         if d.severity != "info" or args.verbose:
-            print(d.render())
+            print(d.render().replace(str(path), shown) if shown != str(path) else d.render())
     status = report.status
     errors = sum(d.is_error for d in report.diagnostics)
     target = "the embedded simulator" if args.backend == "sim" else f"back-end {args.backend}"
-    verdict = "OK" if report.ok else f"STOPPED ({report.message})"
-    print(f"{args.file}: {verdict} on {target}: {report.moves} moves, ended by {report.ended_by or 'end of file'}, "
+    verdict = "OK" if report.ok else f"STOPPED ({cli_message(report.message)}{_way_on(report)})"
+    print(f"{shown}: {verdict} on {target}: {report.summary}, "
           f"last block executed: line {status.line}, {_where(report)}cycle time "
-          f"{clock(report.cycle_time)} (jerk-limited plan), {errors} errors")
+          f"{clock(report.cycle_time)} (jerk-limited plan), {errors} errors", flush=True)
+    if server is not None:   # the PLC reads how the run ended before the port closes
+        server.finished(report.ok, report.ending)
+        if server.linger_seconds > 0:
+            print(f"fagorcnc: status server stays up {server.linger_seconds:g} s with the final state "
+                  "(--status-linger)", file=sys.stderr)
+        with contextlib.suppress(KeyboardInterrupt):   # Ctrl-C cuts the wait short
+            server.linger()
     if report.stopped_by == "interrupt":
         return 130
     return 0 if report.ok else 1
 
 
-def _start_status_server(args: argparse.Namespace, machine, options: dict):
+def _way_on(report: RunReport) -> str:
+    """What to do at the command line after a stop by the back-end (the library's advice names its methods)."""
+    cause = report.ending.cause
+    if cause == "link lost":
+        return "; restore the connection to the card, then run the program again (fagorcnc run)"
+    if cause == "alarm":
+        return "; clear the alarm on the machine, then run the program again (fagorcnc run)"
+    return ""
+
+
+class _MoveList:
+    """``run -v``: one line per move given to the back-end (the moves the summary counts)."""
+
+    def __init__(self, out) -> None:
+        self.out, self.n = out, 0
+
+    def __call__(self, record) -> None:
+        self.n += 1
+        end = getattr(record, "end_part", None) or getattr(record, "end", {}) or {}
+        where = " ".join(f"{a}{v:.4f}" for a, v in end.items())
+        feed = getattr(record, "feed", None)
+        speed = f" F{feed:g}" if feed and not getattr(record, "rapid", False) else ""
+        self.out.write(f"  move {self.n}: line {record.line} {record.kind} to {where}{speed}\n")
+
+
+def _start_status_server(args: argparse.Namespace, machine, options: dict, path: Path):
     """Build the back-end and start the Modbus status server on it: (backend, server), server None on failure."""
-    from ..plc.status_server import PlcSignal, StatusServer, StatusServerError, parse_address
+    from ..plc.status_server import DEFAULT_LINGER, PlcSignal, StatusServer, StatusServerError, parse_address
 
     try:
         host, port = parse_address(args.status_server)
@@ -298,7 +378,8 @@ def _start_status_server(args: argparse.Namespace, machine, options: dict):
         print(f"\nfagorcnc: PLC {signal.kind} {signal.number} (HR {signal.register}) {what}", file=sys.stderr)
 
     server = StatusServer(backend, machine, host=host, port=port, holding_writes=args.plc_writes,
-                          program=Path(args.file), on_signal=show)
+                          program=path, on_signal=show,
+                          linger=DEFAULT_LINGER if args.status_linger is None else args.status_linger)
     try:
         server.start()
     except StatusServerError as exc:

@@ -77,8 +77,9 @@ class Limits:
     max_blocks: int = 100_000_000          # executed blocks per run (NR repetitions included)
     max_call_depth: int = 20               # subroutine nesting (seed 002 L10207)
     max_parameter_levels: int = 7          # local parameter levels (seed 002 L10503)
-    # Seconds of interpretation per run (the time the planner or a machine holds the records
-    # does not count); 0 = none.  None by default: the machine file also drives real runs,
+    # Seconds of interpretation per run, in CPU time of the interpreting process (the time the
+    # planner or a machine holds the records does not count, nor time spent waiting for a busy
+    # CPU); 0 = none.  None by default: the machine file also drives real runs,
     # where a long program is legitimate and must not be cut by a timer.  `fagorcnc check`
     # applies its own default when this is 0 (check.CHECK_MAX_SECONDS).
     max_seconds: float = 0.0

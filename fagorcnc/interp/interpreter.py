@@ -13,7 +13,7 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from time import monotonic
+from time import process_time as cpu_time
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
@@ -39,6 +39,10 @@ from .variables import Variables
 FOR_SLACK = 1e-9
 #: #RPT ranges one inside another, at most (seed 002 L16216).
 RPT_LEVELS = 20
+
+
+#: The runaway guards: they end a run even in recovery mode.
+RUNAWAY_CODES = frozenset({"INT080", "INT081", "INT082"})
 
 
 class _Stop(Exception):  # noqa: N818 - control flow, not an error
@@ -70,8 +74,12 @@ class Interpreter:
     """Runs one program; iterate :meth:`run` for the records."""
 
     def __init__(self, program: Program, machine: Machine, *, block_skip: bool = False,
-                 search_paths: list[Path] | None = None, stream: StreamSource | None = None) -> None:
+                 search_paths: list[Path] | None = None, stream: StreamSource | None = None,
+                 recover: bool = False) -> None:
         self.program = program
+        # recover: an error skips the block it is in and the run goes on (``fagorcnc check``'s search for
+        # the errors beyond the first; the control itself stops at the first).  Runaway guards still stop.
+        self.recover = recover
         self.stream = stream
         self.machine = machine
         self.state = ChannelState(machine)
@@ -104,7 +112,7 @@ class Interpreter:
     # ------------------------------------------------------------------ run
     def run(self) -> Iterator:
         """Yield the motion records of the program, in execution order."""
-        if not self.program.ok:
+        if not self.program.ok and not self.recover:
             return  # a program with syntax errors is not executed
         main = self.stream if self.stream is not None else RoutineSource(self.program.main)
         self.frames.append(Frame(main, self.program))
@@ -116,7 +124,7 @@ class Interpreter:
             # tool radius compensation G41/G42
             for record in compensate(apply_aids(self._guarded(), self._aid_error)):
                 self.cycle_time += record_time(machine, record)
-                handed = monotonic()
+                handed = cpu_time()
                 yield record
                 clock.exclude(handed)   # the consumer's time is not interpretation time
         except CompensationError as exc:
@@ -158,7 +166,7 @@ class Interpreter:
                 continue
             block = frame.source.get(frame.pc)
             if frame.source is stream:
-                if any(d.is_error for d in stream.diagnostics):
+                if not self.recover and any(d.is_error for d in stream.diagnostics):
                     raise _Stop  # a syntax error ahead: nothing more is executed
                 if frame.pc & 1023 == 0:
                     keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
@@ -173,6 +181,9 @@ class Interpreter:
                 continue
             if block.number is not None:
                 state.last_n = block.number
+            if self.recover:
+                yield from self._skipping_errors(block)
+                continue
             for record in self._block(block):
                 if state.sync:   # the block read an execution value: the motion before it ends first
                     yield self._sync(block, getattr(record, "start", None))
@@ -180,6 +191,24 @@ class Interpreter:
                 yield record
             if state.sync:
                 yield self._sync(block, None)
+
+    def _skipping_errors(self, block: Block) -> Iterator:
+        """One block in recovery mode: an error is reported and the rest of the block skipped (as if its
+        line were blank); the runaway guards (INT080-INT082) still end the run."""
+        state = self.state
+        try:
+            for record in self._block(block):
+                if state.sync:
+                    yield self._sync(block, getattr(record, "start", None))
+                state.elapsed += record_time(self.machine, record)
+                yield record
+            if state.sync:
+                yield self._sync(block, None)
+        except InterpError as exc:
+            if exc.code in RUNAWAY_CODES:
+                raise
+            state.sync = False
+            self._error(exc, block)
 
     def _sync(self, block: Block, where: dict | None) -> Dwell:
         """The synchronisation point of a block that reads an execution value or runs #FLUSH (seed 002
@@ -721,9 +750,13 @@ class Interpreter:
 
 
 class _Clock:
-    """Interpretation time against limits.max_seconds: wall-clock time since :meth:`start`,
-    less the time the records spent with the consumer (the planner, a back-end, a machine
-    executing them), so a long real run is not cut by a limit meant for runaway programs."""
+    """Interpretation time against limits.max_seconds: CPU time of the interpreting process since
+    :meth:`start`, less the CPU time the records spent with the consumer (the planner, a
+    back-end), so a long real run is not cut by a limit meant for runaway programs.  CPU time,
+    not wall-clock time: a machine busy with other jobs (a loaded CI runner) slows the run down
+    but does not bring the limit closer, so the verdict does not depend on the machine's load
+    (issue 25.1).  Time the process spends waiting (a back-end's back-pressure, a paced
+    simulator) is not CPU time either."""
 
     __slots__ = ("deadline", "seconds")
 
@@ -733,13 +766,13 @@ class _Clock:
 
     def start(self) -> None:
         if self.seconds > 0:
-            self.deadline = monotonic() + self.seconds
+            self.deadline = cpu_time() + self.seconds
 
     def exclude(self, since: float) -> None:
-        self.deadline += monotonic() - since
+        self.deadline += cpu_time() - since
 
     def expired(self) -> bool:
-        return monotonic() > self.deadline
+        return cpu_time() > self.deadline
 
 
 def _is_on_off(node: Sentence) -> bool:

@@ -18,8 +18,8 @@ serves the simulator and the InterpCNC card alike::
 (function 04) and 40001 is *holding register address 0* (functions 03, 06, 16,
 22, 23): ``address = reference - 30001`` or ``reference - 40001``.  The input
 block is 30001-30097 and the holding block 40001-40034; the gaps of the seed's
-table (30035-30046, 30095, 40017, 40033) read as 0.  Coils and discrete inputs
-do not exist (exception 01).  The server answers every unit id unless
+table (30038-30046, 30095, 40017, 40033) read as 0 (30035-30037: fagorcnc's end of
+run, below).  Coils and discrete inputs do not exist (exception 01).  The server answers every unit id unless
 ``device_id`` is set (RosettaCNC lets the slave id be configured, seed 004 L20).
 
 ======================  =========  ==============================================================
@@ -31,6 +31,8 @@ register                size       content
 30005, 30007, 30009     L          machine position X, Y, Z, µm (L57-L59)
 30011 ... 30021         L          target position X Y Z A B C, µm or 1/1000 degree (L61-L66)
 30023 ... 30033         L          program position X Y Z A B C (L68-L73)
+30035                   W          fagorcnc: end reason of the last run, :data:`END_REASONS` (0 while running)
+30036                   L          fagorcnc: line the last run ended at (0 when it does not apply)
 30047 ... 30057         L          working offset X Y Z A B C (L75-L80)
 30059 ... 30069         L          actual velocity X Y Z A B C, mm/min or degree/min (L82-L87)
 30071                   W          main state, :class:`MainState` (L89-L105)
@@ -79,6 +81,17 @@ with exception 03 (illegal data value).  Holding registers can always be read;
 writes only when ``holding_writes=True`` ("Enable write operations", seed 004
 L170), otherwise exception 01 (illegal function).
 
+**End of a run.**  :meth:`StatusServer.finished` publishes how the run ended (30072 b1, and
+30035/30036 in the gap the seed's table leaves, [CONSTRUCTION]) and :meth:`StatusServer.linger`
+keeps serving that final state ``linger`` seconds (default :data:`DEFAULT_LINGER`) before it
+stops, so a PLC polling every 20 ms can tell a finished program from an alarm or a crash.
+
+**Refusals change nothing.**  Function 23 (read/write) writes only once its read part is valid
+(pymodbus hands over the write before it checks the read range); functions 20, 21 and 24
+(file records, read FIFO), which pymodbus would answer from no table, are refused with
+exception 01; pymodbus' log records get a NullHandler, so a malformed frame (0x84...) prints
+nothing on the run's standard error.
+
 **Main state** (30071).  Back-end states map as ``idle`` -> 3 Idle, ``run`` ->
 6 Run, ``pause`` -> 7 Pause, ``alarm`` (or any alarm code, or any custom alarm
 register non-zero) -> 2 Alarm, ``closed`` -> ``closed_state`` (3 Idle by
@@ -104,6 +117,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import math
 import threading
 import time
 from collections.abc import Callable, Mapping
@@ -114,7 +128,9 @@ from pathlib import Path
 from typing import Literal
 
 from pymodbus.constants import ExcCodes
+from pymodbus.pdu import ExceptionResponse, ModbusPDU
 from pymodbus.pdu.device import ModbusDeviceIdentification
+from pymodbus.pdu.file_message import ReadFifoQueueRequest, ReadFileRecordRequest, WriteFileRecordRequest
 from pymodbus.server import ModbusTcpServer
 from pymodbus.simulator import DataType, SimData, SimDevice
 
@@ -122,7 +138,8 @@ from ..backends.base import Status
 from ..config.machine import Machine
 
 __all__ = [
-    "CUSTOM_ALARM_CODE", "HOLDING_COUNT", "INPUT_COUNT", "INTERFACE_LEVEL", "MAX_READ", "MainState", "PlcSignal",
+    "CUSTOM_ALARM_CODE", "DEFAULT_LINGER", "END_REASONS", "HOLDING_COUNT", "INPUT_COUNT", "INTERFACE_LEVEL",
+    "MAX_READ", "MainState", "PlcSignal",
     "StatusServer", "StatusServerError", "decode_long", "encode_long", "hr_address", "ir_address", "parse_address",
 ]
 
@@ -156,6 +173,12 @@ HR_CUSTOM_WARNING_01 = 40009          # seed 004 L146  x 8 (L146-L153)
 HR_SHARED_MEMORY_01 = 40018           # seed 004 L155  [L] x 8 (L155-L162)
 HR_VIRTUAL_INPUTS = 40034             # seed 004 L164
 
+# [CONSTRUCTION] fagorcnc's own registers in the gap the seed's table leaves (30035-30046 read as 0 in
+# RosettaCNC, seed 004 L73-L75): why the last run ended, and at which line -- the table itself only has b1
+# "program ended successfully" of 30072, which cannot tell an error from an alarm or a crash.
+IR_END_REASON = 30035                 # [W] END_REASONS; 0 while a run is under way or before the first
+IR_END_LINE = 30036                   # [L] line the run ended at (0 when it does not apply)
+
 INTERFACE_LEVEL = 1                   # seed 004 L26: "version 1 is currently available"
 INPUT_COUNT = IR_GCODE_CMD + 2 - IR_BASE        # 97 registers: 30001..30097
 HOLDING_COUNT = HR_VIRTUAL_INPUTS + 1 - HR_BASE  # 34 registers: 40001..40034
@@ -163,6 +186,18 @@ MAX_READ = 32                         # seed 004 L173: at most 32 registers per 
 CUSTOM_ALARMS = 8                     # seed 004 L34: "max 8 alarms and 8 warnings"
 #: Alarm code published (and given to ``raise_alarm``) for custom alarm n: ``CUSTOM_ALARM_CODE + n``.
 CUSTOM_ALARM_CODE = 9000
+
+#: 30035: how the last run ended (the causes of :class:`fagorcnc.summary.Ending`).
+END_REASONS: Mapping[str, int] = {
+    "M30": 1, "M02": 2, "end of file": 3, "error": 4, "alarm": 5, "link lost": 6, "stopped by the user": 7,
+    "not started": 8,
+}
+#: Seconds the server stays up after the end of the run by default (:meth:`StatusServer.linger`): a PLC
+#: polling every 20 ms to 1 s reads the final state and the end reason before the port closes.
+DEFAULT_LINGER = 3.0
+#: Functions pymodbus would answer without the register table (read FIFO answers dummy values, file
+#: records): refused with exception 01, like every function the table does not have.
+REFUSED_FUNCTIONS = (20, 21, 24)
 
 AXIS_SLOTS = ("X", "Y", "Z", "A", "B", "C")      # order of the 6-axis groups (seed 004 L61-L66)
 MACHINE_POSITION_AXES = ("X", "Y", "Z")           # the machine position has three slots only (L57-L59)
@@ -299,7 +334,8 @@ class StatusServer:
                  holding_writes: bool = False, program: str | PathLike | None = None, offsets: Offsets | None = None,
                  word_order: WordOrder = "big", device_id: int = 0, serial_number: int = 0,
                  closed_state: int = MainState.IDLE, poll_interval: float = 0.05,
-                 alarm_texts: Mapping[int, str] | None = None, on_signal: SignalCallback | None = None) -> None:
+                 alarm_texts: Mapping[int, str] | None = None, on_signal: SignalCallback | None = None,
+                 linger: float = DEFAULT_LINGER) -> None:
         if word_order not in ("big", "little"):
             raise ValueError("word_order must be 'big' (high word first) or 'little'")
         self.backend = backend
@@ -314,6 +350,9 @@ class StatusServer:
         self.poll_interval = poll_interval
         self.alarm_texts = dict(alarm_texts or {})
         self.on_signal = on_signal
+        if not (linger >= 0 and math.isfinite(linger)):
+            raise ValueError("linger must be 0 or a positive number of seconds")
+        self.linger_seconds = float(linger)
         self.alarms: list[PlcSignal] = []
         self.warnings: list[PlcSignal] = []
         self._program_lines = _count_lines(program)
@@ -326,6 +365,9 @@ class StatusServer:
         self._record_offsets: dict[str, float] | None = None
         self._transferred = 0                         # %
         self._ended_ok = False
+        self._end_reason = 0                          # IR_END_REASON
+        self._end_line = 0
+        self._pending_write: tuple[int, list[int]] | None = None   # function 23: applied once its read is valid
         self._custom_info: dict[int, int] = {}        # custom alarm n -> value written
         self._holding = [0] * HOLDING_COUNT
         self._image = [0] * INPUT_COUNT
@@ -346,6 +388,7 @@ class StatusServer:
         """Listen and start polling; returns self.  Raises :class:`StatusServerError` if it cannot listen."""
         if self._serve_thread is not None:
             raise RuntimeError("the status server is already started")
+        _quiet_pymodbus()
         self.refresh()
         self._serve_thread = threading.Thread(target=self._serve, name="fagorcnc-status-server", daemon=True)
         self._serve_thread.start()
@@ -416,13 +459,29 @@ class StatusServer:
 
         return progress
 
-    def finished(self, ok: bool) -> None:
-        """The run is over: ``ok`` sets 30072 b1 "program ended successfully" (and 100 % transferred)."""
+    def finished(self, ok: bool, ending=None) -> None:
+        """The run is over: ``ok`` sets 30072 b1 "program ended successfully" (and 100 % transferred);
+        ``ending`` (a :class:`fagorcnc.summary.Ending`, e.g. ``report.ending``) gives 30035 the end reason
+        (:data:`END_REASONS`) and 30036 the line.  They stay until the next run starts."""
+        cause = getattr(ending, "cause", None)
         with self._lock:
             self._ended_ok = bool(ok)
             if ok:
                 self._transferred = 100
+            self._end_reason = END_REASONS.get(cause, 0) if cause is not None else (1 if ok else 4)
+            self._end_line = int(getattr(ending, "line", 0) or 0)
         self.refresh()
+
+    def linger(self, seconds: float | None = None) -> None:
+        """Keep serving the final state for ``seconds`` (default: the ``linger`` given to the constructor),
+        then stop: a PLC polling the server sees how the run ended before the port closes.  Ctrl-C
+        (KeyboardInterrupt) cuts the wait short; the server is stopped either way."""
+        wait = self.linger_seconds if seconds is None else seconds
+        try:
+            if wait > 0 and self.running:
+                self._poll_stop.wait(wait)   # set by stop(): nothing to wait for then
+        finally:
+            self.stop()
 
     def refresh(self) -> None:
         """Read ``backend.status()`` now and publish it (what the poller does every ``poll_interval``)."""
@@ -490,6 +549,7 @@ class StatusServer:
                 self._status, self._status_stamp = status, stamp
                 if status.state == "run":     # a (new) run is under way: its end is not known yet
                     self._ended_ok = False
+                    self._end_reason = self._end_line = 0
             now = time.monotonic()
             if not force and now - self._built_at < 0.005:
                 return
@@ -539,6 +599,8 @@ class StatusServer:
             state = STATE_CODES.get(st.state, MainState.INIT)
         word(IR_MAIN_CNC_STATE, state)
         word(IR_CNC_STATES, 0b01 | (0b10 if self._ended_ok else 0))
+        word(IR_END_REASON, self._end_reason)
+        long(IR_END_LINE, self._end_line)
         word(IR_ALARM_CODE, alarm_code)
         word(IR_ALARM_INFO_FIELD_A, info_a)
         word(IR_ALARM_INFO_FIELD_B, info_b)
@@ -590,6 +652,7 @@ class StatusServer:
     async def _action(self, function_code: int, _start: int, address: int, count: int, registers: list[int],
                       set_values: list[int] | list[bool] | None) -> ExcCodes | None:
         """pymodbus calls this before every access; the reply is cut from ``registers`` right after."""
+        pending, self._pending_write = self._pending_write, None   # only the read of the same request takes it
         if function_code in _BIT_CODES:
             return ExcCodes.ILLEGAL_FUNCTION
         if set_values is None:
@@ -597,12 +660,23 @@ class StatusServer:
                 return ExcCodes.ILLEGAL_FUNCTION
             if count > MAX_READ:                     # seed 004 L173
                 return ExcCodes.ILLEGAL_VALUE
+            if function_code == 23 and pending is not None:
+                # the read part is valid: now the write happens, before the read (Modbus: write first)
+                refused = await self._write(*pending)
+                if refused is not None:
+                    return refused
             with self._lock:                         # one complete snapshot into the reply block
                 source = self._image if function_code == 4 else self._holding
                 registers[:len(source)] = source
             return None
         if not self.holding_writes:                  # seed 004 L170
             return ExcCodes.ILLEGAL_FUNCTION
+        if function_code == 23:
+            # read/write multiple: pymodbus hands us the write before it checks the read range (a bad read is
+            # answered 02 without calling us again); a refused request must change nothing, so the write
+            # waits for the read part of the same request
+            self._pending_write = (address, [int(v) for v in set_values])
+            return None
         return await self._write(address, [int(v) for v in set_values])
 
     async def _write(self, address: int, values: list[int]) -> ExcCodes | None:
@@ -654,7 +728,8 @@ class StatusServer:
         self._stopping = asyncio.Event()
         identity = ModbusDeviceIdentification(info_name={
             "VendorName": "fagorcnc", "ProductName": "fagorcnc status server (RosettaCNC interface level 1)"})
-        server = ModbusTcpServer(self._device(), address=(self.host, self.port), identity=identity)
+        server = ModbusTcpServer(self._device(), address=(self.host, self.port), identity=identity,
+                                 custom_pdu=[_refusal(code) for code in REFUSED_FUNCTIONS])
         try:
             await server.serve_forever(background=True)
         except (RuntimeError, OSError) as exc:
@@ -676,6 +751,26 @@ class StatusServer:
                 self.refresh()
             except Exception:    # never let the poller die silently
                 log.exception("status server: poll failed")
+
+
+def _quiet_pymodbus() -> None:
+    """pymodbus logs what a client sends wrong ("Unable to decode frame", a traceback for a request its
+    datastore code fails on): with no handler of the application's, Python's last-resort handler would print
+    them on the run's standard error.  A NullHandler keeps them in the logging system (an application that
+    configures logging still sees them) and off the terminal."""
+    logger = logging.getLogger("pymodbus")
+    if not any(isinstance(h, logging.NullHandler) for h in logger.handlers):
+        logger.addHandler(logging.NullHandler())
+
+
+def _refusal(code: int) -> type[ModbusPDU]:
+    """A request class for function ``code`` that answers exception 01 (illegal function) and touches nothing."""
+    base = {20: ReadFileRecordRequest, 21: WriteFileRecordRequest, 24: ReadFifoQueueRequest}[code]
+
+    async def datastore_update(self, _context, _device_id) -> ModbusPDU:
+        return ExceptionResponse(self.function_code, ExcCodes.ILLEGAL_FUNCTION)
+
+    return type(f"Refused{base.__name__}", (base,), {"datastore_update": datastore_update})
 
 
 def _version_word() -> int:
