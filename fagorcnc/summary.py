@@ -49,6 +49,8 @@ class Ending:
 
     def __str__(self) -> str:
         where = f" at line {self.line}" if self.line else ""
+        if not self.line and self.cause in ("alarm", "link lost", "stopped by the user"):
+            where = " before the first block ran"   # the machine reported no executed block yet
         if self.file:
             where += f" of {self.file}"
         if self.cause == "alarm":

@@ -6,6 +6,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -187,5 +188,6 @@ def test_a_lost_link_at_the_command_line_says_what_to_do_there(tmp_path, capsys)
     assert code == 1, captured.out
     text = captured.out + captured.err
     assert "reconnect_and_continue" not in text and "()" not in text
-    assert "link lost at line" in captured.out
+    # where the card stood when the link went (the last block it reported executing) depends on timing
+    assert re.search(r"ended by link lost (at line [0-9]+|before the first block ran)", captured.out), captured.out
     assert "run the program again (fagorcnc run)" in captured.out
