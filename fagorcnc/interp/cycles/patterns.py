@@ -187,13 +187,17 @@ def _chord(d: _Def, p1) -> Iterator:
 
 
 def _direction(angle: float) -> tuple[float, float]:
+    """Unit vector at ``angle`` degrees; exact on the axes (no 6e-17 residues at 90, 180, 270)."""
+    quarter = angle / 90.0
+    if quarter == math.floor(quarter):
+        return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(quarter) % 4]
     rad = math.radians(angle)
     return (math.cos(rad), math.sin(rad))
 
 
 def _on(c: tuple, radius: float, angle: float) -> tuple:
-    rad = math.radians(angle)
-    return (c[0] + radius * math.cos(rad), c[1] + radius * math.sin(rad))
+    u = _direction(angle)
+    return (c[0] + radius * u[0], c[1] + radius * u[1])
 
 
 POINTS = {160: _line, 161: lambda d, p: _parallelogram(d, p, False), 162: lambda d, p: _parallelogram(d, p, True),
