@@ -147,9 +147,9 @@ CODES: dict[str, str] = {
     "CYC007": "multiple machining G160-G165 with no canned cycle or modal subroutine active",
     "CYC008": "multiple machining G160-G165 definition inconsistent",
     "CYC009": "canned cycle with provisional semantics (G210)",
-    "CYC011": "influence-zone block that moves the longitudinal axis: run as a plain move, without the cycle",
-    "CYC012": "hole cycle with the spindle stopped",
-    "CYC013": "canned cycle point positioned by an arc",
+    "CYC010": "influence-zone block that moves the longitudinal axis: run as a plain move, without the cycle",
+    "CYC011": "hole cycle with the spindle stopped",
+    "CYC012": "canned cycle point positioned by an arc",
     "PLN001": "motion cannot be planned within the machine limits",
     # fagorcnc check: verification of the planned motion
     "PLN100": "planned path (arc or corner blend) beyond a software limit",

@@ -129,7 +129,7 @@ def test_axisless_blocks_do_not_repeat_the_cycle_and_g01_keeps_it():
 def test_a_block_that_also_moves_the_longitudinal_axis_is_a_plain_move():
     program = SPINDLE + "G00 G90 X0 Y0 Z20\nG99 G81 Z2 I-5 F100\nX10 Z30\nX20\nM30\n"
     assert moves(program, 4, ok=False) == ["R(10,0,30)"]
-    assert (4, "CYC011") in codes(program)
+    assert (4, "CYC010") in codes(program)
     # the cycle stays active; the starting plane stays Zs = 20 (Zr = 2 by G99 anyway)
     assert moves(program, 5, ok=False) == split("R(20,0,30) R(20,0,2) F(20,0,-5)@100 R(20,0,2)")
 
@@ -223,13 +223,13 @@ def test_radius_compensation_is_refused():
 
 def test_tapping_with_the_spindle_stopped_is_refused_and_drilling_warns():
     assert (2, "CYC004") in codes("G00 Z20\nG84 Z2 I-5 F100\nM30\n")
-    assert (2, "CYC012") in codes("G00 Z20\nG81 Z2 I-5 F100\nX10\nM30\n")
-    assert [c for c in codes("G00 Z20\nG81 Z2 I-5 F100\nX10\nM30\n") if c[1] == "CYC012"] == [(2, "CYC012")]
+    assert (2, "CYC011") in codes("G00 Z20\nG81 Z2 I-5 F100\nX10\nM30\n")
+    assert [c for c in codes("G00 Z20\nG81 Z2 I-5 F100\nX10\nM30\n") if c[1] == "CYC011"] == [(2, "CYC011")]
 
 
 def test_an_arc_cannot_position_a_hole():
     program = SPINDLE + "G00 Z20\nG81 Z2 I-5 F100\nG02 X10 I5\nM30\n"
-    assert (4, "CYC013") in codes(program)
+    assert (4, "CYC012") in codes(program)
 
 
 def test_soft_limit_inside_a_hole_refuses_the_whole_hole():
@@ -246,3 +246,15 @@ def test_g93_cannot_drive_a_cycle():
 
 def test_g211_g212_are_reported_unsupported():
     assert (2, "INT011") in codes(SPINDLE + "G211 Z2 I-5 J10 B1\nM30\n")
+
+
+def test_inch_programs_give_levels_in_inches():
+    # G70: Z0.1 in = 2.54 mm, I-0.5 in = -12.7 mm; F10 in/min = 254 mm/min; Zs = Z1 in = 25.4 mm
+    program = SPINDLE + "G70 G00 G90 X0 Y0 Z1\nG98 G81 X1 Z0.1 I-0.5 F10\nM30\n"
+    assert moves(program, 3) == split("R(25.4,0,25.4) R(25.4,0,2.54) F(25.4,0,-12.7)@254 R(25.4,0,25.4)")
+
+
+def test_rotation_turns_the_points_not_the_depth():
+    # G73 Q90: the hole at programmed X10 lands at part X0 Y10 (rotation about the part zero)
+    program = SPINDLE + "G00 G90 X0 Y0 Z20\nG73 Q90\nG99 G81 X10 Z2 I-5 F100\nM30\n"
+    assert moves(program, 4) == split("R(0,10,20) R(0,10,2) F(0,10,-5)@100 R(0,10,2)")

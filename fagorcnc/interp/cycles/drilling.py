@@ -183,7 +183,7 @@ def ops(cyc, plan, rn, point) -> list:
 def _spindle_warning(cyc, rn) -> None:
     if choices.WARN_SPINDLE_STOPPED and rn.spindle() == 5 and not cyc.warned:
         cyc.warned = True
-        rn.warn("CYC012", f"G{cyc.code} with the spindle stopped: program S and M03/M04 before the cycle",
+        rn.warn("CYC011", f"G{cyc.code} with the spindle stopped: program S and M03/M04 before the cycle",
                 cyc.col("G"))
 
 

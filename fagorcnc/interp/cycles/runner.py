@@ -114,7 +114,7 @@ class CycleRunner:
             return False
         if ln in bw.axes and choices.LONGITUDINAL_MOVE_SKIPS_CYCLE:
             # digest §1.2 [UNVERIFIED]: a plain move, the cycle does not run at its end point
-            self.interp.message("CYC011", "warning", f"this block also moves the longitudinal axis {ln}: it is "
+            self.interp.message("CYC010", "warning", f"this block also moves the longitudinal axis {ln}: it is "
                                 f"executed as a plain move, without the G{cyc.code} cycle", bw.axes[ln][1])
             return False
         return True
@@ -188,7 +188,7 @@ class CycleRunner:
         cyc = st.cycles.active
         self._refuse_compensation(col)
         if {"I", "J", "K"} & bw.params.keys() and st.modes["motion"] in (2, 3):
-            raise InterpError("CYC013", "an arc cannot position a canned cycle's point: program the point with "
+            raise InterpError("CYC012", "an arc cannot position a canned cycle's point: program the point with "
                               "G00/G01 (or use G163-G165 for points on a circle)", col)
         cur = st.programmed_pos()
         end = iso.target(bw, cur)
