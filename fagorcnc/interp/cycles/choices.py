@@ -7,6 +7,23 @@ NR and V.C rules; the parameters and move sequences were rebuilt from Fagor's
 fixes a rule the digest recommends a choice; each one is a named constant
 here, with the digest section it comes from, so it can be changed in one place
 when the cycles manual is found.
+
+The [CONSTRUCTION] tool paths are algorithms rather than constants; they live in one function
+each: ``pockets._rectangles`` / ``pockets._finish_contour`` (G87, §2.7.1-§2.7.2),
+``pockets._circles`` (G88, §2.8), ``milling.ops`` (G210, §2.9), and the point orders of
+``patterns`` (§2.10).  Where spec 09 is silent this implementation chose (and says so here):
+
+* G87 with the pocket taller than long (b > a): the pocket axes are turned by 90 degrees rather
+  than swapped, so the machining direction (sign of J) is kept (a swap would mirror it);
+* G87 M2 chamfers: the tool centre follows the chamfer offset by r, cutting
+  ``Q - r(2 - sqrt 2)`` off each side of the finishing rectangle (none when that is <= 0);
+* G87/G88 with a tool of radius 0: C must be programmed; the C <= diameter check needs r > 0;
+* G210 with a depth that is not a whole number of pitches B: the last turn is partial and the
+  bottom is finished along the circle back to the start angle, so the exit always starts at rho;
+* G83 with |I| below the 1 mm approach: the re-approach stops at the reference plane;
+* G163/G164 C2/C3 arcs follow the C letter literally (C2 clockwise, C3 counter-clockwise), whatever
+  the sign of I;
+* V.C writes with no cycle active change the stored values only (read back by V.C.x).
 """
 
 from __future__ import annotations

@@ -266,6 +266,7 @@ class CycleRunner:
         st, iso, interp = self.state, self.iso, self.interp
         out: list = []
         lcomp = None
+        cur = None   # the programmed position: computed once, then the end of each move
         for op in ops:
             kind = op[0]
             if kind == "D":
@@ -278,14 +279,14 @@ class CycleRunner:
                     st.spindle_state[s] = op[1]
                     break
                 continue
-            cur = st.programmed_pos()
+            if cur is None:
+                cur = st.programmed_pos()
             target = {**cur, **op[1]}
             if all(abs(target[x] - cur[x]) <= 1e-9 for x in op[1]) and kind != "A":
                 continue
             if lcomp is None:
                 lcomp = self._length_compensation(target, cur)
-                if lcomp:
-                    cur = st.programmed_pos()
+            cur = target
             start = dict(st.machine_pos)
             tr = st.transform
             end_part = tr.apply(target)
