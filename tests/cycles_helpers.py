@@ -48,3 +48,8 @@ def split(text: str) -> list[str]:
 def codes(program: str, machine=None) -> list[tuple[int, str]]:
     """(line, code) of every diagnostic of the run."""
     return [(d.line, d.code) for d in run(program, machine).diagnostics]
+
+
+def channel(result):
+    """The interpreter's channel state behind ``result.state`` (the canned-cycle state is not public API)."""
+    return result.state._state

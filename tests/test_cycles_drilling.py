@@ -6,7 +6,7 @@ Every expected list is the digest's; the arithmetic is repeated in the comments.
 from __future__ import annotations
 
 import pytest
-from cycles_helpers import codes, moves, run, split
+from cycles_helpers import channel, codes, moves, run, split
 
 SPINDLE = "S1000 M03\n"
 
@@ -144,7 +144,7 @@ def test_another_cycle_replaces_the_active_one_and_m30_resets():
     result = run(program)
     assert result.ok
     assert [m for m in moves(program, 5) if m.startswith("F")] == ["F(20,0,-6)@100", "F(20,0,2)@100"]
-    assert result.state.var("V.G.CYCLETYPEON") == 0 and result.state.modes["cycle"] == 80
+    assert channel(result).cycles.active is None and result.state.modes["cycle"] == 80
     assert result.state.modes["cycle_return"] == 98
 
 

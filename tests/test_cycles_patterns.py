@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from cycles_helpers import codes, moves, run, split
+from cycles_helpers import channel, codes, moves, run, split
 
 SPINDLE = "S1000 M03\n"
 
@@ -116,14 +116,24 @@ def test_pattern_repeats_a_modal_subroutine():
 def test_vc_call_parameters_seed_examples():
     # seed 002 L40369-L40386: G90 G81 Z0 I-15 -> V.C.Z = 0, V.C.I = -15, CALLP_Z = CALLP_I = 1, CALLP_K = 0
     program = (SPINDLE + "G00 Z20\nG90 G81 Z0 I-15 F100\nP1=V.C.Z\nP2=V.C.I\nP3=V.C.CALLP_Z\nP4=V.C.CALLP_I\n"
-               "P5=V.C.CALLP_K\nP6=V.G.CYCLETYPEON\n"
+               "P5=V.C.CALLP_K\nP6=V.C.G\n"
                # L40428-L40443: G160 A30 X100 K10 P6 -> V.C.P_A = 30, V.C.P_X = 100, P_CALLP_A/K = 1, R = 0
                "G160 A30 X100 K10 P6\nP7=V.C.P_A\nP8=V.C.P_X\nP9=V.C.P_CALLP_A\nP10=V.C.P_CALLP_K\n"
-               "P11=V.C.P_CALLP_R\nG80\nP12=V.G.CYCLETYPEON\nM30\n")
+               "P11=V.C.P_CALLP_R\nM30\n")
     result = run(program)
     assert result.ok, [str(d) for d in result.diagnostics]
-    got = [result.state.param(n) for n in range(1, 13)]
-    assert got == [0, -15, 1, 1, 0, 81, 30, 100, 1, 1, 0, 0]
+    got = [result.state.param(n) for n in range(1, 12)]
+    assert got == [0, -15, 1, 1, 0, 0, 30, 100, 1, 1, 0]   # V.C.G: no letter G among the parameters
+
+
+def test_cycletypeon_is_for_the_plc_not_the_program():
+    # seed 002 L40300: "Variable de lecture depuis le programme PLC et l'Interface"
+    from fagorcnc.interp.cycles.variables import cycle_type
+
+    assert (3, "INT044") in codes(SPINDLE + "G81 Z2 I-5 F100\nP1=V.G.CYCLETYPEON\nM30\n")
+    result = run(SPINDLE + "G00 Z20\nG81 Z2 I-5 F100\nM00\n")
+    assert result.ok
+    assert cycle_type(channel(result)) == 81
 
 
 def test_vc_write_changes_the_next_hole():

@@ -57,7 +57,7 @@ POCKET_STARTS_SPINDLE = 3
 #: §1.4: radius compensation G41/G42 active at a cycle is an error (cancel it with G40 first).
 RADIUS_COMP_IS_ERROR = True
 
-#: §1.2: V.G.CYCLETYPEON reads the G number of the active cycle, 0 when none.
+#: §1.2: V.G.CYCLETYPEON (PLC and interface only, seed 002 L40300) is the active cycle's G number, 0 when none.
 NO_CYCLE_TYPE = 0
 
 #: §2.2 G82: approach clearance C when not programmed (or C0), mm.

@@ -6,13 +6,17 @@
 * ``V.C.CALLP_A`` ... ``V.C.CALLP_Z``: 1 when the letter was programmed in the call (L40341-L40386).
 * ``V.C.P_A`` ... ``V.C.P_Z`` and ``V.C.P_CALLP_A`` ...: the same for the last multiple machining
   block G160-G165 (L40391-L40443).
-* ``V.G.CYCLETYPEON``: the active cycle, its G number (0 when none; value table [UNVERIFIED]).
+* ``V.G.CYCLETYPEON`` (the active cycle type) is read by the PLC and the interface only
+  ("Variable de lecture depuis le programme PLC et l'Interface", L40300): a part program that
+  reads it is refused (spec 09 §1.2 reads it as program-visible; the seed wins).  Its value, for
+  the other readers: the G number, 0 when none ([UNVERIFIED] value table, ``choices``).
 
 A letter never programmed reads 0.
 """
 
 from __future__ import annotations
 
+from ..expressions import InterpError
 from . import choices
 from .model import LETTERS
 
@@ -37,5 +41,15 @@ def register(plain_vars: dict, state) -> None:
         plain_vars[f"V.C.CALLP_{letter}"] = (lambda i, x=letter: 1.0 if x in cs.called else 0.0, None)
         plain_vars[f"V.C.P_{letter}"] = (lambda i, x=letter: cs.pattern_params.get(x, 0.0), write(letter, True))
         plain_vars[f"V.C.P_CALLP_{letter}"] = (lambda i, x=letter: 1.0 if x in cs.pattern_called else 0.0, None)
-    plain_vars["V.G.CYCLETYPEON"] = (
-        lambda i: float(cs.active.code) if cs.active is not None else float(choices.NO_CYCLE_TYPE), None)
+    plain_vars["V.G.CYCLETYPEON"] = (_plc_only, None)
+
+
+def cycle_type(state) -> float:
+    """V.G.CYCLETYPEON for the PLC and the interface: the active cycle's G number, 0 when none."""
+    active = state.cycles.active
+    return float(active.code) if active is not None else float(choices.NO_CYCLE_TYPE)
+
+
+def _plc_only(index: tuple) -> float:
+    raise InterpError("INT044", "V.G.CYCLETYPEON is read by the PLC and the interface, not by a part program "
+                      "(seed 002 L40300)")
