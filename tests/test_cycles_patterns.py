@@ -147,3 +147,15 @@ def test_vc_write_is_checked_at_the_next_hole():
     result = run(program)
     assert (5, "CYC002") in [(d.line, d.code) for d in result.diagnostics]
     assert [r for r in result.moves if r.line == 5] == []
+
+
+def test_pattern_points_count_as_blocks_for_the_runaway_guard():
+    machine = {"limits": {"max_blocks": 20}}
+    result = run(SPINDLE + "G00 Z20\nG99 G81 Z2 I-5 F100\nG160 X500 K100\nM30\n", machine)
+    assert (4, "INT080") in [(d.line, d.code) for d in result.diagnostics]
+
+
+def test_a_hole_of_too_many_moves_is_refused_before_it_moves():
+    # G82 with pecks of 0.001 mm over 500 mm: 500 000 steps, over MAX_MOVES_PER_HOLE
+    result = run(SPINDLE + "G00 Z20\nG82 Z2 I-498 B0.001 L0.001 C0.0005 F100\nM30\n")
+    assert (3, "CYC004") in [(d.line, d.code) for d in result.diagnostics]

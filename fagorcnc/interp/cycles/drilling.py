@@ -117,9 +117,7 @@ def _prepare_g82(cyc, rn, lv: Levels) -> tuple:
                           "than 0 (the pecks would never reach the bottom)", cyc.col("L") if cyc.has("L")
                           else cyc.col("R"))
     smallest = min(b, minimum) if minimum > 0 else b
-    if abs(lv.zb - lv.zr) / smallest > rn.machine.limits.max_loop_iterations:
-        raise InterpError("CYC004", "G82: the depth needs more pecks than limits.max_loop_iterations",
-                          cyc.col("B"))
+    rn.guard_moves(3 * abs(lv.zb - lv.zr) / smallest, cyc, "L" if minimum < b and r < 1 else "B")
     return b, c, d, h, j, minimum, r
 
 

@@ -45,8 +45,7 @@ def prepare(cyc, rn) -> Bore:
                           cyc.col("B") if cyc.has("B") else cyc.col("G"))
     pitch = abs(rn.length(cyc.get("B"), cyc))
     turns = abs(lv.zb - lv.zr) / pitch
-    if turns > rn.machine.limits.max_loop_iterations:
-        raise InterpError("CYC004", "G210: B gives more helix turns than limits.max_loop_iterations", cyc.col("B"))
+    rn.guard_moves(turns, cyc, "B")
     c = cyc.get("C", 0.0)
     if c not in (0.0, 1.0):
         raise InterpError("CYC004", f"G210 C{c:g}: C1 finishes the bottom with a full circle, C0 does not",

@@ -224,6 +224,7 @@ def run(rn, code: int, bw, src: Source):
     move = _move(d, code)
     feed = rn.feed(d.get("F"), d.col("F")) if move != "R" else None
     moved = False
+    visited = 0
     for n, (x, y), centre in POINTS[code](d, (here[a], here[o])):
         if any(lo <= n <= hi for lo, hi in skip):
             continue
@@ -234,13 +235,15 @@ def run(rn, code: int, bw, src: Source):
             op = ("F", target, feed)
         else:
             op = ("A", target, centre, move == "CCW", feed)
+        if visited:
+            interp.count_block(d.col())   # each further point counts as a block for the runaway guards (as NR)
+        visited += 1
         records = rn.emit([op], src, d.col())
         if cyc is not None:
             records += rn.hole(src, d.col())
         moved = moved or bool(records)
         yield from records
         if cyc is None:
-            interp.count_block(d.col())
             yield from interp.after_motion(src)
     return moved
 

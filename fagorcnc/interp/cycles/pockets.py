@@ -61,9 +61,7 @@ def _floors(cyc, rn, lv) -> tuple:
 
 
 def _guard(count: float, cyc, rn, letter: str) -> None:
-    if count > rn.machine.limits.max_loop_iterations:
-        raise InterpError("CYC004", f"G{cyc.code}: {letter} gives more passes than limits.max_loop_iterations",
-                          cyc.col(letter))
+    rn.guard_moves(count, cyc, letter)
 
 
 def _step(cyc, rn, r: float) -> float:
@@ -121,7 +119,9 @@ def prepare(cyc, rn) -> Pocket:
         if a < 0 or abs(j) - r <= 0:
             raise InterpError("CYC005", f"G88: the tool (radius {r:g} mm) is too big for the pocket of radius "
                               f"{abs(j):g} mm with finishing stock {stock:g}", cyc.col("J"))
-        return Pocket(angle=0.0, rings=tuple(_rings(a, c, cyc, rn)), centre_segment=0.0, rough=(a,),
+        rings = _rings(a, c, cyc, rn)
+        rn.guard_moves(len(floors) * (2 * len(rings) + 8), cyc, "B")
+        return Pocket(angle=0.0, rings=tuple(rings), centre_segment=0.0, rough=(a,),
                       finish=(abs(j) - r,) if stock else None, corners=(), **common)
     if not cyc.has("K"):
         raise InterpError("CYC004", "G87 needs K, the half width of the pocket", cyc.col("G"))
@@ -137,7 +137,9 @@ def prepare(cyc, rn) -> Pocket:
     angle = cyc.get("A", 0.0)
     if b > a:   # the pocket is taller than long: turn its axes by 90 degrees (keeps the direction)
         a, b, af, bf, angle = b, a, bf, af, angle + 90.0
-    return Pocket(angle=angle, rings=tuple((a - b + q, q) for q in _rings(b, c, cyc, rn)),
+    rings = _rings(b, c, cyc, rn)
+    rn.guard_moves(len(floors) * (6 * len(rings) + 16), cyc, "B")
+    return Pocket(angle=angle, rings=tuple((a - b + q, q) for q in rings),
                   centre_segment=a - b, rough=(a, b), finish=(af, bf) if stock else None, corners=corners, **common)
 
 

@@ -36,6 +36,10 @@ LETTERS: dict[int, str] = {
     163: "XYIKCFPQRSTUV", 164: "XYBIKCFPQRSTUV", 165: "XYAICF",
 }
 
+#: The moves of one hole are computed before the first is handed on (limits included): a hole whose
+#: parameters ask for more (tiny pecks or levels over a deep hole) is refused rather than held in memory.
+MAX_MOVES_PER_HOLE = 100_000
+
 FAMILIES = {81: drilling, 82: drilling, 83: drilling, 84: drilling, 85: drilling, 86: drilling,
             87: pockets, 88: pockets, 210: milling, 211: milling, 212: milling}
 
@@ -216,6 +220,12 @@ class CycleRunner:
         """A cycle length in mm (the definition's G70/G71)."""
         inch = cyc.inch if cyc is not None else self.state.modes["units"] == 70
         return value * INCH if inch else value
+
+    def guard_moves(self, count: float, cyc: ActiveCycle, letter: str) -> None:
+        """Refuse (CYC004 at ``letter``) a hole that would take more than MAX_MOVES_PER_HOLE moves."""
+        if not count <= MAX_MOVES_PER_HOLE:
+            raise InterpError("CYC004", f"G{cyc.code}: {letter}{cyc.get(letter, 0):g} gives about {count:.3g} moves "
+                              f"for one hole, more than {MAX_MOVES_PER_HOLE}", cyc.col(letter))
 
     def return_level(self, cyc: ActiveCycle, zr: float) -> float:
         """G98: the starting plane; G99: the reference plane."""
