@@ -258,3 +258,16 @@ def test_rotation_turns_the_points_not_the_depth():
     # G73 Q90: the hole at programmed X10 lands at part X0 Y10 (rotation about the part zero)
     program = SPINDLE + "G00 G90 X0 Y0 Z20\nG73 Q90\nG99 G81 X10 Z2 I-5 F100\nM30\n"
     assert moves(program, 4) == split("R(0,10,20) R(0,10,2) F(0,10,-5)@100 R(0,10,2)")
+
+
+def test_seed_example_points_in_a_local_subroutine():
+    # seed 002 L929-L951: the points 2-4 of a G81, then of a G84 that replaces it without G80, are G01
+    # blocks of a local subroutine called from the influence zone
+    program = ("%L POINTS\nG01 X20 Y0\nG01 X20 Y20\nG01 X0 Y20\nM17\n%PROGRAM\nS500 M03\nG00 X0 Y0 Z20\n"
+               "G98 G81 X0 Y0 Z2 I-8 F150\nLL POINTS\nG84 X0 Y0 Z2 I-6 F750\nLL POINTS\nG80\nM30\n")
+    result = run(program)
+    assert result.ok, [str(d) for d in result.diagnostics]
+    bottoms = [(r.end_part["X"], r.end_part["Y"], r.end_part["Z"]) for r in result.moves
+               if r.kind == "linear" and r.end_part["Z"] < 0]
+    corners = [(0, 0), (20, 0), (20, 20), (0, 20)]
+    assert bottoms == [(x, y, -8) for x, y in corners] + [(x, y, -6) for x, y in corners]
