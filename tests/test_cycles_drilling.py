@@ -271,3 +271,12 @@ def test_seed_example_points_in_a_local_subroutine():
                if r.kind == "linear" and r.end_part["Z"] < 0]
     corners = [(0, 0), (20, 0), (20, 20), (0, 20)]
     assert bottoms == [(x, y, -8) for x, y in corners] + [(x, y, -6) for x, y in corners]
+
+
+def test_executing_a_cycle_cancels_a_modal_subroutine_programmed_in_its_zone():
+    # seed 002 L10807: executing a canned cycle cancels the modal subroutine; after G80, X20 is a plain move
+    program = ("%L SUB\nG04 K0.1\nM17\n%MAIN\n" + SPINDLE + "G00 G90 X0 Y0 Z20\nG98 G81 Z2 I-5 F100\n"
+               "#MCALL SUB\nX10\nG80\nX20\nM30\n")
+    result = run(program)
+    assert result.ok, [str(d) for d in result.diagnostics]
+    assert [r.kind for r in result.moves].count("dwell") == 1   # SUB ran only at its #MCALL

@@ -23,7 +23,10 @@ each: ``pockets._rectangles`` / ``pockets._finish_contour`` (G87, §2.7.1-§2.7.
 * G83 with |I| below the 1 mm approach: the re-approach stops at the reference plane;
 * G163/G164 C2/C3 arcs follow the C letter literally (C2 clockwise, C3 counter-clockwise), whatever
   the sign of I;
-* V.C writes with no cycle active change the stored values only (read back by V.C.x).
+* V.C writes with no cycle active change the stored values only (read back by V.C.x);
+* a #MCALL programmed while a cycle is active is cancelled by the next hole: the seed says a cycle's
+  activation cancels #MCALL (L10570) and its execution cancels an OEM modal subroutine (L10807);
+  the execution rule is applied to both.
 """
 
 from __future__ import annotations

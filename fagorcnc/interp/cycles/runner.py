@@ -153,8 +153,7 @@ class CycleRunner:
         cyc = ActiveCycle(code, values, cols, st.modes["distance"] == 91, st.modes["units"] == 70, (a, o, ln),
                           st.programmed_pos()[ln], (src.file, src.line, code))
         cyc.plan = FAMILIES[code].prepare(cyc, self)   # every parameter error before anything moves
-        if self.interp.modal_call is not None and not any(f.modal for f in self.interp.frames):
-            self.interp.modal_call = None   # seed 002 L10570, L10807: a cycle cancels a modal subroutine
+        self._cancel_modal_call()   # seed 002 L10570: activating a cycle cancels a modal subroutine
         cs = st.cycles
         cs.active = cyc
         cs.params = values
@@ -164,6 +163,11 @@ class CycleRunner:
         if code == 210 and choices.G210_PROVISIONAL:
             self.interp.message("CYC009", "warning", "G210 uses provisional cycle semantics (the 8065 cycles "
                                 "manual is not available): check the path in the plot", g_col)
+
+    def _cancel_modal_call(self) -> None:
+        interp = self.interp
+        if interp.modal_call is not None and not any(f.modal for f in interp.frames):
+            interp.modal_call = None
 
     def _refuse_compensation(self, col: int) -> None:
         if choices.RADIUS_COMP_IS_ERROR and self.state.modes["compensation"] in (41, 42):
@@ -206,6 +210,7 @@ class CycleRunner:
         st = self.state
         cyc = st.cycles.active
         self._refuse_compensation(col)
+        self._cancel_modal_call()   # seed 002 L10807: executing a cycle cancels a modal subroutine
         if cyc.plan is None:   # a V.C write since the last hole
             cyc.plan = FAMILIES[cyc.code].prepare(cyc, self)
         a, o, _ln = cyc.plane
