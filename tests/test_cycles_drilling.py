@@ -280,3 +280,12 @@ def test_executing_a_cycle_cancels_a_modal_subroutine_programmed_in_its_zone():
     result = run(program)
     assert result.ok, [str(d) for d in result.diagnostics]
     assert [r.kind for r in result.moves].count("dwell") == 1   # SUB ran only at its #MCALL
+
+
+def test_feed_per_revolution_and_defaultfeed():
+    # G95: F0.1 mm/rev at S1000 = 100 mm/min; no F at all with DEFAULTFEED 1: MAXFEED (seed 002 L4062)
+    assert moves(SPINDLE + "G00 Z20\nG95 G99 G81 Z2 I-5 F0.1\nM30\n", 3) == split("R(0,0,2) F(0,0,-5)@100 R(0,0,2)")
+    machine = {"defaults": {"DEFAULTFEED": 1}, "max_feed": 3000.0}
+    assert moves(SPINDLE + "G00 Z20\nG99 G81 Z2 I-5\nM30\n", 3, machine) == split(
+        "R(0,0,2) F(0,0,-5)@3000 R(0,0,2)")
+    assert (3, "INT060") in codes(SPINDLE + "G00 Z20\nG99 G81 Z2 I-5\nM30\n")

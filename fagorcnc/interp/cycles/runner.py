@@ -243,6 +243,8 @@ class CycleRunner:
         if mode == 93:
             raise InterpError("CYC004", "G93 (feed as a time) cannot drive a canned cycle: use G94 or G95", col)
         if value is None:
+            if not st.feed and self.machine.default("DEFAULTFEED") and self.machine.max_feed > 0:
+                return self.machine.max_feed   # as a G01 without F (seed 002 L4062)
             if not st.feed:
                 what = "the feed is 0 (F0)" if st.feed == 0 else "no feed programmed (F)"
                 raise InterpError("INT060", f"{what} for the canned cycle", col)
