@@ -230,6 +230,10 @@ def test_tapping_with_the_spindle_stopped_is_refused_and_drilling_warns():
 def test_an_arc_cannot_position_a_hole():
     program = SPINDLE + "G00 Z20\nG81 Z2 I-5 F100\nG02 X10 I5\nM30\n"
     assert (4, "CYC012") in codes(program)
+    assert (4, "CYC012") in codes(SPINDLE + "G00 Z20\nG81 Z2 I-5 F100\nG02 X10 R5\nM30\n")
+    # polar positioning under G00/G01: R radius, Q angle from the polar origin
+    assert moves(SPINDLE + "G00 G90 X0 Y0 Z20\nG99 G81 Z2 I-5 F100\nG01 R10 Q90\nM30\n", 4) == split(
+        "R(0,10,2) F(0,10,-5)@100 R(0,10,2)")
 
 
 def test_soft_limit_inside_a_hole_refuses_the_whole_hole():

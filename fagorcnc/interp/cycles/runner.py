@@ -195,7 +195,7 @@ class CycleRunner:
         st, iso = self.state, self.iso
         cyc = st.cycles.active
         self._refuse_compensation(col)
-        if {"I", "J", "K"} & bw.params.keys() and st.modes["motion"] in (2, 3):
+        if {"I", "J", "K", "R", "Q"} & bw.params.keys() and st.modes["motion"] in (2, 3):
             raise InterpError("CYC012", "an arc cannot position a canned cycle's point: program the point with "
                               "G00/G01 (or use G163-G165 for points on a circle)", col)
         cur = st.programmed_pos()
