@@ -293,3 +293,7 @@ def test_feed_per_revolution_and_defaultfeed():
     assert moves(SPINDLE + "G00 Z20\nG99 G81 Z2 I-5\nM30\n", 3, machine) == split(
         "R(0,0,2) F(0,0,-5)@3000 R(0,0,2)")
     assert (3, "INT060") in codes(SPINDLE + "G00 Z20\nG99 G81 Z2 I-5\nM30\n")
+
+
+def test_no_cycle_under_mcs_on():
+    assert (3, "CYC004") in codes(SPINDLE + "#MCS ON\nG81 Z2 I-5 F100\nM30\n")

@@ -173,6 +173,9 @@ class CycleRunner:
         if choices.RADIUS_COMP_IS_ERROR and self.state.modes["compensation"] in (41, 42):
             raise InterpError("CYC003", f"G{self.state.modes['compensation']} radius compensation is active: "
                               "cancel it with G40 before the canned cycle", col)
+        if self.state.mcs_on:   # the cycle's levels are part coordinates (seed 002 L3196-L3271)
+            raise InterpError("CYC004", "a canned cycle cannot run under #MCS ON (machine coordinates): "
+                              "program #MCS OFF first", col)
 
     def _points(self, bw, src: Source):
         """The positioning of the block (NR times) and the cycle at each point reached."""
