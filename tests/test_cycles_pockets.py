@@ -114,3 +114,12 @@ def test_pocket_errors(block, code):
     result = run(program, TOOLS)
     assert (4, code) in [(d.line, d.code) for d in result.diagnostics if d.is_error]
     assert [r for r in result.moves if r.line == 4] == []
+
+
+def test_g87_taller_than_long_keeps_its_direction():
+    # J10 K20, r = 4: a = 6, b = 16; the pocket axes turn by 90 degrees (not swapped, which would mirror
+    # the direction): central segment along Y, the ring from (0,16) clockwise (J > 0)
+    program = "T2 D1 M6\nS1000 M3\nG00 G90 X0 Y0 Z10\nG99 G87 Z1 I-1 J10 K20 B2 C6 F300\nM30\n"
+    assert moves(program, 4, {"tools": {"2": {"1": {"radius": 4.0}}}}) == split(
+        "R(0,0,1) F(0,0,-1)@150 F(0,-10,-1)@300 F(0,10,-1)@300 F(0,16,-1)@300 F(6,16,-1)@300 F(6,-16,-1)@300 "
+        "F(-6,-16,-1)@300 F(-6,16,-1)@300 F(0,16,-1)@300 R(0,16,0) R(0,0,0) R(0,0,1)")

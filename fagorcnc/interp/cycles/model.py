@@ -8,6 +8,7 @@ are the ``V.C.A`` ... ``V.C.Z`` variables (seed 002 L40310-L40386), kept as prog
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 #: Hole-making and pocketing cycles: they form one modal group with G80 (seed 002 L1449-L1487).
@@ -16,6 +17,15 @@ CYCLE_CODES = frozenset({81, 82, 83, 84, 85, 86, 87, 88, 210, 211, 212})
 PATTERN_CODES = frozenset({160, 161, 162, 163, 164, 165})
 
 LETTERS = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+
+
+def unit(angle: float) -> tuple[float, float]:
+    """Unit vector at ``angle`` degrees; exact on the axes (no 6e-17 residues at 90, 180, 270)."""
+    quarter = angle / 90.0
+    if quarter == math.floor(quarter):
+        return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(quarter) % 4]
+    rad = math.radians(angle)
+    return (math.cos(rad), math.sin(rad))
 
 
 @dataclass

@@ -14,6 +14,7 @@ from collections.abc import Iterator
 from ..expressions import InterpError, whole
 from ..records import Source
 from . import choices
+from .model import unit
 
 SKIP_LETTERS = "PQRSTUV"
 
@@ -100,7 +101,7 @@ def skipped(d: _Def) -> list[tuple[int, int]]:
 def _line(d: _Def, p1) -> Iterator:
     """G160 A X I K: points along a line at angle A (§2.10, §3.11, §3.12)."""
     step, k = _side(d, "X", "I", "K")
-    u = _direction(d.get("A", 0.0))
+    u = unit(d.get("A", 0.0))
     for n in range(2, k + 1):
         yield n, (p1[0] + (n - 1) * step * u[0], p1[1] + (n - 1) * step * u[1]), None
 
@@ -109,8 +110,8 @@ def _parallelogram(d: _Def, p1, grid: bool) -> Iterator:
     """G161 (perimeter) / G162 (grid, zig-zag) A B X I K Y J D."""
     i, k = _side(d, "X", "I", "K")
     j, n2 = _side(d, "Y", "J", "D")
-    u = _direction(d.get("A", 0.0))
-    v = _direction(d.get("A", 0.0) + d.get("B", 90.0))
+    u = unit(d.get("A", 0.0))
+    v = unit(d.get("A", 0.0) + d.get("B", 90.0))
 
     def node(s: int, t: int) -> tuple:
         return (p1[0] + s * i * u[0] + t * j * v[0], p1[1] + s * i * u[1] + t * j * v[1])
@@ -174,7 +175,7 @@ def _chord(d: _Def, p1) -> Iterator:
     if d.has("A") == d.has("I"):
         raise d.bad("one of A (angle of the chord's bisector) or I (chord length) is needed, not both")
     if d.has("A"):
-        u = _direction(d.get("A"))
+        u = unit(d.get("A"))
         vx, vy = p1[0] - c[0], p1[1] - c[1]
         dot = vx * u[0] + vy * u[1]
         yield 2, (c[0] + 2 * dot * u[0] - vx, c[1] + 2 * dot * u[1] - vy), c
@@ -186,17 +187,8 @@ def _chord(d: _Def, p1) -> Iterator:
     yield 2, _on(c, radius, start + math.copysign(angle, chord)), c
 
 
-def _direction(angle: float) -> tuple[float, float]:
-    """Unit vector at ``angle`` degrees; exact on the axes (no 6e-17 residues at 90, 180, 270)."""
-    quarter = angle / 90.0
-    if quarter == math.floor(quarter):
-        return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(quarter) % 4]
-    rad = math.radians(angle)
-    return (math.cos(rad), math.sin(rad))
-
-
 def _on(c: tuple, radius: float, angle: float) -> tuple:
-    u = _direction(angle)
+    u = unit(angle)
     return (c[0] + radius * u[0], c[1] + radius * u[1])
 
 

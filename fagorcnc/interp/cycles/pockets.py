@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from ..expressions import InterpError, whole
 from . import choices
 from .drilling import levels, positive
+from .model import unit
 
 SQRT2 = math.sqrt(2.0)
 
@@ -170,7 +171,7 @@ def ops(cyc, pk: Pocket, rn, point) -> list:
     f = rn.feed(None, cyc.col("G"))
     fh = rn.feed(pk.finish_feed, cyc.col("H")) if pk.finish_feed else f
     fv = rn.feed(pk.plunge_feed, cyc.col("V")) if pk.plunge_feed else f * choices.POCKET_PLUNGE_OF_F
-    cos, sin = math.cos(math.radians(pk.angle)), math.sin(math.radians(pk.angle))
+    cos, sin = unit(pk.angle)
     cx, cy = point
 
     def p(u: float, v: float, z: float) -> dict:
