@@ -62,6 +62,7 @@ new keys may be added::
         "unsupported": [{"code": "INT078", "description": "...", "message": "...", "lines": [17, 40]}],
         "tools": [{"tool": 1, "loaded": true, "offsets": [1], "lines": [8]}],
         "offsets": [{"origin": "G54", "first_line": 11, "moves": 57}],
+        "cycles": [{"code": "G81", "line": 14, "holes": 12}],   # canned cycles run, per definition
         "bbox": [{"tool": 1,
                   "machine": {"min": {"X": -60.0, ...}, "max": {...}},
                   "part": {"min": {...}, "max": {...}},
@@ -186,6 +187,7 @@ class FileReport:
     tools: list[ToolUse] = field(default_factory=list)
     origins: list[OriginUse] = field(default_factory=list)
     boxes: list[ToolBox] = field(default_factory=list)
+    cycles: list[dict[str, Any]] = field(default_factory=list)   # canned cycles: code, file, line, holes
     cycle_time: float = 0.0
     max_cycle_time: float | None = None
     moves: int = 0
@@ -247,6 +249,7 @@ class FileReport:
                         for t in self.tools]
         out["offsets"] = [{"origin": o.origin, "first_line": o.first_line, "moves": o.moves} for o in self.origins]
         out["bbox"] = [b.to_dict() for b in self.boxes]
+        out["cycles"] = self.cycles
         return out
 
 
@@ -324,6 +327,7 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
         for slot, n in findings.more.items():
             report.not_shown[slot] = report.not_shown.get(slot, 0) + n
     report.tools, report.origins, report.boxes = summary.tools(), summary.origins(), summary.boxes()
+    report.cycles = summary.cycles()
     if report.cycle_time_exceeded:
         found.append((Diagnostic(str(path), 1, 1, "PLN101", "error",
                                  f"planned cycle time {clock(report.cycle_time)} ({report.cycle_time:.1f} s) is over "
@@ -351,8 +355,10 @@ class _Summary:
         self._boxes: dict[int, ToolBox] = {}
         self._tool = self._next_tool = 0
         self._part_here: dict[str, float] | None = None
+        self._interp = None
 
     def add(self, rec, interp) -> None:
+        self._interp = interp
         tools = self._tools
         kind = rec.kind
         if kind == "aux":
@@ -404,6 +410,10 @@ class _Summary:
 
     def origins(self) -> list[OriginUse]:
         return list(self._used.values())
+
+    def cycles(self) -> list[dict[str, Any]]:
+        """The canned cycles that ran: one entry per definition block, with its holes (interp/cycles)."""
+        return self._interp.state.cycles.report() if self._interp is not None else []
 
     def boxes(self) -> list[ToolBox]:
         return [self._boxes[t] for t in sorted(self._boxes)]
@@ -543,6 +553,9 @@ def text_report(report: FileReport, *, fail_on: str = "error", brief: bool = Fal
         lines.append(f"  T{b.tool} part:    {b.part.text()}")
         if b.feed_part:
             lines.append(f"  T{b.tool} feeds (part): {b.feed_part.text()}")
+    if report.cycles:
+        lines.append("  canned cycles: " + ", ".join(f"{c['code']} line {c['line']} ({c['holes']} "
+                                                    f"hole{'s' if c['holes'] != 1 else ''})" for c in report.cycles))
     for u in report.unsupported():
         where = ", ".join(map(str, u["lines"]))
         lines.append(f"  unsupported: {u['code']} {u['message']} (line{'s' if len(u['lines']) > 1 else ''} {where})")

@@ -186,6 +186,15 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
         ax.plot(*pts.T, color=colour, label=label, **style)
     for i, pts in enumerate(contour):
         ax.plot(*pts.T, color="black", linewidth=0.5, label="programmed contour" if i == 0 else None)
+    if not three_d:   # holes: feed moves along the view's normal only (drilling, canned cycles) are points
+        holes: dict[tuple, int] = {}
+        for rec in result.moves:
+            if rec.kind == "linear" and rec.length > 0 and all(abs(rec.end[a] - rec.start[a]) < 1e-9 for a in view):
+                holes.setdefault((round(rec.end[view[0]], 6), round(rec.end[view[1]], 6)), by_record[id(rec)])
+        for i, ((hx, hy), t) in enumerate(holes.items()):
+            colour = colours[tools_seen.index(t) % len(colours)] if t in tools_seen else "black"
+            ax.plot([hx], [hy], marker="o", markersize=5, fillstyle="none", color=colour, linestyle="none",
+                    label="plunge / hole" if i == 0 else None)
     if polylines:
         start = polylines[0][0][0]
         ax.plot(*([v] for v in start), marker="o", color="green", markersize=4, linestyle="none", label="start")

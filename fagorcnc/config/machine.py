@@ -33,6 +33,7 @@ DEFAULTS_SCHEMA: dict[str, tuple[int, tuple, str]] = {
     "MIRRORCANCEL": (1, (0, 1), "1 = M30/reset cancel mirror images (L8779)"),
     "SPDLSTOP": (1, (0, 1), "1 = M02/M30 stop the spindle (L867)"),
     "DEFAULTFEED": (0, (0, 1), "1 = G1/G2/G3 without F use MAXFEED (L4062)"),
+    "SREVM05": (0, (0, 1), "1 = with G84 the spindle stops (M05) before it reverses (L21990-L21997)"),
 }
 
 

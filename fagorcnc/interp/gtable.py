@@ -50,6 +50,8 @@ GROUP_DEFAULTS: dict[str, Callable[[Machine], int | None]] = {
     "centre_correction": lambda m: 265,                           # L7013-L7018
     "manual_intervention": lambda m: 202,                         # L7728-L7729
     "origin": lambda m: None,                                     # kept (L3547-L3553)
+    "cycle": lambda m: 80,                                        # no canned cycle (09 §1.1, L1449)
+    "cycle_return": lambda m: 98,                                 # G98 (09 §1.1 [UNVERIFIED])
 }
 
 
@@ -145,12 +147,28 @@ _TABLE = [
     _g(264, "centre_correction", "default", "cancel arc-centre correction", "L7013", "recorded"),
     _g(265, "centre_correction", "default", "activate arc-centre correction", "L7013", "recorded"),
     _g(266, None, "block", "feed override forced to 100 %", "L4371", "recorded"),
-    # the canned cycles G81-G89 are another manual's; G80 also cancels a modal subroutine (L10798, L11033)
-    _g(80, None, "block", "cancel the modal subroutine (and canned cycle)", "L10798"),
+    # canned cycles of the milling model (L1447-L1487; parameters: spec 09, fagorcnc/interp/cycles);
+    # G80 also cancels a modal subroutine (L10798, L11033)
+    _g(80, "cycle", "default", "cancel the canned cycle (and the modal subroutine)", "L1449"),
+    _g(81, "cycle", "default", "drilling canned cycle", "L1451"),
+    _g(82, "cycle", "default", "deep-hole drilling, variable peck", "L1453"),
+    _g(83, "cycle", "default", "deep-hole drilling, constant peck", "L1455"),
+    _g(84, "cycle", "default", "tapping canned cycle", "L1457"),
+    _g(85, "cycle", "default", "reaming canned cycle", "L1459"),
+    _g(86, "cycle", "default", "boring canned cycle", "L1461"),
+    _g(87, "cycle", "default", "rectangular pocket canned cycle", "L1463"),
+    _g(88, "cycle", "default", "circular pocket canned cycle", "L1465"),
+    _g(98, "cycle_return", "default", "canned cycle: return to the starting plane", "L1467"),
+    _g(99, "cycle_return", "default", "canned cycle: return to the reference plane", "L1469"),
+    *[_g(n, None, "block", f"multiple machining {what}", f"L{1471 + 2 * (n - 160)}")
+      for n, what in ((160, "in a line"), (161, "in a parallelogram"), (162, "in a grid"), (163, "in a circle"),
+                      (164, "in an arc"), (165, "by a chord"))],
+    _g(210, "cycle", "default", "bore milling canned cycle", "L1483"),
+    _g(211, "cycle", "default", "inside thread milling canned cycle", "L1485", "no"),
+    _g(212, "cycle", "default", "outside thread milling canned cycle", "L1487", "no"),
 ]
-# Canned cycles and probing are described in other manuals (seed 002 L1433-L1522).
-_OTHER_MANUAL = {81, 82, 83, 84, 85, 86, 87, 88, 89, 98, 99, 100, 101, 102, 103, 104, 160, 161, 162, 163,
-                 164, 165, 210, 211, 212, 66, 68, 69}
+# Probing and the lathe-model cycles are described in other manuals (seed 002 L1433-L1522).
+_OTHER_MANUAL = {89, 100, 101, 102, 103, 104, 66, 68, 69}
 
 G_FUNCTIONS: dict[int, GFunction] = {g.number: g for g in _TABLE}
 for _n in _OTHER_MANUAL:

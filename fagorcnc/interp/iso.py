@@ -22,6 +22,7 @@ from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
 from . import dynamics
+from .cycles import CycleRunner
 from .expressions import InterpError, whole
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
 from .records import Arc, Aux, Dwell, Line, Source
@@ -57,6 +58,7 @@ class BlockWords:
     percent: tuple | None = None                     # G131/G133 <percent> (L4437)
     m_target: dict = field(default_factory=dict)     # index in m -> (spindle, direction) of "M3.S2", "M19.POS"
     position_speeds: dict = field(default_factory=dict)   # spindle -> (rpm, col) of "S.POS=" (L5904)
+    cycle: dict | None = None                        # canned cycle parameters: letter -> (value, col)
 
 
 class IsoExecutor:
@@ -67,9 +69,19 @@ class IsoExecutor:
         self.state: ChannelState = interp.state
         self.machine = interp.machine
         self.ev = interp.evaluator
+        self.cycles = CycleRunner(self)
 
     # ------------------------------------------------------------ words
     def classify(self, words: list[Word]) -> BlockWords:
+        cycle = self.cycles.cycle_code(words)
+        if cycle is not None:   # its letters are parameters, not axes, offsets or H/M functions
+            words, params = self.cycles.split(words, *cycle)
+            bw = self._classify(words)
+            bw.cycle = params
+            return bw
+        return self._classify(words)
+
+    def _classify(self, words: list[Word]) -> BlockWords:
         ev, st = self.ev, self.state
         bw = BlockWords()
         axes = st.axes
@@ -289,11 +301,13 @@ class IsoExecutor:
             st.transform.angle = 0.0      # ... and cancels the rotation (L8946)
             st.tool_axis = None           # each plane brings its perpendicular tool axis (L10074)
             interp.plane_changed()
+            self.cycles.cancel_for_plane()
         self._transformations(gs, bw)
         if 20 in gs:
             self._g20(gs[20][0], bw)
             st.polar_origin = (0.0, 0.0)
             interp.plane_changed()
+            self.cycles.cancel_for_plane()
         # 3. origins
         self._origins(gs, bw)
         consumed = self._axis_functions(gs, bw)
@@ -354,11 +368,14 @@ class IsoExecutor:
             consumed = True
         if 80 in gs:
             self.interp.modal_call = None   # seed 002 L10798: G80 cancels the modal subroutine
+            st.cycles.cancel(st.modes)      # ... and the canned cycle (L1449)
         aids = [n for n in (36, 37, 38, 39) if n in gs]
         if aids:
             yield self._aid(aids, gs, bw, src)
             consumed = True
-        if not consumed:
+        if not consumed and self.cycles.applies(gs, bw):   # canned cycle: definition, G160-G165, influence zone
+            moved = yield from self.cycles.execute(gs, bw, src)
+        elif not consumed:
             repeats, nr_col = bw.nr or (1, 1)
             if bw.nr is not None:
                 if not (bw.axes or "R" in bw.params or "Q" in bw.params):

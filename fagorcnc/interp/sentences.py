@@ -186,6 +186,7 @@ def execute_sentence(interp, node, src):
         if type(item) is not Direction or item.name not in st.axes:
             raise InterpError("INT071", "#TOOL AX needs one axis and its direction: #TOOL AX [Z+]", node.col)
         st.tool_axis = (item.name, 1 if item.sign == "+" else -1)
+        interp.iso.cycles.cancel_for_plane()   # a new tool axis cancels the canned cycle (spec 09 §1.1)
         return
     if kw == "HSC":
         dynamics.hsc_statement(interp, node, sub)

@@ -16,6 +16,7 @@ import copy
 
 from ..config.machine import Machine
 from ..path.transform import Transform
+from .cycles.model import CycleState
 from .dynamics import Dynamics, build, default_roundpar
 from .gtable import power_on_modes
 
@@ -82,6 +83,7 @@ class ChannelState:
         self.feed_override = 100.0             # V.G.PRGFRO (0 = none set by the program)
         self.programmed_override = 0.0
         self.call_letters: list[frozenset] = [frozenset()]  # V.C.PCALLP_x per call level
+        self.cycles = CycleState()             # the active canned cycle, V.C.x (interp/cycles)
 
     # ------------------------------------------------------------ planning context
     def dynamics_changed(self) -> None:
@@ -187,6 +189,7 @@ class ChannelState:
         if self.machine.default("MIRRORCANCEL"):
             self.transform.mirror = set()
         self.tool_axis = None
+        self.cycles.reset()           # M02/M30/reset cancel the canned cycle (digest 09 §1.1)
         self.aid_size = None
         self.planner = {}
         self.hsc = None               # L13665: HSC is cancelled by M02/M30 and reset

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
 from .iso import INCH, whole
 from .state import ChannelState
@@ -183,6 +184,7 @@ class Variables:
         for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ":
             self.plain_vars[f"V.C.PCALLP_{letter}"] = (
                 lambda i, x=letter: 1.0 if x in s.call_letters[-1] else 0.0, None)
+        register_cycle_variables(self.plain_vars, s)   # V.C.A..Z, V.C.CALLP_x, V.G.CYCLETYPEON
         # spindle speeds (seed 002 L36721-L37300): V.A.<name>.<spindle> or V.SP.<name>[.<spindle>]
         self.spindle_vars: dict[str, Callable[[str], float]] = {
             "SPEED": lambda sp: s.speeds[sp] if s.modes["css"] != 96 else 0.0,
