@@ -21,6 +21,7 @@ from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
 from ..syntax.reader import parse_file
+from . import compat
 from .expressions import Evaluator, InterpError
 from .iso import IsoExecutor
 from .parameters import Parameters
@@ -79,6 +80,7 @@ class Interpreter:
         self.modal_call: ModalCall | None = None
         self.mcs_block = False
         self._l_calls: set = set()   # "#CALL L100" calls already reported (INT116)
+        self.cam = compat.CamState()   # CAM constructs and lint (interp/compat.py)
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
@@ -204,7 +206,9 @@ class Interpreter:
         block = block or self._current_block
         file = self.frames[-1].program.file if self.frames else self.program.file
         line, text = (block.line, block.text) if block is not None else (1, "")
-        self.diagnostics.append(Diagnostic(file, line, exc.col, exc.code, "error", exc.message, text))
+        hint = compat.hint(text, exc.col) if text else ""
+        message = f"{exc.message} ({hint})" if hint else exc.message
+        self.diagnostics.append(Diagnostic(file, line, exc.col, exc.code, "error", message, text))
 
     def message(self, code: str, severity: str, message: str, col: int = 1) -> None:
         """A warning or note on the current block.  At most limits.max_messages are kept per run
@@ -225,6 +229,11 @@ class Interpreter:
                                            block.text if block else ""))
 
     _current_block: Block | None = None
+
+    def block_text(self) -> str:
+        """The source text of the block being executed (``""`` outside a block)."""
+        block = self._current_block
+        return block.text if block is not None else ""
 
     # ------------------------------------------------------------------ blocks
     def _block(self, block: Block):
@@ -250,11 +259,20 @@ class Interpreter:
             words += self._mcs_words(last)
         self.mcs_block = mcs_move
         try:
-            if words:
+            glued = None
+            if len(words) > 1:
+                words, glued = compat.glued_call(words, block.text)   # "T202 LM06"
+                if glued is not None:
+                    extra = compat.glued_call_target(self, *glued)
+                    words += extra
+                    glued = None if extra else glued   # the call runs after the block when its file exists
+            if words and not compat.g51_block(self, words):
                 bw = self.iso.classify(words)
                 yield from self.iso.execute(bw, src)
                 if bw.call is not None:
                     self._oem_call(bw.call, src)
+            if glued is not None:
+                self._enter(glued[0], "L", {}, glued[1])
             if t is Sentence and not mcs_move:
                 yield from self._sentence(last, src)
             elif t is SubroutineCall:
@@ -605,12 +623,18 @@ class Interpreter:
 
     def _oem_call(self, call: tuple, src: Source) -> None:
         n, modal, col, words = call
-        name = self.machine.oem_subroutines.get(n) if n < 500 else f"G{n}"
+        if n >= 500:   # G500-G599: a file, or a built-in behaviour (interp/compat.py)
+            kind, name = compat.oem_target(self, n, col)
+        else:
+            kind, name = "file", self.machine.oem_subroutines.get(n)
         if name is None:
             raise InterpError("INT096", f"G{n}: no OEM subroutine is configured for it", col)
         args = self._arguments(words)
         if self.modal_call is not None and not self.frames[-1].modal:
             self.modal_call = None   # another call cancels the modal subroutine (L10568, L10804)
+        if kind == "builtin":   # done once: running it again after every move would change nothing
+            compat.run_builtin(self, n, name, args, col, mapped=n in self.machine.oem_builtins)
+            return
         if modal:
             self.modal_call = ModalCall(name, args, self.frames[-1].program)
         self._enter(name, "OEM", args, col, modal=modal)

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
-from . import dynamics
+from . import compat, dynamics
 from .expressions import InterpError, whole
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
 from .records import Arc, Aux, Dwell, Line, Source
@@ -84,6 +84,8 @@ class IsoExecutor:
                     return bw  # every word after the call is an argument (L10712-L10719)
                 eq = ev.value(w.eq) if w.eq is not None else None
                 bw.g.append((n, col, eq))
+                if n >= 10:
+                    compat.leading_zero(self.interp, n, col, self.interp.block_text())   # "G011" is G11
             elif addr == "N":
                 st.last_n = ev.integer(w.value, "N", col)
             elif addr == "" and bw.percent is None and any(n in (131, 133) for n, _c, _e in bw.g):
@@ -334,12 +336,17 @@ class IsoExecutor:
                 rec = self._motion(gs, bw, src)
                 if rec is not None:
                     moved = True
+                    if rec.kind != "rapid" and rec.feed_mode != "G95":
+                        compat.spindle_lint(self.interp, rec, 1)
                     yield rec
                     if bw.nr is None or bw.nr[0] != 0:
                         yield from interp.after_motion(src)
         elif bw.nr is not None:
             raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
         if not moved and 74 not in gs:
+            if 61 in gs:
+                compat.lone_g61(self.interp, gs[61][0])   # the posts' closing "G61" (compat.lone_g61)
+                del gs[61]
             for n, what in ((60, "G60 (square corner for this block)"), (61, "G61 (rounded corner for this block)"),
                             (266, "G266 (override at 100 % for this block)")):
                 if n in gs:   # L8008, L8090, L4374: only in a block that moves
@@ -367,12 +374,14 @@ class IsoExecutor:
         for n in range(54, 60):
             if n in gs:
                 st.select_origin(n - 53, f"G{n}")
+                compat.origin_lint(self.interp, f"G{n}", gs[n][0])
         if 159 in gs:
             col, eq = gs[159]
             n = whole(eq) if eq is not None else None
             if n is None or not 1 <= n <= 99:
                 raise InterpError("INT015", "G159 needs an entry number 1..99: G159=n", col)
             st.select_origin(n, f"G159={n}")
+            compat.origin_lint(self.interp, f"G159={n}", col)
 
     def _axis_functions(self, gs: dict, bw: BlockWords) -> bool:
         """G92, G158, G157, G174, G198, G199: their axis words are not a motion."""

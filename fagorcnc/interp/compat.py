@@ -1,0 +1,305 @@
+"""What CAM posts write that the manual does not describe, and the machinist's lint.
+
+Each construct's fate comes from the machine's ``[compat]`` policy
+(:mod:`fagorcnc.config.compat`): a note, a warning, or an error that stops the run at its block.
+Here is what the interpreter does with each one when it is accepted:
+
+* ``G51 A45 E0.002`` (the 8055's look-ahead: A acceleration %, E contour error; not a G function of
+  the 8060/8065, seed 002 L1354): no effect at all, the corner mode stays as programmed;
+* ``G61`` alone in a block: no effect (G61 rounds the corner of the move of its own block, and
+  only that one, L8088-L8107);
+* ``G501``/``G500`` with no subroutine file and no mapping: the behaviour of the subroutines Fagor
+  supplies (L11084-L11086: G500 cancels HSC, G501 activates HSC for roughing), see
+  :func:`smoothing_on` and :func:`smoothing_off`;
+* ``T202 LM06``: ``L M06`` is a call of the global subroutine ``M06`` (L10412) written without its
+  blank; with no file ``M06``, the block runs as ``T202 M06``.
+
+The lint (warnings whatever ``strict`` says): ``G58`` after another work offset, a move at feed with
+the spindle stopped, a G number written with a leading zero before two digits, and hints appended
+to errors for the letter O written for a zero and for Fanuc/LinuxCNC codes (:func:`hint`).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from ..syntax.ast import Word
+from .dynamics import Hsc
+from .expressions import InterpError
+
+#: the smoothing subroutines Fagor supplies (seed 002 L11082-L11086)
+SMOOTHING = {500: "smoothing_off", 501: "smoothing_on"}
+BUILTINS = ("smoothing_on", "smoothing_off")
+
+
+@dataclass
+class CamState:
+    """What the constructs and the lint remember during a run."""
+
+    acceleration: dict | None = None    # the G131 percentages before a built-in G501 changed them
+    spindle_warned: bool = False         # a feed move with the spindle stopped was reported since it stopped
+    origin: str | None = None            # the absolute origin the program selected last (G54..G59, G159)
+    notes: set = field(default_factory=set)   # (code, line) already reported
+
+
+def report(interp, key: str, code: str, message: str, col: int) -> None:
+    """A construct's diagnostic with the severity the machine's policy gives it; an error stops the run."""
+    compat = interp.machine.compat
+    severity = compat.severity(key)
+    if severity == "error":
+        why = "strict compatibility" if compat.strict else f'compat.{key} = "error"'
+        raise InterpError(code, f"{message} [refused: {why}]", col)
+    interp.message(code, severity, message, col)
+
+
+# ---------------------------------------------------------------------------------------------- G51
+_G51_LETTERS = frozenset({"G", "A", "E", "N"})
+
+
+def g51_block(interp, words: list[Word]) -> bool:
+    """``G51 A45 E0.002`` alone in its block (the generic post's header): reported per
+    ``compat.g51`` and, when accepted, executed as nothing.  True when the block was that."""
+    g51 = next((w for w in words if w.address == "G" and w.value == 51.0), None)
+    if g51 is None or any(w.address not in _G51_LETTERS for w in words):
+        return False
+    if sum(1 for w in words if w.address == "G") != 1:
+        return False
+    ev = interp.evaluator
+    parts = " ".join(f"{w.address}{ev.value(w.value):g}" for w in words if w.address in "AE")
+    report(interp, "g51", "CAM001",
+           f"G51 {parts}".rstrip() + " is the 8055's look-ahead (A = acceleration %, E = contour error); the "
+           "8060/8065 has no G51 (seed 002 L1354): fagorcnc gives it no effect, corners follow the active mode "
+           "(on the 8065 smoothing is #HSC ON [CONTERROR e] or G05 with #ROUNDPAR)", g51.col)
+    return True
+
+
+def lone_g61(interp, col: int) -> None:
+    """``G61`` in a block that does not move (the posts' way to "cancel smoothing")."""
+    report(interp, "lone_g61", "CAM002",
+           "G61 alone in its block: G61 rounds the corner of the move of its own block only (seed 002 "
+           "L8088-L8107); with no move it has no effect here, and it does not cancel smoothing (#HSC OFF, G07 or "
+           "G50 do)", col)
+
+
+# ---------------------------------------------------------------------------------------------- G500-G599
+def oem_target(interp, n: int, col: int) -> tuple[str, str | None]:
+    """How to run ``G<n>`` (500..599): ``("file", name)`` or ``("builtin", behaviour)``.
+
+    Order: the machine's mapping (a file or a built-in behaviour), then a file named ``G<n>`` in
+    the search paths (seed 002 L11040), then, for G500 and G501 only, the built-in smoothing
+    per ``compat.oem_smoothing``.  Otherwise CAM020 says how to provide the subroutine.
+    """
+    m = interp.machine
+    if n in m.oem_builtins:
+        return "builtin", m.oem_builtins[n]
+    if n in m.oem_subroutines:
+        return "file", m.oem_subroutines[n]
+    try:
+        interp._find_file(f"G{n}", col)
+        return "file", f"G{n}"
+    except InterpError as exc:
+        where = exc.message.split(" not found in ", 1)[-1]
+    if n in SMOOTHING:
+        return "builtin", SMOOTHING[n]
+    raise InterpError("CAM020", f"G{n} runs the machine builder's global subroutine G{n} (seed 002 L11040), and "
+                      f"there is no file G{n} in {where}: put the machine's G{n} in a directory of the machine "
+                      f"file's subroutine_paths, or map it there: oem_subroutines = {{{n} = \"file.nc\"}}", col)
+
+
+def run_builtin(interp, n: int, behaviour: str, args: dict[int, float], col: int, mapped: bool) -> None:
+    """A G5xx mapped (or defaulted) to a built-in behaviour."""
+    text = " ".join(f"{chr(ord('A') + k) if k < 26 else f'P{k}'}{v:g}" for k, v in sorted(args.items()))
+    call = f"G{n} {text}".rstrip()
+    if behaviour == "smoothing_on":
+        what = smoothing_on(interp, args, col)
+    else:
+        what = smoothing_off(interp)
+    source = ("the machine file maps it to fagorcnc's built-in" if mapped else
+              f"no file G{n} and no mapping in the machine file: fagorcnc runs its built-in")
+    fagor = "HSC on for roughing" if behaviour == "smoothing_on" else "HSC off"
+    message = (f"{call}: the machine builder's subroutine G{n} (Fagor supplies it as {fagor}, seed 002 "
+               f"L11084-L11086); {source} {behaviour.replace('_', ' ')}: {what}")
+    if mapped:
+        interp.message("CAM003", "info", message, col)
+    else:
+        report(interp, "oem_smoothing", "CAM003", message + f"; give a file G{n} or map it in [oem_subroutines] "
+               "to run the machine's own", col)
+
+
+def smoothing_on(interp, args: dict[int, float], col: int) -> str:
+    """Built-in G501: ``#HSC ON [CONTERROR E]`` (E = P4 in program units; HSCROUND without it) with
+    the sharp-corner angle CORNER of the machine, and A (P0) as the acceleration percentage of all
+    axes, as the Autodesk posts document A ("percentage of acceleration used for G501"); kept at
+    most 100 % (fagorcnc never exceeds the machine's limits).  J (P9) and M (P12) are parameters the
+    posts write without documenting them: not used."""
+    st, planner = interp.state, interp.machine.planner
+    e = args.get(4)
+    if e is not None and not e > 0:
+        raise InterpError("CAM021", f"G501 E{e:g}: the smoothing tolerance E must be positive", col)
+    tol = interp.iso.length(e) if e is not None else planner.hsc_round
+    st.hsc = Hsc("CONTERROR", tol, planner.corner)
+    said = f"#HSC ON [CONTERROR {tol:g}, CORNER {planner.corner:g}]"
+    cam = interp.cam
+    a = args.get(0)
+    if a is not None:
+        if not a > 0:
+            raise InterpError("CAM021", f"G501 A{a:g}: the acceleration percentage A must be positive", col)
+        if cam.acceleration is None:
+            cam.acceleration = dict(st.acceleration)
+        percent = min(a, 100.0)
+        st.acceleration = {ax: percent for ax in st.axes} if percent != 100.0 else {}
+        said += f" and {percent:g} % acceleration (A{a:g}" + (", at most 100 %)" if a > 100 else ")")
+    unused = [f"{chr(ord('A') + k)}{v:g}" for k, v in sorted(args.items()) if k not in (0, 4)]
+    if unused:
+        said += f"; {' '.join(unused)} not used (local parameters without a documented meaning)"
+    st.dynamics_changed()
+    return said
+
+
+def smoothing_off(interp) -> str:
+    """Built-in G500: ``#HSC OFF`` and the acceleration percentages from before the built-in G501."""
+    st, cam = interp.state, interp.cam
+    st.hsc = None
+    said = "#HSC OFF"
+    if cam.acceleration is not None:
+        st.acceleration = cam.acceleration
+        cam.acceleration = None
+        said += " and the acceleration percentages from before G501"
+    st.dynamics_changed()
+    return said
+
+
+# ---------------------------------------------------------------------------------------------- T.. LM06
+_GLUED = re.compile(r"L([A-Za-z0-9_.]+)")
+
+
+def glued_call(words: list[Word], text: str) -> tuple[list[Word], tuple | None]:
+    """``T202 LM06``: the words without the glued ``L<name>``, and ``(name, col)`` of the call."""
+    for i, w in enumerate(words):
+        if w.address == "L" and w.value is None and i > 0:
+            m = _GLUED.match(text, w.col - 1)
+            if m is None:
+                return words, None
+            end = m.end() + 1
+            rest = [x for x in words[i + 1:] if x.col >= end]
+            return words[:i] + rest, (m.group(1), w.col)
+    return words, None
+
+
+def glued_call_target(interp, name: str, col: int) -> list[Word]:
+    """After ``T202``: run ``L M06`` when its file exists (returns nothing), else the words that stand
+    for it per ``compat.tool_subroutine`` (``M06`` for a subroutine named like an M function)."""
+    try:
+        interp._find_file(name, col)
+    except InterpError as exc:
+        where = exc.message.split(" not found in ", 1)[-1]
+        m = re.fullmatch(r"M0*([0-9]{1,4})", name, re.IGNORECASE)
+        if m is None:
+            raise InterpError("INT093", f"L{name}: a call of the global subroutine {name} (L {name}, seed 002 "
+                              f"L10412), not found in {where}", col) from None
+        report(interp, "tool_subroutine", "CAM006",
+               f"L{name} after the T word is a call of the machine builder's global subroutine {name} (L {name}, "
+               f"seed 002 L10412; the manual writes a blank after L); there is no file {name} in {where}: fagorcnc "
+               f"runs the block as M{int(m.group(1)):02d} instead (the subroutine's own moves are not simulated)",
+               col)
+        return [Word("M", float(m.group(1)), col)]
+    return []
+
+
+# ---------------------------------------------------------------------------------------------- lint
+def origin_lint(interp, label: str, col: int) -> None:
+    """G58 after another absolute origin of the program: on the 8065 G58 is absolute origin 5 and
+    replaces it (seed 002 L3531-L3545), unlike an additive offset."""
+    cam = interp.cam
+    previous, cam.origin = cam.origin, label
+    if label != "G58" or previous is None or previous == "G58":
+        return
+    entry = interp.state.origin_table.get(5, {})
+    shown = " ".join(f"{a}{entry.get(a, 0.0):g}" for a in interp.state.axes)
+    report(interp, "g58_after_offset", "CAM013",
+           f"G58 after {previous}: on the 8060/8065 G58 selects absolute origin 5 (seed 002 L3531), it replaces "
+           f"{previous} instead of adding to it; the work offset is now table entry 5: {shown}", col)
+
+
+def spindle_lint(interp, rec, col: int) -> None:
+    """A move at feed (mm/min or time) with a tool in the spindle while the main spindle is stopped:
+    M05 at power-on and after M02/M30 (seed 002 L5729, L889), M03/M04 need a speed (L5467).  Once
+    per stop.  The manual forbids it only in G95 (no feed per revolution without rotation: INT065);
+    with no tool (T0) nothing cuts, and that is not reported."""
+    st = interp.state
+    if not st.spindle_state or not st.tool:
+        return
+    spindle = next(iter(st.spindle_state))
+    cam = interp.cam
+    if st.spindle_state[spindle] in (3, 4) and st.speeds.get(spindle, 0.0) > 0:
+        cam.spindle_warned = False
+        return
+    if cam.spindle_warned:
+        return
+    cam.spindle_warned = True
+    why = "M05" if st.spindle_state[spindle] not in (3, 4) else f"M0{st.spindle_state[spindle]} with S0"
+    report(interp, "feed_spindle_stopped", "CAM014",
+           f"a move at feed with T{st.tool} while the spindle {spindle} is stopped ({why}; the spindle is stopped at "
+           "power-on and "
+           "after M02/M30, seed 002 L5729): program S and M03/M04 before cutting (reported once until it turns)",
+           col)
+
+
+def leading_zero(interp, n: int, col: int, text: str) -> None:
+    """``G011``: a G number written with a leading zero before two digits reads as ``G11``."""
+    if n < 10 or col >= len(text) or text[col] not in " \t0":
+        return
+    m = re.match(r"G[ \t]*(0+)([0-9]{2,})", text[col - 1:])
+    if m is None:
+        return
+    report(interp, "leading_zeros", "CAM010",
+           f"G{m.group(1)}{m.group(2)} reads as G{n} (leading zeros do not count); if G0{m.group(2)[0]} was meant, "
+           "a digit is too many", col)
+
+
+# ---------------------------------------------------------------------------------------------- hints
+_FOREIGN: list[tuple[re.Pattern, str]] = [(re.compile(p), h) for p, h in (
+    (r"G0*20(?![0-9.])", "G20 is inch programming on Fanuc/LinuxCNC; on the 8065 inches are G70 (G20 defines a "
+                         "plane by two directions)"),
+    (r"G0*21(?![0-9.])", "G21 is millimetre programming on Fanuc/LinuxCNC; on the 8065 it is G71"),
+    (r"G0*43(?![0-9])", "G43 H.. is tool length compensation on Fanuc/LinuxCNC; on the 8065 the tool offset D "
+                        "applies the length (T.. D..)"),
+    (r"G0*49(?![0-9])", "G49 cancels tool length compensation on Fanuc/LinuxCNC; on the 8065 it is D0"),
+    (r"G0*28(?![0-9])", "G28 is the return to the reference point on Fanuc/LinuxCNC; on the 8065 use G74 (home "
+                        "search) or a move in machine coordinates: #MCS G0 Z0"),
+    (r"G0*30(?![0-9])", "G30 is the second reference point on Fanuc/LinuxCNC; on the 8065 G30 sets the polar "
+                        "origin (G30 I.. J..)"),
+    (r"G54\.1", "G54.1 P.. is an extended work offset on Fanuc/LinuxCNC; on the 8065 it is G159=n"),
+    (r"G64(?![0-9])", "G64 P.. is path blending on LinuxCNC; on the 8065 use G05 with #ROUNDPAR, or #HSC ON"),
+    (r"G0*52(?![0-9])", "G52 is a local offset on Fanuc/LinuxCNC; on the 8065 it is G158"),
+    (r"G68(?![0-9])", "G68 is a rotation on Fanuc/LinuxCNC; on the 8065 it is G73"),
+    (r"G69(?![0-9])", "G69 cancels the rotation on Fanuc/LinuxCNC; on the 8065 it is G73 with no angle"),
+    (r"G1[56](?![0-9])", "G15/G16 are polar coordinates on Fanuc; on the 8065 program R and Q (G30 sets the pole)"),
+    (r"G10(?![0-9])", "G10 L.. writes offsets on Fanuc/LinuxCNC; on the 8065 G10 cancels mirror images: write "
+                      "the table with V.A.ORGT[n].X = .."),
+    (r"G9[01]\.1", "G90.1/G91.1 set the arc centre mode on LinuxCNC; on the 8065 it is G261/G262"),
+    (r"G0*4[ \t]*P", "G4 P.. is a dwell in Fanuc/LinuxCNC form; on the 8065 the time is K in seconds: G04 K0.5"),
+    (r"M98(?![0-9])", "M98 P.. calls a subprogram on Fanuc; on the 8065 use #CALL name or LL name"),
+    (r"M99(?![0-9])", "M99 ends a subprogram on Fanuc; on the 8065 it is M17 or M29"),
+)]
+_LETTER_O_AFTER = re.compile(r"([A-NQ-Z])[ \t]*([+-]?)O([0-9.]*)")   # GO1, X-O5
+_LETTER_O_IN = re.compile(r"([A-NQ-Z])([+-]?[0-9.]+)O([0-9.]*)$")     # X1O (the O's column)
+
+
+def hint(text: str, col: int) -> str:
+    """A hint for the error at ``col`` of ``text``, or ``""``: the letter O written for a zero
+    (``GO1`` -> G01, ``X1O`` -> X10), a Fanuc/LinuxCNC code with its 8065 equivalent."""
+    at = text[col - 1:] if 0 < col <= len(text) else ""
+    m = _LETTER_O_AFTER.match(at)
+    if m is not None and m.group(1) != "O":
+        return f"letter O where a zero is meant? did you mean {m.group(1)}{m.group(2)}0{m.group(3)}"
+    if at[:1] == "O":
+        end = re.match(r"O[0-9.]*", at).end()
+        m = _LETTER_O_IN.search(text[:col - 1 + end])
+        if m is not None:
+            return f"letter O where a zero is meant? did you mean {m.group(1)}{m.group(2)}0{m.group(3)}"
+    for pattern, h in _FOREIGN:
+        if pattern.match(at):
+            return f"this is a Fanuc/LinuxCNC code: {h}"
+    return ""
