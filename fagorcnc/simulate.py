@@ -144,7 +144,7 @@ def _is_file(source: str | Path) -> bool:
 
 
 def _simulate(source: str | Path, mach: Machine, block_skip: bool) -> Result:
-    program = parse_file(source) if _is_file(source) else parse_text(str(source))
+    program = parse_file(source, mach.compat) if _is_file(source) else parse_text(str(source), compat=mach.compat)
     interp = Interpreter(program, mach, block_skip=block_skip)
     attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
     moves = list(interp.run())
@@ -179,7 +179,7 @@ class Run:
         from .interp.source import stream_program
 
         self._close = getattr(lines, "close", None)
-        self.program, self._stream = stream_program(lines, file)
+        self.program, self._stream = stream_program(lines, file, machine.compat)
         self.interpreter = Interpreter(self.program, machine, block_skip=block_skip, stream=self._stream)
         self.state = FinalState(self.interpreter)
         self._parameter_file = attach_parameter_file(self.interpreter)
@@ -272,7 +272,7 @@ def _lines_of(source: str | Path, encoding: str):
     return str(source)
 
 
-def _syntax(source: str | Path, file: str) -> tuple[list[Diagnostic], str]:
+def _syntax(source: str | Path, file: str, compat=None) -> tuple[list[Diagnostic], str]:
     """The syntax and structure diagnostics of the whole program, read once in constant memory,
     and the file's encoding: UTF-8, or Latin-1 for files written by older editors (as
     :func:`~fagorcnc.syntax.read_source` decides)."""
@@ -282,17 +282,18 @@ def _syntax(source: str | Path, file: str) -> tuple[list[Diagnostic], str]:
     encoding = source_encoding(source) if _is_file(source) else "utf-8"
     lines = _lines_of(source, encoding)
     try:
-        return list(assemble(iter_lines(lines, file), file, keep_body=False).diagnostics), encoding
+        return list(assemble(iter_lines(lines, file, compat), file, keep_body=False).diagnostics), encoding
     finally:
         getattr(lines, "close", lambda: None)()
 
 
-def syntax_errors(source: str | Path) -> list[Diagnostic]:
+def syntax_errors(source: str | Path, compat=None) -> list[Diagnostic]:
     """The syntax and structure errors of the whole program (a file's path or the program text), read
-    once in constant memory: a program with one is not started (as in :func:`simulate`)."""
+    once in constant memory: a program with one is not started (as in :func:`simulate`); ``compat``
+    is the machine's ``[compat]`` policy."""
     file = str(source) if _is_file(source) else "<string>"
     with fewer_collections():
-        diagnostics, _ = _syntax(source, file)
+        diagnostics, _ = _syntax(source, file, compat)
     return sorted((d for d in diagnostics if d.is_error), key=_place)
 
 
@@ -315,7 +316,7 @@ def dry_run(source: str | Path, machine: Machine | dict | str | Path | None = No
         return DryRun(False, [Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))])
     file = str(source) if _is_file(source) else "<string>"
     with fewer_collections():
-        diagnostics, encoding = _syntax(source, file)
+        diagnostics, encoding = _syntax(source, file, mach.compat)
         if any(d.is_error for d in diagnostics):
             return DryRun(False, sorted(diagnostics, key=_place))
         return _dry_run(source, file, encoding, mach, block_skip, diagnostics, on_record, on_segment)
@@ -331,7 +332,7 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
 
     lines = _lines_of(source, encoding)
     try:
-        program, body = stream_program(lines, file)
+        program, body = stream_program(lines, file, mach.compat)
         interp = Interpreter(program, mach, block_skip=block_skip, stream=body)
         attach_parameter_file(interp)   # the saved global/common parameters; a dry run never saves them
         records = _Watched(interp, on_record)

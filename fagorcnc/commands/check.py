@@ -343,7 +343,8 @@ def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnos
     for _ in range(MAX_RECOVERIES):
         if not blanked or any(d.code in BUDGET_CODES for d in (*first, *out)):
             break
-        program = parse_text("\n".join("" if i in blanked else s for i, s in enumerate(lines, start=1)), name)
+        program = parse_text("\n".join("" if i in blanked else s for i, s in enumerate(lines, start=1)), name,
+                             machine.compat)
         if not program.ok:   # blanking broke the structure ($IF without $ENDIF ...): stop here
             break
         interp = _interpreter(program, machine, block_skip)
@@ -688,6 +689,8 @@ def command(args: argparse.Namespace) -> int:
     machine = command_machine(args)
     if machine is None:
         return 2
+    if args.strict:   # the manual's letter: every CAM posts' construct of [compat] is an error
+        machine = dataclasses.replace(machine, compat=machine.compat.strictly())
     if not args.output:
         return _check_report(args, machine, sys.stdout)
     try:

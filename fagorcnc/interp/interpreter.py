@@ -549,7 +549,7 @@ class Interpreter:
                 raise InterpError("INT091", f"local subroutine {target} is not defined in this file", col)
         path = self._find_file(target, col)
         if path not in self._files:
-            self._files[path] = parse_file(path)
+            self._files[path] = parse_file(path, self.machine.compat)
             sub = self._files[path]
             for d in sub.diagnostics:
                 self.diagnostics.append(d)
