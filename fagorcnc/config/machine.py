@@ -299,7 +299,8 @@ def _oem_table(table: Any) -> dict[str, dict[int, str]]:
     """``oem_subroutines``: G180-G189, G380-G399 and G500-G599 -> a file name, or (G500-G599)
     ``{ builtin = "smoothing_on" }`` / ``{ builtin = "smoothing_off" }``."""
     if not isinstance(table, dict):
-        raise MachineError('oem_subroutines: expected a table, e.g. {180 = "file.nc", 501 = { builtin = "smoothing_on" }}')
+        raise MachineError('oem_subroutines: expected a table, e.g. {180 = "file.nc", '
+                           '501 = { builtin = "smoothing_on" }}')
     files: dict[int, str] = {}
     builtins: dict[int, str] = {}
     for key, value in table.items():

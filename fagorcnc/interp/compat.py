@@ -111,10 +111,7 @@ def run_builtin(interp, n: int, behaviour: str, args: dict[int, float], col: int
     """A G5xx mapped (or defaulted) to a built-in behaviour."""
     text = " ".join(f"{chr(ord('A') + k) if k < 26 else f'P{k}'}{v:g}" for k, v in sorted(args.items()))
     call = f"G{n} {text}".rstrip()
-    if behaviour == "smoothing_on":
-        what = smoothing_on(interp, args, col)
-    else:
-        what = smoothing_off(interp)
+    what = smoothing_on(interp, args, col) if behaviour == "smoothing_on" else smoothing_off(interp)
     source = ("the machine file maps it to fagorcnc's built-in" if mapped else
               f"no file G{n} and no mapping in the machine file: fagorcnc runs its built-in")
     fagor = "HSC on for roughing" if behaviour == "smoothing_on" else "HSC off"
@@ -145,9 +142,9 @@ def smoothing_on(interp, args: dict[int, float], col: int) -> str:
     if a is not None:
         if not a > 0:
             raise InterpError("CAM021", f"G501 A{a:g}: the acceleration percentage A must be positive", col)
-        if cam.acceleration is None:
-            cam.acceleration = dict(st.acceleration)
         percent = min(a, 100.0)
+        if cam.acceleration is None and (percent != 100.0 or st.acceleration):
+            cam.acceleration = dict(st.acceleration)
         st.acceleration = {ax: percent for ax in st.axes} if percent != 100.0 else {}
         said += f" and {percent:g} % acceleration (A{a:g}" + (", at most 100 %)" if a > 100 else ")")
     unused = [f"{chr(ord('A') + k)}{v:g}" for k, v in sorted(args.items()) if k not in (0, 4)]
@@ -171,7 +168,7 @@ def smoothing_off(interp) -> str:
 
 
 # ---------------------------------------------------------------------------------------------- T.. LM06
-_GLUED = re.compile(r"L([A-Za-z0-9_.]+)")
+_GLUED = re.compile(r"L[ \t]*([A-Za-z0-9_.]+)")
 
 
 def glued_call(words: list[Word], text: str) -> tuple[list[Word], tuple | None]:
@@ -194,13 +191,14 @@ def glued_call_target(interp, name: str, col: int) -> list[Word]:
         interp._find_file(name, col)
     except InterpError as exc:
         where = exc.message.split(" not found in ", 1)[-1]
+        where = "with no directory configured" if where.startswith("no directory") else f"in {where}"
         m = re.fullmatch(r"M0*([0-9]{1,4})", name, re.IGNORECASE)
         if m is None:
             raise InterpError("INT093", f"L{name}: a call of the global subroutine {name} (L {name}, seed 002 "
-                              f"L10412), not found in {where}", col) from None
+                              f"L10412), not found {where}", col) from None
         report(interp, "tool_subroutine", "CAM006",
                f"L{name} after the T word is a call of the machine builder's global subroutine {name} (L {name}, "
-               f"seed 002 L10412; the manual writes a blank after L); there is no file {name} in {where}: fagorcnc "
+               f"seed 002 L10412; the manual writes it alone in its block); there is no file {name} {where}: fagorcnc "
                f"runs the block as M{int(m.group(1)):02d} instead (the subroutine's own moves are not simulated)",
                col)
         return [Word("M", float(m.group(1)), col)]
@@ -302,4 +300,14 @@ def hint(text: str, col: int) -> str:
     for pattern, h in _FOREIGN:
         if pattern.match(at):
             return f"this is a Fanuc/LinuxCNC code: {h}"
+    code = text.split(";", 1)[0]
+    for pattern, h in _FOREIGN:   # the error may be at a word the foreign code made meaningless (G64 P0.01)
+        if _word_search(pattern, code):
+            return f"this is a Fanuc/LinuxCNC code: {h}"
     return ""
+
+
+def _word_search(pattern: re.Pattern, text: str) -> bool:
+    """Whether ``pattern`` matches at the start of a word of ``text`` (not inside G164 or X20.1)."""
+    return any(pattern.match(text, i) and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "."))
+               for i in range(len(text)) if text[i] in "GM")

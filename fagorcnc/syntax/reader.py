@@ -27,7 +27,7 @@ from .structure import assemble
 # "#COMMENT BEGIN" may follow a block number, as on the N-numbered blocks of CAM posts (N10 #COMMENT BEGIN)
 _COMMENT_BEGIN = re.compile(r"[ \t]*(?:/[ \t]*)?(?:N[0-9]+[ \t]*:?[ \t]*)?#COMMENT[ \t]+BEGIN(?![A-Za-z0-9_])").match
 _COMMENT_END = re.compile(r"[ \t]*(?:/[ \t]*)?(?:N[0-9]+[ \t]*:?[ \t]*)?#COMMENT[ \t]+END(?![A-Za-z0-9_])").match
-_BARE_NAME = re.compile(r"[ \t]*([A-Za-z0-9_][A-Za-z0-9_.\-]*)[ \t]*").fullmatch
+_BARE_NAME = re.compile(r"[ \t]*([A-Za-z0-9_][A-Za-z0-9_.]*)[ \t]*").fullmatch
 
 _parser: Union[LineParser, None] = None
 
