@@ -266,7 +266,7 @@ def test_feed_move_with_the_spindle_stopped():
 
 
 # ------------------------------------------------------------------------------------------- the shipped programs
-@pytest.mark.parametrize("name", ["cam_autodesk_generic.nc", "cam_dms_router.nc"])
+@pytest.mark.parametrize("name", ["post_autodesk_generic.nc", "post_dms_router.nc"])
 def test_shipped_cam_programs_pass_check_with_warnings_only(name, capsys):
     path = ROOT / "programs" / name
     assert main(["check", "--format", "json", str(path)]) == 0
