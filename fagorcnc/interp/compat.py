@@ -171,38 +171,32 @@ def smoothing_off(interp) -> str:
 _GLUED = re.compile(r"L[ \t]*([A-Za-z0-9_.]+)")
 
 
-def glued_call(words: list[Word], text: str) -> tuple[list[Word], tuple | None]:
-    """``T202 LM06``: the words without the glued ``L<name>``, and ``(name, col)`` of the call."""
-    for i, w in enumerate(words):
-        if w.address == "L" and w.value is None and i > 0:
-            m = _GLUED.match(text, w.col - 1)
-            if m is None:
-                return words, None
-            end = m.end() + 1
-            rest = [x for x in words[i + 1:] if x.col >= end]
-            return words[:i] + rest, (m.group(1), w.col)
-    return words, None
-
-
-def glued_call_target(interp, name: str, col: int) -> list[Word]:
-    """After ``T202``: run ``L M06`` when its file exists (returns nothing), else the words that stand
-    for it per ``compat.tool_subroutine`` (``M06`` for a subroutine named like an M function)."""
+def glued_call(interp, word: Word, text: str) -> tuple | None:
+    """``T202 LM06`` (``L`` with no value after another word): ``L M06`` calls the global subroutine
+    ``M06`` (seed 002 L10412).  With its file: ``((name, "L", {}, col), end)``, the call to run after
+    the block and the column after the name (its letters were read as words: they are skipped).
+    Without, per ``compat.tool_subroutine``: ``(None, 0)`` for a name like an M function, whose word
+    (``M06``) then runs as that M function; an error otherwise.  None: not a glued call."""
+    m = _GLUED.match(text, word.col - 1)
+    if m is None:
+        return None
+    name, col = m.group(1), word.col
     try:
         interp._find_file(name, col)
     except InterpError as exc:
         where = exc.message.split(" not found in ", 1)[-1]
         where = "with no directory configured" if where.startswith("no directory") else f"in {where}"
-        m = re.fullmatch(r"M0*([0-9]{1,4})", name, re.IGNORECASE)
-        if m is None:
+        mfunc = re.fullmatch(r"M0*([0-9]{1,4})", name)
+        if mfunc is None:
             raise InterpError("INT093", f"L{name}: a call of the global subroutine {name} (L {name}, seed 002 "
                               f"L10412), not found {where}", col) from None
         report(interp, "tool_subroutine", "CAM006",
-               f"L{name} after the T word is a call of the machine builder's global subroutine {name} (L {name}, "
-               f"seed 002 L10412; the manual writes it alone in its block); there is no file {name} {where}: fagorcnc "
-               f"runs the block as M{int(m.group(1)):02d} instead (the subroutine's own moves are not simulated)",
+               f"{m.group()} after the T word is a call of the machine builder's global subroutine {name} "
+               f"(the manual's block L {name}, seed 002 L10412); there is no file {name} {where}: fagorcnc runs "
+               f"the block as M{int(mfunc.group(1)):02d} instead (the subroutine's own moves are not simulated)",
                col)
-        return [Word("M", float(m.group(1)), col)]
-    return []
+        return None, 0
+    return (name, "L", {}, col), m.end() + 1
 
 
 # ---------------------------------------------------------------------------------------------- lint

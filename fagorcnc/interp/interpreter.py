@@ -259,20 +259,13 @@ class Interpreter:
             words += self._mcs_words(last)
         self.mcs_block = mcs_move
         try:
-            glued = None
-            if len(words) > 1:
-                words, glued = compat.glued_call(words, block.text)   # "T202 LM06"
-                if glued is not None:
-                    extra = compat.glued_call_target(self, *glued)
-                    words += extra
-                    glued = None if extra else glued   # the call runs after the block when its file exists
-            if words and not compat.g51_block(self, words):
+            if words:
                 bw = self.iso.classify(words)
                 yield from self.iso.execute(bw, src)
                 if bw.call is not None:
                     self._oem_call(bw.call, src)
-            if glued is not None:
-                self._enter(glued[0], "L", {}, glued[1])
+                if bw.glued is not None:   # "T202 LM06": the global subroutine M06, after the block
+                    self._enter(*bw.glued)
             if t is Sentence and not mcs_move:
                 yield from self._sentence(last, src)
             elif t is SubroutineCall:

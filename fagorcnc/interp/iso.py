@@ -53,6 +53,7 @@ class BlockWords:
     roles: list = field(default_factory=list)        # G20: (axis, type, col); an axis may repeat
     scale: tuple | None = None                       # G72 S<factor> (S after G72, L9010)
     percent: tuple | None = None                     # G131/G133 <percent> (L4437)
+    glued: tuple | None = None                       # "T202 LM06": (name, "L", {}, col) of the call
 
 
 class IsoExecutor:
@@ -71,14 +72,24 @@ class IsoExecutor:
         axes = st.axes
         g157 = any(w.address == "G" and w.value == 157.0 for w in words)
         g20 = any(w.address == "G" and w.value == 20.0 for w in words)
+        skip = 0
         for i, w in enumerate(words):
             addr, col = w.address, w.col
+            if skip and col < skip:
+                continue   # the name of a glued call (T202 LM06)
             if w.value is None:
+                if addr == "L" and i > 0:
+                    call = compat.glued_call(self.interp, w, self.interp.block_text())
+                    if call is not None:   # "T202 LM06" (LIGNOCAM): L M06 called after the block
+                        bw.glued, skip = call   # (without its file: the M06 word that follows runs)
+                        continue
                 if not (g157 and (addr in st.machine.axes or addr[0] == "?")):
                     raise InterpError("INT025", f"'{addr}' needs a value", col)
                 w = w._replace(value=1.0)  # G157 X: exclude X (L3851-L3852)
             if addr == "G" or addr == "MG":
                 n = ev.integer(w.value, addr, col, 0, 9999)
+                if n == 51 and compat.g51_block(self.interp, words):
+                    return BlockWords()   # "G51 A45 E0.002": executed as nothing (compat.g51)
                 if (180 <= n <= 189 or 380 <= n <= 399 or 500 <= n <= 599) or addr == "MG":
                     bw.call = (n, addr == "MG", col, tuple(words[i + 1:]))
                     return bw  # every word after the call is an argument (L10712-L10719)
