@@ -106,7 +106,7 @@ def test_g501_builtin_smoothing_on_and_g500_off():
     assert on1.dyn.corner == "HSC" and on1.dyn.hsc.mode == "CONTERROR" and on1.dyn.hsc.tolerance == 0.0024
     assert on1.dyn.hsc.corner == 150.0 and on1.dyn.acceleration == (("X", 60.0), ("Y", 60.0), ("Z", 60.0))
     assert on2.dyn == on1.dyn
-    # M1 after G501 is the subroutine's parameter P12 (A=P0 ... Z=P25, L11005), not an optional stop
+    # M1 after G501 is the subroutine's parameter P12 (A=P0 ... Z=P25, L11007), not an optional stop
     assert [m.value for m in r.moves if m.kind == "aux"] == [30.0]
 
 
@@ -189,7 +189,7 @@ def test_comment_begin_end_with_block_numbers():
 
 
 def test_t202_lm06_is_the_tool_and_the_tool_change_subroutine(tmp_path):
-    # L M06 calls the machine builder's global subroutine M06 (seed 002 L10412), glued to T202 by LIGNOCAM
+    # L M06 calls the machine builder's global subroutine M06 (seed 002 L10417), glued to T202 by LIGNOCAM
     machine = {"tools": {"202": {"1": {"length": 50.0, "radius": 4.0}}}}
     r = fagorcnc.simulate("T202 LM06\nS1000 M3\nG1 X1 F100\nM30\n", machine)
     assert r.ok and [(d.code, d.severity) for d in r.diagnostics] == [("CAM006", "warning")]

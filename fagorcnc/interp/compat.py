@@ -11,7 +11,7 @@ Here is what the interpreter does with each one when it is accepted:
 * ``G501``/``G500`` with no subroutine file and no mapping: the behaviour of the subroutines Fagor
   supplies (L11084-L11086: G500 cancels HSC, G501 activates HSC for roughing), see
   :func:`smoothing_on` and :func:`smoothing_off`;
-* ``T202 LM06``: ``L M06`` is a call of the global subroutine ``M06`` (L10412) written without its
+* ``T202 LM06``: ``L M06`` is a call of the global subroutine ``M06`` (L10417) written without its
   blank; with no file ``M06``, the block runs as ``T202 M06``.
 
 The lint (warnings whatever ``strict`` says): ``G58`` after another work offset, a move at feed with
@@ -173,7 +173,7 @@ _GLUED = re.compile(r"L[ \t]*([A-Za-z0-9_.]+)")
 
 def glued_call(interp, word: Word, text: str) -> tuple | None:
     """``T202 LM06`` (``L`` with no value after another word): ``L M06`` calls the global subroutine
-    ``M06`` (seed 002 L10412).  With its file: ``((name, "L", {}, col), end)``, the call to run after
+    ``M06`` (seed 002 L10417).  With its file: ``((name, "L", {}, col), end)``, the call to run after
     the block and the column after the name (its letters were read as words: they are skipped).
     Without, per ``compat.tool_subroutine``: ``(None, 0)`` for a name like an M function, whose word
     (``M06``) then runs as that M function; an error otherwise.  None: not a glued call."""
@@ -189,10 +189,10 @@ def glued_call(interp, word: Word, text: str) -> tuple | None:
         mfunc = re.fullmatch(r"M0*([0-9]{1,4})", name)
         if mfunc is None:
             raise InterpError("INT093", f"L{name}: a call of the global subroutine {name} (L {name}, seed 002 "
-                              f"L10412), not found {where}", col) from None
+                              f"L10417), not found {where}", col) from None
         report(interp, "tool_subroutine", "CAM006",
                f"{m.group()} after the T word is a call of the machine builder's global subroutine {name} "
-               f"(the manual's block L {name}, seed 002 L10412); there is no file {name} {where}: fagorcnc runs "
+               f"(the manual's block L {name}, seed 002 L10417); there is no file {name} {where}: fagorcnc runs "
                f"the block as M{int(mfunc.group(1)):02d} instead (the subroutine's own moves are not simulated)",
                col)
         return None, 0

@@ -160,7 +160,7 @@ class AstBuilder(Transformer):
                 self._problem(tok.column + 1, "CAM004",
                               f"program name '{name}': the manual's names are 1 to 14 letters and digits, without "
                               "blanks (seed 002 L843); CAM posts write others and the control accepts them: taken "
-                              "as the name (it only names the program, L847)")
+                              "as the name (it only names the program, L849)")
             else:
                 self._problem(tok.column + 1, "SYN010",
                               f"program name '{name}' must be 1 to 14 letters and digits, without blanks")

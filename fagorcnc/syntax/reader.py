@@ -104,7 +104,7 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
                 node = ProgramHeader(m.group(1), lineno, text)
                 diags = (Diagnostic(file, lineno, m.start(1) + 1, "STR011", "warning",
                                     f"first line '{m.group(1)}' taken as the program name: the manual's header is "
-                                    f"%{m.group(1)} (seed 002 L840); CAM posts write the name alone", text),)
+                                    f"%{m.group(1)} (seed 002 L842); CAM posts write the name alone", text),)
         if diags:
             diags = tuple(policy.adjust(d) for d in diags)
         yield node, diags
