@@ -276,3 +276,21 @@ def test_shipped_cam_programs_pass_check_with_warnings_only(name, capsys):
     assert {d["severity"] for d in f["diagnostics"]} - {"info"} == {"warning"}
     assert main(["check", "--strict", "--brief", str(path)]) == 1
     assert "[refused: strict compatibility]" in capsys.readouterr().out
+
+
+def test_hints_on_syntax_errors_and_where_they_do_not_belong():
+    # the front end's errors get the same hints (X-O5: the O of X-05 read as a word of its own)
+    (d,) = fagorcnc.parse_text("X-O5\n").diagnostics[-1:]
+    assert d.code == "SYN002" and "did you mean X-05" in d.message
+    # no hint where the code means something else on the 8065 and the error is elsewhere
+    (d,) = fagorcnc.simulate("G30 I10\nM30\n").diagnostics
+    assert d.code == "INT018" and "Fanuc" not in d.message
+    # a comment is not read for hints
+    assert fagorcnc.simulate("G1 X10 F100 ; GO1\nM30\n").diagnostics == []
+
+
+def test_g501_mapped_to_a_file(tmp_path):
+    (tmp_path / "smooth.nc").write_text("#HSC ON [CONTERROR [P4]]\nM17\n")
+    machine = {"subroutine_paths": [str(tmp_path)], "oem_subroutines": {"501": "smooth.nc"}}
+    r = fagorcnc.simulate("G501 A60 E0.004 J100 M1\nG1 X1 F100\nM30\n", machine)
+    assert r.ok and not r.diagnostics and moves(r)[0].dyn.hsc.tolerance == 0.004

@@ -19,6 +19,7 @@ from ..config.machine import Machine
 from ..diagnostics import Diagnostic
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
+from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
 from ..syntax.reader import parse_file
 from . import compat
@@ -206,7 +207,7 @@ class Interpreter:
         block = block or self._current_block
         file = self.frames[-1].program.file if self.frames else self.program.file
         line, text = (block.line, block.text) if block is not None else (1, "")
-        hint = compat.hint(text, exc.col) if text else ""
+        hint = hints.hint(text, exc.col) if text else ""
         message = f"{exc.message} ({hint})" if hint else exc.message
         self.diagnostics.append(Diagnostic(file, line, exc.col, exc.code, "error", message, text))
 

@@ -26,6 +26,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from ..diagnostics import Diagnostic, error
 from .ast import Block, ProgramHeader, SubroutineHeader
 from .builder import AstBuilder, split_words
+from .hints import hint
 
 
 def grammar_path() -> Path:
@@ -97,6 +98,12 @@ def _keywords_in_capitals(text: str) -> tuple[str, list] | None:
     return ("".join(out), words) if words else None
 
 
+def _hinted(d: Diagnostic) -> Diagnostic:
+    """``d`` with a machinist's hint (letter O for zero, another control's code) when one applies."""
+    h = hint(d.source, d.col)
+    return Diagnostic(d.file, d.line, d.col, d.code, d.severity, f"{d.message} ({h})", d.source) if h else d
+
+
 class LineParser:
     """Parses single lines; reusable, not thread-safe (one per thread/process)."""
 
@@ -144,7 +151,7 @@ class LineParser:
         except UnexpectedInput as exc:
             capitals = _keywords_in_capitals(text) if "#" in text and "[" in text else None
             if capitals is None:
-                return None, (self._syntax_error(exc, text, line, file),)
+                return None, (_hinted(self._syntax_error(exc, text, line, file)),)
             # "#CS ON [1] [Mode 1, ...]" (Autodesk): read in capitals, and said (the [compat] construct keyword_case)
             fixed, words = capitals
             builder.problems = []
