@@ -16,9 +16,8 @@ import gc
 import re
 from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import Union
+from typing import Protocol, Union
 
-from ..config.compat import DEFAULT, Compat
 from ..diagnostics import Diagnostic, error
 from .ast import Block, Program, ProgramHeader
 from .parser import LineParser
@@ -30,6 +29,13 @@ _COMMENT_END = re.compile(r"[ \t]*(?:/[ \t]*)?(?:N[0-9]+[ \t]*:?[ \t]*)?#COMMENT
 _BARE_NAME = re.compile(r"[ \t]*([A-Za-z0-9_][A-Za-z0-9_.]*)[ \t]*").fullmatch
 
 _parser: Union[LineParser, None] = None
+
+
+class Compat(Protocol):
+    """The machine's ``[compat]`` policy as the front end sees it (``fagorcnc.config.compat.Compat``):
+    the severity of the CAM posts' constructs.  Without one, they are warnings (the default policy)."""
+
+    def adjust(self, diag: Diagnostic) -> Diagnostic: ...
 
 
 def line_parser() -> LineParser:
@@ -73,7 +79,6 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
     severity of the CAM posts' constructs: program names, the bare name line,
     keywords not in capitals.
     """
-    policy = compat or DEFAULT
     parse = line_parser().parse
     comment_start = None  # (line, text) of an open #COMMENT BEGIN
     first = True
@@ -105,8 +110,8 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
                 diags = (Diagnostic(file, lineno, m.start(1) + 1, "STR011", "warning",
                                     f"first line '{m.group(1)}' taken as the program name: the manual's header is "
                                     f"%{m.group(1)} (seed 002 L842); CAM posts write the name alone", text),)
-        if diags:
-            diags = tuple(policy.adjust(d) for d in diags)
+        if diags and compat is not None:
+            diags = tuple(compat.adjust(d) for d in diags)
         yield node, diags
     if comment_start is not None:
         line, text = comment_start
