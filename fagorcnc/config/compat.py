@@ -96,12 +96,14 @@ class Compat:
         severity = self.severity(key)
         if severity == diag.severity:
             return diag
-        message = diag.message
-        if severity == "error" and self.strict and key in CONSTRUCTS:
-            message += " [refused: strict compatibility]"
-        elif severity == "error":
-            message += f" [refused: compat.{key} = \"error\"]"
+        message = f"{diag.message} {self.refusal(key)}" if severity == "error" else diag.message
         return replace(diag, severity=severity, message=message)
+
+    def refusal(self, key: str) -> str:
+        """What an error message adds to say which setting refused the construct."""
+        if self.strict and key in CONSTRUCTS:
+            return "[refused: strict compatibility]"
+        return f'[refused: compat.{key} = "error"]'
 
 
 #: the built-in policy (no [compat] table)

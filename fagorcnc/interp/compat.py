@@ -22,7 +22,7 @@ to errors for the letter O written for a zero and for Fanuc/LinuxCNC codes (:fun
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..syntax.ast import Word
 from .dynamics import Hsc
@@ -30,7 +30,6 @@ from .expressions import InterpError
 
 #: the smoothing subroutines Fagor supplies (seed 002 L11082-L11086)
 SMOOTHING = {500: "smoothing_off", 501: "smoothing_on"}
-BUILTINS = ("smoothing_on", "smoothing_off")
 
 
 @dataclass
@@ -40,7 +39,6 @@ class CamState:
     acceleration: dict | None = None    # the G131 percentages before a built-in G501 changed them
     spindle_warned: bool = False         # a feed move with the spindle stopped was reported since it stopped
     origin: str | None = None            # the absolute origin the program selected last (G54..G59, G159)
-    notes: set = field(default_factory=set)   # (code, line) already reported
 
 
 def report(interp, key: str, code: str, message: str, col: int) -> None:
@@ -48,8 +46,7 @@ def report(interp, key: str, code: str, message: str, col: int) -> None:
     compat = interp.machine.compat
     severity = compat.severity(key)
     if severity == "error":
-        why = "strict compatibility" if compat.strict else f'compat.{key} = "error"'
-        raise InterpError(code, f"{message} [refused: {why}]", col)
+        raise InterpError(code, f"{message} {compat.refusal(key)}", col)
     interp.message(code, severity, message, col)
 
 
