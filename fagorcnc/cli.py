@@ -92,6 +92,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help="list at most N diagnostics of each code, count the others (default 20; 0 = all)")
     check.add_argument("--jobs", "-j", type=int, metavar="N", help="files checked in parallel (default: CPU count)")
     check.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
+    check.add_argument("--strict", action="store_true",
+                       help="the manual's letter: the CAM posts' constructs of the machine's [compat] table are "
+                            "errors (as [compat] strict = true)")
     check.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE instead of the output")
     check.add_argument("--brief", action="store_true", help="text: one line per diagnostic, no source excerpt")
     check.add_argument("-q", "--quiet", action="store_true", help="text: diagnostics and verdicts only")

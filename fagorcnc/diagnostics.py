@@ -188,6 +188,19 @@ CODES: dict[str, str] = {
     "CFG003": "auxiliary function the back-end has no output for",
     "CFG002": "parameter file (parameter_file) cannot be read",
     "CFG004": "a planned move the back-end cannot send (checked before a real run)",
+    # CAM posts' constructs and the machinist's lint (severity from the machine's [compat] policy,
+    # fagorcnc/config/compat.py; README "CAM posts")
+    "CAM001": "G51 A.. E.. (the 8055's look-ahead, not an 8060/8065 G function): no effect",
+    "CAM002": "G61 alone in its block: no effect",
+    "CAM003": "G500/G501 run as fagorcnc's built-in smoothing off/on",
+    "CAM004": "program name with characters the manual does not allow (_ . blanks, over 14)",
+    "CAM006": "T.. L<name>: global subroutine call glued to the T word, no file: run as the M function",
+    "CAM007": "keyword in a # sentence's brackets not in the manual's spelling (capitals)",
+    "CAM010": "G number with a leading zero before two digits (G011 reads as G11)",
+    "CAM013": "G58 after another work offset (G58 is absolute origin 5: it replaces it)",
+    "CAM014": "move at feed with the spindle stopped",
+    "CAM020": "G500-G599 subroutine with no file and no mapping in the machine file",
+    "CAM021": "invalid argument of a built-in G500-G599 behaviour",
 }
 
 

@@ -160,7 +160,7 @@ def _empty(program: Program) -> bool:
 
 
 def _simulate(source: Source, mach: Machine, block_skip: bool) -> Result:
-    program = parse_file(source) if _is_file(source) else parse_text(str(source))
+    program = parse_file(source, mach.compat) if _is_file(source) else parse_text(str(source), compat=mach.compat)
     if _empty(program):
         program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))
     interp = Interpreter(program, mach, block_skip=block_skip)
@@ -202,7 +202,7 @@ class Run:
         from .interp.source import stream_program
 
         self._close = getattr(lines, "close", None)
-        self.program, self._stream = stream_program(lines, file)
+        self.program, self._stream = stream_program(lines, file, machine.compat)
         self.interpreter = Interpreter(self.program, machine, block_skip=block_skip, stream=self._stream)
         self.state = FinalState(self.interpreter)
         self._parameter_file = attach_parameter_file(self.interpreter)
@@ -310,7 +310,7 @@ def _lines_of(source: Source, encoding: str):
     return str(source)
 
 
-def _syntax(source: Source, file: str) -> tuple[list[Diagnostic], str]:
+def _syntax(source: Source, file: str, compat=None) -> tuple[list[Diagnostic], str]:
     """The syntax and structure diagnostics of the whole program, read once in constant memory,
     and the file's encoding: UTF-8, or Latin-1 for files written by older editors (as
     :func:`~fagorcnc.syntax.read_source` decides)."""
@@ -328,7 +328,8 @@ def _syntax(source: Source, file: str) -> tuple[list[Diagnostic], str]:
             yield pair
 
     try:
-        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file)), file, keep_body=False).diagnostics)
+        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file, compat)), file,
+                                    keep_body=False).diagnostics)
     finally:
         getattr(lines, "close", lambda: None)()
     if not blocks[0] and not any(d.is_error for d in diagnostics):
@@ -336,13 +337,15 @@ def _syntax(source: Source, file: str) -> tuple[list[Diagnostic], str]:
     return diagnostics, encoding
 
 
-def syntax_errors(source: str | os.PathLike | None = None, *, text: str | None = None) -> list[Diagnostic]:
+def syntax_errors(source: str | os.PathLike | None = None, *, text: str | None = None,
+                  compat=None) -> list[Diagnostic]:
     """The syntax and structure errors of the whole program (a file, or ``text=``, as for :func:`simulate`),
-    read once in constant memory: a program with one is not started (as in :func:`simulate`)."""
+    read once in constant memory: a program with one is not started (as in :func:`simulate`); ``compat``
+    is the machine's ``[compat]`` policy."""
     source = resolve(source, text)
     file = source_name(source)
     with fewer_collections():
-        diagnostics, _ = _syntax(source, file)
+        diagnostics, _ = _syntax(source, file, compat)
     return sorted((d for d in diagnostics if d.is_error), key=_place)
 
 
@@ -367,7 +370,7 @@ def dry_run(source: str | os.PathLike | None = None, machine: Machine | dict | s
         return DryRun(False, [Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))])
     file = source_name(source)
     with fewer_collections():
-        diagnostics, encoding = _syntax(source, file)
+        diagnostics, encoding = _syntax(source, file, mach.compat)
         if any(d.is_error for d in diagnostics):
             return DryRun(False, sorted(diagnostics, key=_place), ending=not_started(diagnostics, file))
         return _dry_run(source, file, encoding, mach, block_skip, diagnostics, on_record, on_segment)
@@ -383,7 +386,7 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
 
     lines = _lines_of(source, encoding)
     try:
-        program, body = stream_program(lines, file)
+        program, body = stream_program(lines, file, mach.compat)
         interp = Interpreter(program, mach, block_skip=block_skip, stream=body)
         attach_parameter_file(interp)   # the saved global/common parameters; a dry run never saves them
         records = _Watched(interp, on_record)

@@ -34,7 +34,7 @@ def test_mcs_on_and_off_must_be_alone(block):
 
 
 def test_mcs_with_axes_is_one_move_in_machine_coordinates():
-    r = fagorcnc.simulate("#MCS X30 Y30\n#MCS ON\nG0 X1\n#MCS OFF\nM30\n")
+    r = fagorcnc.simulate("#MCS X30 Y30\nN20 #MCS ON\nG0 X1\nN40 #MCS OFF\nM30\n")   # N: a block number
     assert r.ok, r.diagnostics
 
 

@@ -550,7 +550,8 @@ def test_unknown_g_function_is_int010():
 
 def test_an_unknown_g_is_reported_before_the_words_it_makes_meaningless():
     # Autodesk posts write another CNC's smoothing, "G51 A45 E0.002": G51 is the mistake, not axis A
-    r = run("G51 A45 E0.002\nM30\n")
+    # (alone in its block it is the [compat] construct CAM001, tests/test_cam_posts.py)
+    r = run("G51 A45 E0.002 X1\nM30\n")
     assert [(d.code, d.col) for d in r.diagnostics if d.is_error] == [("INT010", 1)]
     assert error_codes(run("G1 A45 F100\nM30\n")) == ["INT024"]   # no unknown G: the axis it is
 

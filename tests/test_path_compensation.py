@@ -188,7 +188,7 @@ def test_g196_keeps_the_programmed_feed_at_the_contact_point_on_arcs(setup, side
     # seed 002 L4298-L4325: under G196 F is the feed at the tool's contact point; the contact runs at
     # F R / (R + r) when the centre runs at F, so the centre runs at F (R + r) / R.  The half circle about
     # (10, 0) from (0, 0) to (20, 0), clockwise, R 10, tool radius 3.
-    _, r = path(f"G90 G00 X0 Y-10\nT1 D1 M6\n{setup}\nG01 {side} X0 Y0 F600\nG02 X20 Y0 R10\nG01 X20 Y-10\n"
+    _, r = path(f"G90 G00 X0 Y-10\nT1 D1 M6\nS1000 M3\n{setup}\nG01 {side} X0 Y0 F600\nG02 X20 Y0 R10\nG01 X20 Y-10\n"
                 "G40 G01 X30 Y-10\nM30\n")
     arc = next(m for m in r.moves if m.kind == "arc" and m.radius > 5)
     assert arc.radius == pytest.approx(radius) and arc.feed == pytest.approx(feed)

@@ -686,6 +686,8 @@ def command(args: argparse.Namespace) -> int:
     machine = command_machine(args)
     if machine is None:
         return 2
+    if args.strict:   # the manual's letter: every CAM posts' construct of [compat] is an error
+        machine = dataclasses.replace(machine, compat=machine.compat.strictly())
     with tempfile.TemporaryDirectory(prefix="fagorcnc-check-") as scratch:
         files = _program_files(args, scratch)
         if files is None:

@@ -112,7 +112,7 @@ def recovery_pass(path: Path, machine: Machine, block_skip: bool, first: list[Di
     name = str(path)
     try:
         with fewer_collections(), open(path, encoding=source_encoding(path), errors="replace") as lines:
-            program, body = stream_program(lines, name)
+            program, body = stream_program(lines, name, machine.compat)
             body.diagnostics = _Ignored()
             interp = Interpreter(program, machine, block_skip=block_skip, stream=body, recover=True)
             attach_parameter_file(interp)   # the same starting parameters as the first pass; never saved

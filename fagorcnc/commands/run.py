@@ -154,7 +154,7 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
                              message="auxiliary functions without an output mapping: nothing was sent", backend=be,
                              ending=Ending("not started", unmapped[0].line))
     else:   # the program streams from its file; one with a syntax or structure error anywhere is not started
-        errors = syntax_errors(source)
+        errors = syntax_errors(source, compat=mach.compat)
         if errors:
             return RunReport(False, errors, be.status(), stopped_by="error",
                              message="the program has errors: nothing was run", backend=be,

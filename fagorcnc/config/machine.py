@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .compat import Compat, parse_compat
 from .errors import MachineError
 
 #: Power-on / reset defaults: parameter -> (default value, allowed values, meaning).
@@ -130,12 +131,14 @@ class Machine:
     cirinerr: float = 0.01       # mm, arc radius tolerance (L20298)
     cirinfact: float = 0.1       # %, relative arc radius tolerance (L20308)
     subroutine_paths: list[Path] = field(default_factory=list)
-    oem_subroutines: dict[int, str] = field(default_factory=dict)  # G180.. -> file name
+    oem_subroutines: dict[int, str] = field(default_factory=dict)  # G180.., G500.. -> file name
+    oem_builtins: dict[int, str] = field(default_factory=dict)  # G500..G599 -> "smoothing_on" | "smoothing_off"
     m_functions: dict[int, str] = field(default_factory=dict)  # M table: number -> "before" | "after"
     limits: Limits = field(default_factory=Limits)
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     backends: dict[str, dict] = field(default_factory=dict)   # [backends.<name>] tables, read by each back-end
     parameter_file: Path | None = None   # global/common parameters kept between runs (fagorcnc.config.parameter_file)
+    compat: Compat = field(default_factory=Compat)   # [compat]: CAM constructs and lint (fagorcnc.config.compat)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -280,13 +283,48 @@ def _build(data: dict) -> Machine:
         cirinerr=_number("cirinerr", data.get("cirinerr", 0.01)),
         cirinfact=_number("cirinfact", data.get("cirinfact", 0.1)),
         subroutine_paths=[Path(p) for p in data.get("subroutine_paths", [])],
-        oem_subroutines={int(k): str(v) for k, v in data.get("oem_subroutines", {}).items()},
+        **_oem_table(data.get("oem_subroutines", {})),
         m_functions=_m_table(data.get("m_functions", {})),
         limits=limits,
         planner=planner,
         backends=_backends(data.get("backends", {})),
         parameter_file=_parameter_file(data.get("parameter_file")),
+        compat=parse_compat(data.get("compat", {})),
     )
+
+
+#: the built-in behaviours a G500..G599 may be mapped to (fagorcnc.interp.compat)
+OEM_BUILTINS = ("smoothing_on", "smoothing_off")
+
+
+def _oem_table(table: Any) -> dict[str, dict[int, str]]:
+    """``oem_subroutines``: G180-G189, G380-G399 and G500-G599 -> a file name, or (G500-G599)
+    ``{ builtin = "smoothing_on" }`` / ``{ builtin = "smoothing_off" }``."""
+    if not isinstance(table, dict):
+        raise MachineError('oem_subroutines: expected a table, e.g. {180 = "file.nc", '
+                           '501 = { builtin = "smoothing_on" }}')
+    files: dict[int, str] = {}
+    builtins: dict[int, str] = {}
+    for key, value in table.items():
+        try:
+            n = int(str(key).upper().removeprefix("G"))
+        except ValueError:
+            raise MachineError(f"oem_subroutines.{key}: expected a G number (180..189, 380..399, 500..599)") from None
+        if not (180 <= n <= 189 or 380 <= n <= 399 or 500 <= n <= 599):
+            raise MachineError(f"oem_subroutines.{key}: G{n} is not an OEM function (180..189, 380..399, 500..599)")
+        if isinstance(value, dict):
+            behaviour = value.get("builtin")
+            if set(value) != {"builtin"} or behaviour not in OEM_BUILTINS:
+                raise MachineError(f"oem_subroutines.{key}: expected a file name or "
+                                   f"{{ builtin = \"{OEM_BUILTINS[0]}\" }} / {{ builtin = \"{OEM_BUILTINS[1]}\" }}")
+            if n < 500:
+                raise MachineError(f"oem_subroutines.{key}: built-in behaviours are for G500..G599 only")
+            builtins[n] = behaviour
+        elif isinstance(value, str) and value:
+            files[n] = value
+        else:
+            raise MachineError(f"oem_subroutines.{key}: expected a file name, got {value!r}")
+    return {"oem_subroutines": files, "oem_builtins": builtins}
 
 
 def _parameter_file(value: Any) -> Path | None:

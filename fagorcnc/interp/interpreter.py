@@ -19,9 +19,11 @@ from ..config.machine import Machine
 from ..diagnostics import Diagnostic
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
+from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
 from ..syntax.reader import parse_file
+from . import compat
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
 from .iso import IsoExecutor
@@ -101,6 +103,7 @@ class Interpreter:
         self.variables.axis_vars.update(self.manual.variables())
         self.spindle_modes = SpindleModes()   # M19 positioning, directions, S.POS, PRGSSO (seed 002 ch. 7)
         self.variables.spindle_vars.update(self.spindle_modes.variables(self.state))
+        self.cam = compat.CamState()   # CAM constructs and lint (interp/compat.py)
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
@@ -247,7 +250,9 @@ class Interpreter:
         block = block or self._current_block
         file = self.frames[-1].program.file if self.frames else self.program.file
         line, text = (block.line, block.text) if block is not None else (1, "")
-        self.diagnostics.append(Diagnostic(file, line, exc.col, exc.code, "error", exc.message, text))
+        hint = hints.hint(text, exc.col) if text else ""
+        message = f"{exc.message} ({hint})" if hint else exc.message
+        self.diagnostics.append(Diagnostic(file, line, exc.col, exc.code, "error", message, text))
 
     def message(self, code: str, severity: str, message: str, col: int = 1) -> None:
         """A warning or note on the current block.  At most limits.max_messages are kept per run
@@ -268,6 +273,11 @@ class Interpreter:
                                            block.text if block else ""))
 
     _current_block: Block | None = None
+
+    def block_text(self) -> str:
+        """The source text of the block being executed (``""`` outside a block)."""
+        block = self._current_block
+        return block.text if block is not None else ""
 
     # ------------------------------------------------------------------ blocks
     def _block(self, block: Block):
@@ -298,7 +308,8 @@ class Interpreter:
             return
         words = [i for i in items if type(i) is Word]
         mcs_move = t is Sentence and last.keyword == "MCS" and not _is_on_off(last)
-        if t is Sentence and last.keyword == "MCS" and not mcs_move and (words or len(last.args) > 1):
+        if t is Sentence and last.keyword == "MCS" and not mcs_move and (
+                any(w.address != "N" for w in words) or len(last.args) > 1):   # a block number may stand before
             # seed 002 L3212: "#MCS ON and #MCS OFF must be programmed alone in the block"
             raise InterpError("INT118", "#MCS ON and #MCS OFF must be alone in their block (L3212)", last.col)
         if mcs_move:
@@ -313,6 +324,8 @@ class Interpreter:
                 yield from self.iso.execute(bw, src)
                 if bw.call is not None:
                     self._oem_call(bw.call, src)
+                if bw.glued is not None:   # "T202 LM06": the global subroutine M06, after the block
+                    self._enter(*bw.glued)
             if t is Sentence and not mcs_move and self.axis_sentence is None:
                 yield from self._sentence(last, src)
             elif t is SubroutineCall:
@@ -595,7 +608,7 @@ class Interpreter:
                 raise InterpError("INT091", f"local subroutine {target} is not defined in this file", col)
         path = self._find_file(target, col)
         if path not in self._files:
-            self._files[path] = parse_file(path)
+            self._files[path] = parse_file(path, self.machine.compat)
             sub = self._files[path]
             for d in sub.diagnostics:
                 self.diagnostics.append(d)
@@ -669,12 +682,18 @@ class Interpreter:
 
     def _oem_call(self, call: tuple, src: Source) -> None:
         n, modal, col, words = call
-        name = self.machine.oem_subroutines.get(n) if n < 500 else f"G{n}"
+        if n >= 500:   # G500-G599: a file, or a built-in behaviour (interp/compat.py)
+            kind, name = compat.oem_target(self, n, col)
+        else:
+            kind, name = "file", self.machine.oem_subroutines.get(n)
         if name is None:
             raise InterpError("INT096", f"G{n}: no OEM subroutine is configured for it", col)
         args = self._arguments(words)
         if self.modal_call is not None and not self.frames[-1].modal:
             self.modal_call = None   # another call cancels the modal subroutine (L10568, L10804)
+        if kind == "builtin":   # done once: running it again after every move would change nothing
+            compat.run_builtin(self, n, name, args, col, mapped=n in self.machine.oem_builtins)
+            return
         if modal:
             self.modal_call = ModalCall(name, args, self.frames[-1].program)
         self._enter(name, "OEM", args, col, modal=modal)

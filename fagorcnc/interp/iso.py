@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
-from . import dynamics
+from . import compat, dynamics
 from .cycles import CycleRunner
 from .expressions import InterpError, whole
 from .gtable import EXCLUSIVE_GROUPS, G_FUNCTIONS
@@ -59,6 +59,7 @@ class BlockWords:
     m_target: dict = field(default_factory=dict)     # index in m -> (spindle, direction) of "M3.S2", "M19.POS"
     position_speeds: dict = field(default_factory=dict)   # spindle -> (rpm, col) of "S.POS=" (L5904)
     cycle: dict | None = None                        # canned cycle parameters: letter -> (value, col)
+    glued: tuple | None = None                       # "T202 LM06": (name, "L", {}, col) of the call
 
 
 class IsoExecutor:
@@ -87,19 +88,31 @@ class IsoExecutor:
         axes = st.axes
         g157 = any(w.address == "G" and w.value == 157.0 for w in words)
         g20 = any(w.address == "G" and w.value == 20.0 for w in words)
+        skip = 0
         for i, w in enumerate(words):
             addr, col = w.address, w.col
+            if skip and col < skip:
+                continue   # the name of a glued call (T202 LM06)
             if w.value is None:
+                if addr == "L" and i > 0:
+                    call = compat.glued_call(self.interp, w, self.interp.block_text())
+                    if call is not None:   # "T202 LM06" (LIGNOCAM): L M06 called after the block
+                        bw.glued, skip = call   # (without its file: the M06 word that follows runs)
+                        continue
                 if not (g157 and (addr in st.machine.axes or addr[0] == "?")):
                     raise InterpError("INT025", f"'{addr}' needs a value", col)
                 w = w._replace(value=1.0)  # G157 X: exclude X (L3851-L3852)
             if addr == "G" or addr == "MG":
                 n = ev.integer(w.value, addr, col, 0, 9999)
+                if n == 51 and compat.g51_block(self.interp, words):
+                    return BlockWords()   # "G51 A45 E0.002": executed as nothing (compat.g51)
                 if (180 <= n <= 189 or 380 <= n <= 399 or 500 <= n <= 599) or addr == "MG":
                     bw.call = (n, addr == "MG", col, tuple(words[i + 1:]))
                     return bw  # every word after the call is an argument (L10712-L10719)
                 eq = ev.value(w.eq) if w.eq is not None else None
                 bw.g.append((n, col, eq))
+                if n >= 10:
+                    compat.leading_zero(self.interp, n, col, self.interp.block_text())   # "G011" is G11
             elif addr == "N":
                 st.last_n = ev.integer(w.value, "N", col)
             elif addr == "" and bw.percent is None and any(n in (131, 133) for n, _c, _e in bw.g):
@@ -388,12 +401,17 @@ class IsoExecutor:
                 rec = self._motion(gs, bw, src)
                 if rec is not None:
                     moved = True
+                    if rec.kind != "rapid" and rec.feed_mode != "G95":
+                        compat.spindle_lint(self.interp, rec, 1)
                     yield rec
                     if bw.nr is None or bw.nr[0] != 0:
                         yield from interp.after_motion(src)
         elif bw.nr is not None:
             raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
         if not moved and 74 not in gs:
+            if 61 in gs:
+                compat.lone_g61(self.interp, gs[61][0])   # the posts' closing "G61" (compat.lone_g61)
+                del gs[61]
             for n, what in ((60, "G60 (square corner for this block)"), (61, "G61 (rounded corner for this block)"),
                             (266, "G266 (override at 100 % for this block)")):
                 if n in gs:   # L8008, L8090, L4374: only in a block that moves
@@ -421,12 +439,14 @@ class IsoExecutor:
         for n in range(54, 60):
             if n in gs:
                 st.select_origin(n - 53, f"G{n}")
+                compat.origin_lint(self.interp, f"G{n}", gs[n][0])
         if 159 in gs:
             col, eq = gs[159]
             n = whole(eq) if eq is not None else None
             if n is None or not 1 <= n <= 99:
                 raise InterpError("INT015", "G159 needs an entry number 1..99: G159=n", col)
             st.select_origin(n, f"G159={n}")
+            compat.origin_lint(self.interp, f"G159={n}", col)
 
     def _axis_functions(self, gs: dict, bw: BlockWords) -> bool:
         """G92, G158, G157, G174, G198, G199: their axis words are not a motion."""

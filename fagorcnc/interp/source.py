@@ -172,13 +172,13 @@ def _late_header(node, file: str) -> list:
     return []
 
 
-def stream_program(lines: Iterable[str], file: str) -> tuple[Program, StreamSource]:
+def stream_program(lines: Iterable[str], file: str, compat=None) -> tuple[Program, StreamSource]:
     """Read the local subroutines and header of a file; stream its body.
 
     Returns a :class:`Program` whose ``main`` routine is empty and the
     :class:`StreamSource` that yields the body.
     """
-    it = iter_lines(lines, file)
+    it = iter_lines(lines, file, compat)   # compat: the machine's [compat] policy
     head: list = []
     first_block = None
     header = False

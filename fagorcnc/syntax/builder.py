@@ -48,6 +48,10 @@ _NAME14 = re.compile(r"[A-Za-z0-9]{1,14}")
 _CHANNEL = re.compile(r"V\.\[([0-9]+)\]\.")
 
 
+#: a program name as CAM posts write them: letters, digits, "_", ".", "-" and blanks (CAM004)
+_POST_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.\- ]*")
+
+
 def valid_name(name: str) -> bool:
     """Label, program and subroutine names: 1-14 letters and digits (seed 002 L843, L1048)."""
     return _NAME14.fullmatch(name) is not None
@@ -152,8 +156,14 @@ class AstBuilder(Transformer):
         tok = c[0]
         name = tok.value[1:].strip()
         if not valid_name(name):
-            self._problem(tok.column + 1, "SYN010",
-                          f"program name '{name}' must be 1 to 14 letters and digits, without blanks")
+            if _POST_NAME.fullmatch(name):   # "% Pfette_.nc" (LIGNOCAM): the [compat] construct program_name
+                self._problem(tok.column + 1, "CAM004",
+                              f"program name '{name}': the manual's names are 1 to 14 letters and digits, without "
+                              "blanks (seed 002 L843); CAM posts write others and the control accepts them: taken "
+                              "as the name (it only names the program, L849)")
+            else:
+                self._problem(tok.column + 1, "SYN010",
+                              f"program name '{name}' must be 1 to 14 letters and digits, without blanks")
         return ("program", name)
 
     def subroutine_header(self, c):

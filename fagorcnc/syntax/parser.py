@@ -26,6 +26,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from ..diagnostics import Diagnostic, error
 from .ast import Block, ProgramHeader, SubroutineHeader
 from .builder import AstBuilder, split_words
+from .hints import hint
 from .macros import macro_block
 
 
@@ -60,6 +61,48 @@ _TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "
                 "COLON": "':'", "NUMBER": "a number", "NAME": "a keyword", "WORDS": "ISO words",
                 "ADDRESS": "an ISO address", "PARAM": "a parameter", "VARNAME": "a V. variable",
                 "STRING": "a \"string\"", "LABEL": "a [LABEL]", "BLOCKID": "a block number N..:"}
+
+
+_BRACKETED_WORD = re.compile(r'"(?:[^"\\\n]|\\.)*"|V\.[A-Za-z0-9_.]*|\b[A-Za-z][A-Za-z_]*')
+
+
+def _keywords_in_capitals(text: str) -> tuple[str, list] | None:
+    """The line with the words inside the brackets of its ``#`` sentence in capitals, and the
+    ``(col, word)`` pairs changed; None when nothing would change.  Strings and V. variables
+    (``V.P.my_var``) keep their case."""
+    start = text.find("#")
+    if start < 0 or ";" in text[:start]:
+        return None
+    out = list(text)
+    words = []
+    depth = 0
+    i = text.find("[", start)
+    while 0 <= i < len(text):
+        ch = text[i]
+        if ch == ";" and depth == 0:
+            break
+        if ch == "[":
+            depth += 1
+        elif ch == "]":
+            depth = max(depth - 1, 0)
+        elif depth and (ch == '"' or ch.isalpha()):
+            m = _BRACKETED_WORD.match(text, i)
+            if m is not None:
+                word = m.group()
+                if word[0] not in '"V' or (word[0] == "V" and not word.startswith("V.")):
+                    if word != word.upper():
+                        words.append((i + 1, word))
+                        out[i:m.end()] = word.upper()
+                i = m.end()
+                continue
+        i += 1
+    return ("".join(out), words) if words else None
+
+
+def _hinted(d: Diagnostic) -> Diagnostic:
+    """``d`` with a machinist's hint (letter O for zero, another control's code) when one applies."""
+    h = hint(d.source, d.col)
+    return Diagnostic(d.file, d.line, d.col, d.code, d.severity, f"{d.message} ({h})", d.source) if h else d
 
 
 class LineParser:
@@ -108,12 +151,27 @@ class LineParser:
             result = self._lark.parse(text)
         except UnexpectedInput as exc:
             macro = self._macro_block(text, line)
-            return macro if macro is not None else (None, (self._syntax_error(exc, text, line, file),))
+            if macro is not None:
+                return macro
+            capitals = _keywords_in_capitals(text) if "#" in text and "[" in text else None
+            if capitals is None:
+                return None, (_hinted(self._syntax_error(exc, text, line, file)),)
+            # "#CS ON [1] [Mode 1, ...]" (Autodesk): read in capitals, and said (the [compat] construct keyword_case)
+            fixed, words = capitals
+            builder.problems = []
+            try:
+                result = self._lark.parse(fixed)
+            except (UnexpectedInput, VisitError):
+                return None, (self._syntax_error(exc, text, line, file),)
+            shown = ", ".join(f"'{w}' as {w.upper()}" for _c, w in words)
+            builder.problems.insert(0, (words[0][0], "CAM007", f"{shown}: the manual writes the keywords of a # "
+                                        "sentence in capitals; read in capitals"))
         except VisitError as exc:  # a builder bug must not escape as a traceback
             return None, (error(file, line, 1, "SYN002", f"cannot read this block ({exc.orig_exc})", text),)
-        diags = tuple(error(file, line, col, code, msg, text) for col, code, msg in builder.problems)
-        if diags and (macro := self._macro_block(text, line)) is not None:   # X["NAME"]: a string as a value
-            return macro
+        diags = tuple(Diagnostic(file, line, col, code, "warning" if code[:3] == "CAM" else "error", msg, text)
+                      for col, code, msg in builder.problems)
+        if any(d.is_error for d in diags) and (macro := self._macro_block(text, line)) is not None:
+            return macro   # X["NAME"]: a string as a value
         kind = result[0]
         if kind == "block":
             _, skip, number, label, items = result

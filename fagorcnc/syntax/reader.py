@@ -16,18 +16,26 @@ import gc
 import re
 from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import Union
+from typing import Protocol, Union
 
 from ..diagnostics import Diagnostic, error
 from .ast import Block, Program, ProgramHeader
 from .parser import LineParser
 from .structure import assemble
 
-_COMMENT_BEGIN = re.compile(r"[ \t]*#COMMENT[ \t]+BEGIN(?![A-Za-z0-9_])").match
-_COMMENT_END = re.compile(r"[ \t]*#COMMENT[ \t]+END(?![A-Za-z0-9_])").match
-_BARE_NAME = re.compile(r"[ \t]*([A-Za-z0-9]{1,14})[ \t]*").fullmatch
+# "#COMMENT BEGIN" may follow a block number, as on the N-numbered blocks of CAM posts (N10 #COMMENT BEGIN)
+_COMMENT_BEGIN = re.compile(r"[ \t]*(?:/[ \t]*)?(?:N[0-9]+[ \t]*:?[ \t]*)?#COMMENT[ \t]+BEGIN(?![A-Za-z0-9_])").match
+_COMMENT_END = re.compile(r"[ \t]*(?:/[ \t]*)?(?:N[0-9]+[ \t]*:?[ \t]*)?#COMMENT[ \t]+END(?![A-Za-z0-9_])").match
+_BARE_NAME = re.compile(r"[ \t]*([A-Za-z0-9_][A-Za-z0-9_.]*)[ \t]*").fullmatch
 
 _parser: Union[LineParser, None] = None
+
+
+class Compat(Protocol):
+    """The machine's ``[compat]`` policy as the front end sees it (``fagorcnc.config.compat.Compat``):
+    the severity of the CAM posts' constructs.  Without one, they are warnings (the default policy)."""
+
+    def adjust(self, diag: Diagnostic) -> Diagnostic: ...
 
 
 def line_parser() -> LineParser:
@@ -59,13 +67,17 @@ def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
     return (s.rstrip("\r\n") for s in source)
 
 
-def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>") -> Iterator[tuple]:
+def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None
+               ) -> Iterator[tuple]:
     """Parse a program line by line.
 
     ``source`` is the program text or any iterable of lines (an open file
     streams).  Yields ``(node, diagnostics)`` per line, where ``node`` is a
     :class:`~fagorcnc.syntax.ast.Block`, a header, or ``None`` (empty,
-    comment or erroneous line) and ``diagnostics`` a tuple.
+    comment or erroneous line) and ``diagnostics`` a tuple.  ``compat`` (the
+    machine's ``[compat]`` policy, :mod:`fagorcnc.config.compat`) sets the
+    severity of the CAM posts' constructs: program names, the bare name line,
+    keywords not in capitals.
     """
     parse = line_parser().parse
     comment_start = None  # (line, text) of an open #COMMENT BEGIN
@@ -95,8 +107,11 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>") -> Ite
             if bare and (m := _BARE_NAME(text)):
                 # CAM posts write the program name alone on the first line.
                 node = ProgramHeader(m.group(1), lineno, text)
-                diags = (Diagnostic(file, lineno, m.start(1) + 1, "STR011", "info",
-                                    f"first line '{m.group(1)}' taken as the program name", text),)
+                diags = (Diagnostic(file, lineno, m.start(1) + 1, "STR011", "warning",
+                                    f"first line '{m.group(1)}' taken as the program name: the manual's header is "
+                                    f"%{m.group(1)} (seed 002 L842); CAM posts write the name alone", text),)
+        if diags and compat is not None:
+            diags = tuple(compat.adjust(d) for d in diags)
         yield node, diags
     if comment_start is not None:
         line, text = comment_start
@@ -104,15 +119,16 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>") -> Ite
                            "#COMMENT BEGIN is never closed by #COMMENT END", text),)
 
 
-def parse_text(text: str, file: str = "<string>") -> Program:
-    """Parse program text into a :class:`Program` (never raises on bad input)."""
+def parse_text(text: str, file: str = "<string>", compat: Compat | None = None) -> Program:
+    """Parse program text into a :class:`Program` (never raises on bad input); ``compat`` as
+    for :func:`iter_lines`."""
     # The AST is millions of small immutable tuples that can never form a
     # reference cycle; the cyclic collector would rescan them over and over
     # while they accumulate, so it is paused for the duration.
     enabled = gc.isenabled()
     gc.disable()
     try:
-        return assemble(iter_lines(text, file), file)
+        return assemble(iter_lines(text, file, compat), file)
     finally:
         if enabled:
             gc.enable()
@@ -144,6 +160,6 @@ def source_encoding(path: Union[str, Path]) -> str:
     return "utf-8-sig"
 
 
-def parse_file(path: Union[str, Path]) -> Program:
-    """Parse a program file into a :class:`Program`."""
-    return parse_text(read_source(path), str(path))
+def parse_file(path: Union[str, Path], compat: Compat | None = None) -> Program:
+    """Parse a program file into a :class:`Program`; ``compat`` as for :func:`iter_lines`."""
+    return parse_text(read_source(path), str(path), compat)
