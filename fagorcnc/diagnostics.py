@@ -145,6 +145,24 @@ CODES: dict[str, str] = {
     "CFG003": "auxiliary function the back-end has no output for",
     "CFG002": "parameter file (parameter_file) cannot be read",
     "CFG004": "a planned move the back-end cannot send (checked before a real run)",
+    # kinematics and coordinate transformations (fagorcnc/kinematics, seed 002 ch. 14-17): KIN001-KIN099
+    "KIN001": "#KIN ID: kinematics number not set up (1..6)",
+    "KIN002": "kinematics changed while #RTCP or #TLC is active",
+    "KIN003": "statement needs a kinematics (#KIN ID) of the right kind",
+    "KIN004": "#RTCP and #TLC cannot be active together",
+    "KIN005": "malformed coordinate-transformation statement",
+    "KIN006": "#CS/#ACS system number outside 1..5",
+    "KIN007": "#CS/#ACS definition: MODE outside 1..6 or wrong number of values",
+    "KIN008": "#CS/#ACS ON of a system that is not defined",
+    "KIN009": "a second unnamed #CS/#ACS while one is active",
+    "KIN010": "KEEP, 0/1, FIRST/SECOND or SOL2 where the mode or statement does not take it",
+    "KIN011": "more than 10 #ACS and #CS active",
+    "KIN012": "#CS/#ACS OFF with none active: nothing changes",
+    "KIN013": "no position of the rotary axes gives the tool orientation asked for",
+    "KIN020": "move too close to a singular pose to keep the tool tip on the path",
+    "KIN021": "joint position beyond a software limit inside a transformed move",
+    "KIN022": "arc in an inclined plane run as joint-space lines",
+    "KIN023": "machine variable of a kinematics fagorcnc does not hold (TDATA)",
 }
 
 

@@ -134,6 +134,9 @@ class Machine:
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     backends: dict[str, dict] = field(default_factory=dict)   # [backends.<name>] tables, read by each back-end
     parameter_file: Path | None = None   # global/common parameters kept between runs (fagorcnc.config.parameter_file)
+    kinematics: list = field(default_factory=list)   # [[kinematics]]: fagorcnc.kinematics.config.Kinematics
+    kinid: int = 0               # KINID: the kinematics selected at power-on (0 = none)
+    kinematics_tolerance: float = 0.001   # mm: tool-tip deviation of transformed moves cut into joint lines
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -284,7 +287,19 @@ def _build(data: dict) -> Machine:
         planner=planner,
         backends=_backends(data.get("backends", {})),
         parameter_file=_parameter_file(data.get("parameter_file")),
+        **_kinematics(data, axes),
     )
+
+
+def _kinematics(data: dict, axes: dict) -> dict:
+    """``[[kinematics]]``, ``kinid`` and ``kinematics_tolerance`` (fagorcnc.kinematics.config)."""
+    from ..kinematics.config import parse_kinematics, parse_kinid
+
+    kins = parse_kinematics(data.get("kinematics"), axes)
+    tol = _number("kinematics_tolerance", data.get("kinematics_tolerance", 0.001))
+    if not 1e-6 <= tol <= 1.0:
+        raise MachineError(f"kinematics_tolerance = {tol:g}: mm between 0.000001 and 1")
+    return {"kinematics": kins, "kinid": parse_kinid(data.get("kinid"), kins), "kinematics_tolerance": tol}
 
 
 def _parameter_file(value: Any) -> Path | None:

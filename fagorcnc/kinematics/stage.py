@@ -1,0 +1,158 @@
+"""The joint-space stage: records made under a :class:`~fagorcnc.kinematics.frame.Frame` in machine joints.
+
+Runs after the corner aids and radius compensation (which work in the programmed plane).  A record
+whose frame is one rigid motion over the move (no rotary axis of the kinematics turns) keeps its
+shape: a line stays a line, an arc whose plane the map takes onto a machine plane stays an arc.
+Otherwise the move is cut into joint-space lines so that the tool tip stays within the kinematics'
+``tolerance`` (or the machine's ``kinematics_tolerance``) of the programmed path, the tool
+orientation interpolated linearly in the rotary axes between the block's start and end
+(seed 002 L13233: "the orientation is interpolated between the start and end values").  The feed
+of each piece is set so that the **tool tip** runs at the programmed feed (the piece's joint length
+over its tip length).  Every joint position is checked against the soft limits.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import replace
+
+import numpy as np
+
+from ..interp.records import Arc, Line
+from .frame import Frame
+
+#: Deepest halving of one move into joint-space pieces (2**14 pieces at most).
+MAX_DEPTH = 14
+
+
+class StageError(ValueError):
+    """A move the joint-space stage cannot produce; ``code`` is its diagnostic code."""
+
+    def __init__(self, record, code: str, message: str) -> None:
+        super().__init__(message)
+        self.record = record
+        self.code = code
+
+
+def _arc_point(rec: Arc, s: float) -> dict:
+    """The programmed (virtual) position at fraction ``s`` of an arc (helix axes linear)."""
+    a, o = rec.plane[0], rec.plane[1]
+    c = (rec.center[a], rec.center[o])
+    r0 = math.dist((rec.start[a], rec.start[o]), c)
+    r1 = math.dist((rec.end[a], rec.end[o]), c)
+    ang0 = math.atan2(rec.start[o] - c[1], rec.start[a] - c[0])
+    ang = ang0 + math.radians(rec.sweep) * s
+    r = r0 + (r1 - r0) * s
+    out = {x: rec.start[x] + (rec.end[x] - rec.start[x]) * s for x in rec.end}
+    out[a], out[o] = c[0] + r * math.cos(ang), c[1] + r * math.sin(ang)
+    return out
+
+
+def _line_point(rec, s: float) -> dict:
+    return {x: rec.start[x] + (rec.end[x] - rec.start[x]) * s for x in rec.end}
+
+
+class JointStage:
+    """Maps the records of a run; ``limits(position, record)`` checks one joint position."""
+
+    def __init__(self, tolerance: float, limits, note=None) -> None:
+        self.tolerance = tolerance
+        self.limits = limits
+        self.note = note   # note(record, text): told once that inclined arcs run as chords
+
+    def run(self, records: Iterable) -> Iterator:
+        for rec in records:
+            frame = getattr(rec, "frame", None)
+            if frame is None or rec.kind not in ("linear", "rapid", "arc"):
+                yield rec
+                continue
+            yield from self._map(rec, frame)
+
+    def _map(self, rec, frame: Frame) -> Iterator:
+        start, end = frame.point(rec.start), frame.point(rec.end)
+        if frame.affine_between(rec.start, rec.end):
+            if rec.kind != "arc":
+                self.limits(end, rec)
+                yield replace(rec, start=start, end=end)
+                return
+            arc = self._arc(rec, frame, start, end)
+            if arc is not None:
+                self.limits(end, rec)
+                yield arc
+                return
+            if self.note is not None:
+                self.note(rec, "an arc in an inclined plane runs as joint-space lines within "
+                          f"{self.tolerance:g} mm of the programmed arc")
+        point = _arc_point if rec.kind == "arc" else _line_point
+        yield from self._pieces(rec, frame, point, start)
+
+    def _arc(self, rec: Arc, frame: Frame, start: dict, end: dict) -> Arc | None:
+        """The arc in machine coordinates when the map takes its plane onto a machine plane."""
+        x, y, z = frame.linear
+        names = (x, y, z)
+        a, o = rec.plane[0], rec.plane[1]
+        if a not in names or o not in names:
+            return replace(rec, start=start, end=end) if not frame.rotates() else None
+        m = frame.linear_part(rec.start)
+        ia, io = names.index(a), names.index(o)
+        ca, co = m[:, ia], m[:, io]
+        ja, jo = int(np.argmax(np.abs(ca))), int(np.argmax(np.abs(co)))
+        if ja == jo or abs(abs(ca[ja]) - 1.0) > 1e-9 or abs(abs(co[jo]) - 1.0) > 1e-9:
+            return None
+        sa, so = math.copysign(1.0, ca[ja]), math.copysign(1.0, co[jo])
+        ccw = rec.direction == "ccw"
+        if sa * so < 0:
+            ccw = not ccw
+        na, no = names[ja], names[jo]
+        nn = next(v for v in names if v not in (na, no))
+        c = frame.point({**rec.start, a: rec.center[a], o: rec.center[o]})
+        return replace(rec, start=start, end=end, center={na: c[na], no: c[no]}, plane=(na, no, nn),
+                       direction="ccw" if ccw else "cw")
+
+    def _pieces(self, rec, frame: Frame, point, start: dict) -> Iterator:
+        """Joint-space lines whose tool tip stays within the tolerance of the programmed path."""
+        cuts = [0.0, 1.0]
+        joints = {0.0: start, 1.0: frame.point(rec.end)}
+        stack = [(0.0, 1.0, 0)]
+        done = []
+        while stack:
+            s0, s1, depth = stack.pop()
+            sm = 0.5 * (s0 + s1)
+            pm = point(rec, sm)
+            jm = frame.point(pm)
+            j0, j1 = joints[s0], joints[s1]
+            mid = {k: 0.5 * (j0[k] + j1[k]) for k in j0}
+            # the tool tip where the joint-space line puts it, against the programmed tip
+            tip = frame.inverse(mid)
+            x, y, z = frame.linear
+            dev = math.dist((tip[x], tip[y], tip[z]), (pm[x], pm[y], pm[z]))
+            joints[sm] = jm
+            if dev > self.tolerance or depth < 1:
+                if depth >= MAX_DEPTH:
+                    raise StageError(rec, "KIN020", f"the move needs more than {2 ** MAX_DEPTH} joint-space "
+                                     f"pieces to keep the tool tip within {self.tolerance:g} mm (a pose near "
+                                     "a singularity?)")
+                stack.append((sm, s1, depth + 1))
+                stack.append((s0, sm, depth + 1))
+            else:
+                done.append((s0, s1))
+                cuts.append(sm)
+        done.sort()
+        for s0, s1 in done:
+            for s_a, s_b in ((s0, 0.5 * (s0 + s1)), (0.5 * (s0 + s1), s1)):
+                ja, jb = joints[s_a], joints[s_b]
+                self.limits(jb, rec)
+                yield self._piece(rec, frame, point, s_a, s_b, ja, jb)
+
+    def _piece(self, rec, frame, point, s_a, s_b, ja, jb) -> Line:
+        pa, pb = point(rec, s_a), point(rec, s_b)
+        x, y, z = frame.linear
+        tip = math.dist((pa[x], pa[y], pa[z]), (pb[x], pb[y], pb[z]))
+        joint = math.sqrt(sum((jb[k] - ja[k]) ** 2 for k in jb))
+        kind = "rapid" if rec.rapid else "linear"
+        feed = None if rec.rapid else rec.feed
+        if feed is not None and tip > 1e-12:
+            feed = feed * joint / tip   # the tool tip at the programmed feed
+        end_part = {**rec.end_part, **{k: pb[k] for k in pb if k in rec.end_part}} if s_b < 1.0 else rec.end_part
+        return Line(kind, ja, jb, end_part, feed, rec.feed_mode, rec.src, None, rec.dyn, frame)

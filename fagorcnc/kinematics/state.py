@@ -1,0 +1,106 @@
+"""What the channel knows of its transformations: #KIN ID, stored and active #CS/#ACS, #RTCP, #TLC,
+#TOOL ORI (seed 002 ch. 17).  One :class:`KinState` per channel, ``ChannelState.kin``.
+
+Persistence (seed 002 L12594, L13309; spec 05 §6.3, §6.7-§6.8): #CS/#ACS, #RTCP and #TLC stay
+active after M02/M30 and reset; nothing here is reset by them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .config import Kinematics
+from .frame import Frame
+from .frames import CoordinateSystem, compose
+
+#: Most #ACS + #CS active at once (seed 002 L13085).
+MAX_ACTIVE = 10
+
+
+class KinState:
+    """Transformations of a channel; :meth:`frame_for` gives the :class:`Frame` of the next record."""
+
+    def __init__(self, machine) -> None:
+        self.kinematics: list[Kinematics] = list(getattr(machine, "kinematics", []))
+        self.kinid: int = getattr(machine, "kinid", 0)
+        self.stored: dict[str, dict[int, CoordinateSystem]] = {"CS": {}, "ACS": {}}
+        self.last_stored: dict[str, int | None] = {"CS": None, "ACS": None}
+        # active systems in activation order: (kind, id or None for the unnamed one, system, saved zero)
+        self.active: list[tuple[str, int | None, CoordinateSystem, tuple]] = []
+        self.zero: np.ndarray | None = None   # part zero (X, Y, Z) when the first system went on
+        self.rtcp = False
+        self.tlc: float | None = None
+        self.tool_ori = False        # #TOOL ORI given under the active plane: the kinematics is in use
+        self.pending_ori = False     # the next move turns the rotary axes (seed 002 L13131)
+        self.sol2 = False
+        self.frame: Frame | None = None
+        self.toolori: tuple[dict, dict] | None = None   # (solution 1, solution 2) of the active plane
+
+    @property
+    def current(self) -> Kinematics | None:
+        """The selected kinematics (#KIN ID), or None."""
+        return self.kinematics[self.kinid - 1] if 1 <= self.kinid <= len(self.kinematics) else None
+
+    def active_kinds(self) -> list[str]:
+        return [k for k, *_ in self.active]
+
+    def description(self) -> str:
+        parts = []
+        if any(k == "ACS" for k, *_ in self.active):
+            parts.append("#ACS")
+        if any(k == "CS" for k, *_ in self.active):
+            parts.append("#CS")
+        if self.rtcp:
+            parts.append("#RTCP")
+        if self.tlc is not None:
+            parts.append("#TLC")
+        if self.tool_ori:
+            parts.append("#TOOL ORI")
+        return "+".join(parts)
+
+    def plane(self) -> tuple[np.ndarray, np.ndarray]:
+        """(R, V) of the active systems: every #ACS before every #CS, each kind in activation order
+        (seed 002 L13085-L13110)."""
+        acs = [cs for k, _n, cs, _z in self.active if k == "ACS"]
+        css = [cs for k, _n, cs, _z in self.active if k == "CS"]
+        return compose(acs + css)
+
+    # ------------------------------------------------------------------ the frame
+    def _linear(self, st) -> tuple[str, str, str] | None:
+        names = [a for a in st.axes if not st.machine.axes[a].rotary][:3]
+        return tuple(names) if len(names) == 3 else None
+
+    def _length(self, st, linear) -> np.ndarray:
+        return np.array([st.length_offset.get(a, 0.0) for a in linear], dtype=float)
+
+    def rebuild(self, st) -> None:
+        """Work the frame out again after a change; the joints stay where they are (the virtual
+        position is recomputed from them)."""
+        real = self.frame.point(st.machine_pos) if self.frame is not None else dict(st.machine_pos)
+        self.frame = self._build(st)
+        st.machine_pos = self.frame.inverse(real) if self.frame is not None else real
+
+    def _build(self, st) -> Frame | None:
+        if not self.active:
+            self.zero = None
+            self.tool_ori = False
+            self.pending_ori = False
+        if not self.active and not self.rtcp and self.tlc is None:
+            return None
+        linear = self._linear(st)
+        if linear is None:
+            return None
+        r, v = self.plane()
+        zero = self.zero if self.zero is not None else np.zeros(3)
+        shift = zero + v - r @ zero
+        kin = self.current
+        engaged = kin is not None and (self.rtcp or self.tool_ori)
+        return Frame(self.description(), r, shift, linear, self._length(st, linear), kin, engaged, self.tlc or 0.0)
+
+    def frame_for(self, st) -> Frame | None:
+        """The frame of a record made now (rebuilt when the tool length offset changed with the move,
+        which the interpreter applies with it)."""
+        f = self.frame
+        if f is not None and not np.array_equal(f.length, self._length(st, f.linear)):
+            f = self.frame = self._build(st)
+        return f
