@@ -163,6 +163,7 @@ CODES: dict[str, str] = {
     "KIN021": "joint position beyond a software limit inside a transformed move",
     "KIN022": "arc in an inclined plane run as joint-space lines",
     "KIN023": "machine variable of a kinematics fagorcnc does not hold (TDATA)",
+    "KIN024": "kinematics statement on a machine without rotary axes: the identity kinematics",
 }
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..kinematics.statements import orient_target
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
@@ -197,6 +198,8 @@ class IsoExecutor:
                 out[axis] = current_part[axis] + self.length(v, axis)
             else:
                 out[axis] = self.length(v, axis)
+        if st.kin.pending_ori:   # #TOOL ORI: the rotary axes turn during this move (seed 002 L13131)
+            orient_target(self.interp, out)
         return out
 
     @staticmethod

@@ -15,6 +15,7 @@ Three kinds:
 from __future__ import annotations
 
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
+from ..kinematics import statements as kinematics
 from . import dynamics
 from .expressions import InterpError
 from .records import Dwell
@@ -24,7 +25,7 @@ RECORDED = frozenset({"ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "DGWZ", "ESTOP", "DS
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
 #: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
 #: through the points, L15690), #CD (loops removed, L15598).
-NOT_YET = frozenset({"TOOL", "KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
+NOT_YET = frozenset({"TOOL", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
                      "SPLINE", "ASPLINE", "CD",
                      "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
                      "INIT", "RPT"})
@@ -148,6 +149,9 @@ def execute_sentence(interp, node, src):
         if type(item) is not Direction or item.name not in st.axes:
             raise InterpError("INT071", "#TOOL AX needs one axis and its direction: #TOOL AX [Z+]", node.col)
         st.tool_axis = (item.name, 1 if item.sign == "+" else -1)
+        return
+    if kinematics.handles(kw, sub):   # seed 002 ch. 17: #KIN ID, #CS, #ACS, #RTCP, #TLC, #TOOL ORI
+        kinematics.execute(interp, node)
         return
     if kw == "HSC":
         dynamics.hsc_statement(interp, node, sub)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import copy
 
 from ..config.machine import Machine
+from ..kinematics.state import KinState
 from ..path.transform import Transform
 from .dynamics import Dynamics, build, default_roundpar
 from .gtable import power_on_modes
@@ -82,6 +83,7 @@ class ChannelState:
         self.feed_override = 100.0             # V.G.PRGFRO (0 = none set by the program)
         self.programmed_override = 0.0
         self.call_letters: list[frozenset] = [frozenset()]  # V.C.PCALLP_x per call level
+        self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)
 
     # ------------------------------------------------------------ planning context
     def dynamics_changed(self) -> None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..kinematics.variables import variables as kinematics_variables
 from .expressions import InterpError
 from .iso import INCH, whole
 from .state import ChannelState
@@ -180,6 +181,7 @@ class Variables:
             "V.G.M01STOP": (lambda i: 0.0, None),
             "V.G.RAPID": (lambda i: 0.0, None),
         })
+        self.plain_vars.update(kinematics_variables(s))   # V.MPK.*, V.G.POSROT*, V.G.TOOLORI*
         for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ":
             self.plain_vars[f"V.C.PCALLP_{letter}"] = (
                 lambda i, x=letter: 1.0 if x in s.call_letters[-1] else 0.0, None)

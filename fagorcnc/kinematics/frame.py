@@ -43,6 +43,7 @@ class Frame:
     kinematics: Kinematics | None = None
     engaged: bool = False             # the kinematics turns tool-tip positions into joints
     tlc: float = 0.0
+    pieces: bool = False              # the frame of the joint-space lines of one move (one per move)
 
     @property
     def tool_length(self) -> float:

@@ -19,6 +19,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..diagnostics import Diagnostic
 from ..interp.records import Arc, Line
 from .frame import Frame
 
@@ -85,7 +86,8 @@ class JointStage:
                 self.note(rec, "an arc in an inclined plane runs as joint-space lines within "
                           f"{self.tolerance:g} mm of the programmed arc")
         point = _arc_point if rec.kind == "arc" else _line_point
-        yield from self._pieces(rec, frame, point, start)
+        # one frame object for the pieces of this move: the planner joins them without a corner
+        yield from self._pieces(rec, replace(frame, pieces=True), point, start)
 
     def _arc(self, rec: Arc, frame: Frame, start: dict, end: dict) -> Arc | None:
         """The arc in machine coordinates when the map takes its plane onto a machine plane."""
@@ -150,9 +152,58 @@ class JointStage:
         x, y, z = frame.linear
         tip = math.dist((pa[x], pa[y], pa[z]), (pb[x], pb[y], pb[z]))
         joint = math.sqrt(sum((jb[k] - ja[k]) ** 2 for k in jb))
-        kind = "rapid" if rec.rapid else "linear"
+        # a rapid's pieces are one path at the axes' own limits: no feed, but joined like feed moves
+        # (a "rapid" record stops at its end)
+        kind = "linear"
         feed = None if rec.rapid else rec.feed
         if feed is not None and tip > 1e-12:
             feed = feed * joint / tip   # the tool tip at the programmed feed
         end_part = {**rec.end_part, **{k: pb[k] for k in pb if k in rec.end_part}} if s_b < 1.0 else rec.end_part
         return Line(kind, ja, jb, end_part, feed, rec.feed_mode, rec.src, None, rec.dyn, frame)
+
+
+def with_frames(records: Iterable, state) -> Iterator:
+    """The interpreter's records, each move tagged with the frame it was made under (``record.frame``);
+    a dwell or an auxiliary function made under one gets its position in machine joints."""
+    kin = state.kin
+    for rec in records:
+        frame = kin.frame_for(state) if kin.frame is not None else None
+        if frame is not None:
+            kind = rec.kind
+            if kind in ("linear", "rapid", "arc"):
+                rec = replace(rec, frame=frame)
+                if kin.pending_ori:
+                    kin.pending_ori = False   # the move that turned the rotary axes (#TOOL ORI)
+            elif kind in ("dwell", "aux"):
+                rec = replace(rec, position=frame.point(rec.position))
+        yield rec
+
+
+def joint_space(records: Iterable, interp) -> Iterator:
+    """:class:`JointStage` over a run's records, soft limits of the channel, one note per run."""
+    st = interp.state
+    told = []
+
+    def limits(position: dict, rec) -> None:
+        for a, v in position.items():
+            lo, hi = st.lower_limits.get(a, -math.inf), st.upper_limits.get(a, math.inf)
+            if not lo - 1e-9 <= v <= hi + 1e-9:
+                bound = "lower" if v < lo else "upper"
+                raise StageError(rec, "KIN021", f"axis {a} reaches {v:.4f} (machine) inside the transformed move, "
+                                 f"beyond its {bound} limit {lo if v < lo else hi:g}")
+
+    def note(rec, text: str) -> None:
+        if not told:
+            told.append(True)
+            interp.diagnostics.append(Diagnostic(rec.src.file, rec.src.line, 1, "KIN022", "info", text,
+                                                 rec.src.text))
+
+    stage = JointStage(interp.machine.kinematics_tolerance, limits, note)
+    last = None
+    for rec in stage.run(records):
+        if getattr(rec, "frame", None) is not None and last is not None and rec.kind in ("linear", "rapid", "arc"):
+            if rec.start != last:
+                rec = replace(rec, start=last)   # the joints go on from where the last move left them
+        if rec.kind in ("linear", "rapid", "arc"):
+            last = rec.end
+        yield rec

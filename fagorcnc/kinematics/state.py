@@ -35,6 +35,7 @@ class KinState:
         self.sol2 = False
         self.frame: Frame | None = None
         self.toolori: tuple[dict, dict] | None = None   # (solution 1, solution 2) of the active plane
+        self.identity_told = False   # KIN024 given (no kinematics, no rotary axes)
 
     @property
     def current(self) -> Kinematics | None:
@@ -85,15 +86,15 @@ class KinState:
             self.zero = None
             self.tool_ori = False
             self.pending_ori = False
-        if not self.active and not self.rtcp and self.tlc is None:
-            return None
+        kin = self.current
+        if not self.active and not (self.rtcp and kin is not None) and self.tlc is None:
+            return None   # (#RTCP without a kinematics: the identity, see statements._identity)
         linear = self._linear(st)
         if linear is None:
             return None
         r, v = self.plane()
         zero = self.zero if self.zero is not None else np.zeros(3)
         shift = zero + v - r @ zero
-        kin = self.current
         engaged = kin is not None and (self.rtcp or self.tool_ori)
         return Frame(self.description(), r, shift, linear, self._length(st, linear), kin, engaged, self.tlc or 0.0)
 

@@ -66,6 +66,8 @@ def _kin_id(interp, kin: KinState, tokens, col: int) -> None:
     n = whole(_number(interp, tokens[1], col))
     if n is None or not 1 <= n <= 6:
         raise InterpError("KIN001", "#KIN ID: the kinematics number is 1..6 (L12527)", col)
+    if _identity(interp, kin, "#KIN ID", col):
+        return
     if n > len(kin.kinematics):
         raise InterpError("KIN001", f"#KIN ID [{n}]: the machine defines {len(kin.kinematics)} kinematics "
                           "([[kinematics]] in the machine file)", col)
@@ -77,6 +79,19 @@ def _kin_id(interp, kin: KinState, tokens, col: int) -> None:
 
 
 # ---------------------------------------------------------------------- #RTCP / #TLC / #TOOL ORI
+def _identity(interp, kin: KinState, what: str, col: int) -> bool:
+    """A machine with neither kinematics nor rotary axes (a 3-axis mill running a 3+2 CAM post): the
+    tool is always along Z, so the kinematics is the identity and the path is exact.  Told once."""
+    st = interp.state
+    if kin.kinematics or any(st.machine.axes[a].rotary for a in st.axes):
+        return False
+    if not kin.identity_told:
+        kin.identity_told = True
+        interp.message("KIN024", "info", f"{what}: the machine has no rotary axes and no [[kinematics]]; the tool "
+                       "stays along Z, the tool tip is the programmed point", col)
+    return True
+
+
 def _needs_kinematics(kin: KinState, what: str, col: int):
     k = kin.current
     if k is None:
@@ -103,7 +118,8 @@ def _rtcp(interp, kin: KinState, tokens, col: int) -> None:
     if word == "ON":
         if kin.tlc is not None:
             raise InterpError("KIN004", "#RTCP ON while #TLC is active (L13229): switch #TLC OFF first", col)
-        _needs_kinematics(kin, "#RTCP", col)
+        if not _identity(interp, kin, "#RTCP", col):
+            _needs_kinematics(kin, "#RTCP", col)
         kin.rtcp = True
     else:
         kin.rtcp = False
@@ -128,8 +144,14 @@ def _tlc(interp, kin: KinState, tokens, col: int) -> None:
 
 def _tool_ori(interp, kin: KinState, col: int) -> None:
     # seed 002 L13131-L13213: the tool perpendicular to the active plane, during the next move
-    _needs_kinematics(kin, "#TOOL ORI", col)
     st = interp.state
+    if _identity(interp, kin, "#TOOL ORI", col):
+        r, _v = kin.plane()
+        if abs(r[2, 2] - 1.0) > 1e-9:
+            raise InterpError("KIN013", "#TOOL ORI: the machine has no rotary axes to put the tool perpendicular "
+                              "to the inclined plane", col)
+        return
+    _needs_kinematics(kin, "#TOOL ORI", col)
     kin.tool_ori = bool(kin.active) or kin.rtcp
     kin.pending_ori = True
     kin.rebuild(st)

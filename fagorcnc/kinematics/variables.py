@@ -1,0 +1,64 @@
+"""V. variables of the kinematics (seed 002 L28769-L28937, L13375-L13413; spec 07 §B.8, spec 05 §6.10).
+
+``V.MPK.NKIN``, ``V.MPK.TYPE[kin]``, ``V.MPK.NKINAX[kin]`` read the machine file's ``[[kinematics]]``;
+``V.MPK.TDATAk[nb]`` / ``TDATA_Ik[nb]`` are refused (KIN023): fagorcnc names the geometry instead of
+numbering it.  ``V.G.POSROTF`` / ``POSROTS`` are the present positions of the selected kinematics'
+main and secondary rotary axes (writable: a head positioned by hand), ``V.G.TOOLORIF1``/``S1``/``F2``/
+``S2`` the positions that put the tool perpendicular to the active plane (solution 1, solution 2).
+"""
+
+from __future__ import annotations
+
+from ..interp.expressions import InterpError, whole
+
+
+def _kin(st, index: tuple):
+    kins = st.kin.kinematics
+    n = whole(index[0]) if index else None
+    if n is None or not 1 <= n <= len(kins):
+        raise InterpError("INT045", f"kinematics [{index[0] if index else ''}] does not exist (the machine "
+                          f"defines {len(kins)})", 1)
+    return kins[n - 1]
+
+
+def _rotary(st, k: int) -> str:
+    kin = st.kin.current
+    if kin is None or len(kin.joints) <= k:
+        raise InterpError("KIN003", "no kinematics with that rotary axis is selected (#KIN ID)", 1)
+    return kin.joints[k].axis
+
+
+def _set_rotary(st, k: int, value: float) -> None:
+    st.machine_pos[_rotary(st, k)] = value
+
+
+def _toolori(st, solution: int, k: int) -> float:
+    sols = st.kin.toolori
+    if sols is None:
+        return 0.0
+    kin = st.kin.current
+    return sols[solution][kin.joints[k].axis]
+
+
+def _tdata(index: tuple) -> float:
+    raise InterpError("KIN023", "V.MPK.TDATA values are the manufacturer's installation data; fagorcnc names the "
+                      "kinematics geometry in the machine file instead ([[kinematics]] in the README)", 1)
+
+
+def variables(st) -> dict:
+    """Name -> (getter(index), setter(index, value) or None), as ``Variables.plain_vars``."""
+    out = {
+        "V.MPK.NKIN": (lambda i: float(len(st.kin.kinematics)), None),
+        "V.MPK.TYPE[]": (lambda i: float(_kin(st, i).type), None),
+        "V.MPK.NKINAX[]": (lambda i: float(len(_kin(st, i).joints)), None),
+        "V.G.POSROTF": (lambda i: st.machine_pos[_rotary(st, 0)], lambda i, v: _set_rotary(st, 0, v)),
+        "V.G.POSROTS": (lambda i: st.machine_pos[_rotary(st, 1)], lambda i, v: _set_rotary(st, 1, v)),
+        "V.G.TOOLORIF1": (lambda i: _toolori(st, 0, 0), None),
+        "V.G.TOOLORIS1": (lambda i: _toolori(st, 0, 1), None),
+        "V.G.TOOLORIF2": (lambda i: _toolori(st, 1, 0), None),
+        "V.G.TOOLORIS2": (lambda i: _toolori(st, 1, 1), None),
+    }
+    for n in range(1, 7):
+        out[f"V.MPK.TDATA{n}[]"] = (_tdata, None)
+        out[f"V.MPK.TDATA_I{n}[]"] = (_tdata, None)
+    return out
