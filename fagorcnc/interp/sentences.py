@@ -14,8 +14,8 @@ Three kinds:
 
 from __future__ import annotations
 
-from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
 from ..kinematics import statements as kinematics
+from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
 from . import dynamics
 from .expressions import InterpError
 from .records import Dwell
