@@ -107,6 +107,8 @@ class JointStage:
         if sa * so < 0:
             ccw = not ccw
         na, no = names[ja], names[jo]
+        if (jo - ja) % 3 != 1:   # the machine plane in its own order (XY, YZ, ZX: G17, G19, G18)
+            na, no, ccw = no, na, not ccw
         nn = next(v for v in names if v not in (na, no))
         c = frame.point({**rec.start, a: rec.center[a], o: rec.center[o]})
         return replace(rec, start=start, end=end, center={na: c[na], no: c[no]}, plane=(na, no, nn),
