@@ -91,7 +91,8 @@ def test_every_acs_acts_before_every_cs():
 
 def test_nesting_trace_of_the_manual():
     # seed 002 L13112-L13128: the OFF statements remove the last of their kind; OFF ALL every one
-    text = ("#CS DEF [1] [MODE 1, 1,0,0, 0,0,0]\n#CS DEF [2] [MODE 1, 0,2,0, 0,0,0]\n#CS DEF [3] [MODE 1, 0,0,4, 0,0,0]\n"
+    text = ("#CS DEF [1] [MODE 1, 1,0,0, 0,0,0]\n#CS DEF [2] [MODE 1, 0,2,0, 0,0,0]\n"
+            "#CS DEF [3] [MODE 1, 0,0,4, 0,0,0]\n"
             "#ACS DEF [1] [MODE 1, 10,0,0, 0,0,0]\n#ACS DEF [2] [MODE 1, 0,20,0, 0,0,0]\n"
             "#CS ON [1]\n#ACS ON [2]\n#ACS ON [1]\n#CS ON [2]\n#ACS OFF\n#CS OFF\n#CS ON [3]\nG0 X0 Y0 Z0\n"
             "#ACS OFF ALL\nG0 X0 Y0 Z0\n#CS OFF ALL\nG0 X0 Y0 Z0\nM30\n")
