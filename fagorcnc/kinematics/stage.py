@@ -63,12 +63,26 @@ class JointStage:
         self.note = note   # note(record, text): told once that inclined arcs run as chords
 
     def run(self, records: Iterable) -> Iterator:
+        last = None   # the joints where the last move ended
         for rec in records:
-            frame = getattr(rec, "frame", None)
-            if frame is None or rec.kind not in ("linear", "rapid", "arc"):
+            kind = rec.kind
+            if kind not in ("linear", "rapid", "arc"):
                 yield rec
                 continue
-            yield from self._map(rec, frame)
+            frame = rec.frame
+            if frame is None:
+                last = rec.end
+                yield rec
+                continue
+            if last is not None:
+                # the move starts where the joints are, seen in its own frame (the tool length offset
+                # the interpreter applies with a move changes the frame at that move)
+                start = frame.inverse(last)
+                if any(abs(start[k] - rec.start[k]) > 1e-9 for k in rec.start):
+                    rec = replace(rec, start={k: start[k] for k in rec.start})
+            for out in self._map(rec, frame):
+                last = out.end
+                yield out
 
     def _map(self, rec, frame: Frame) -> Iterator:
         start, end = frame.point(rec.start), frame.point(rec.end)
@@ -160,7 +174,10 @@ class JointStage:
         feed = None if rec.rapid else rec.feed
         if feed is not None and tip > 1e-12:
             feed = feed * joint / tip   # the tool tip at the programmed feed
-        end_part = {**rec.end_part, **{k: pb[k] for k in pb if k in rec.end_part}} if s_b < 1.0 else rec.end_part
+        if s_b < 1.0:   # the programmed point there, in the programmed frame (offsets as at the move's end)
+            end_part = {k: pb[k] - (rec.end[k] - v) if k in pb else v for k, v in rec.end_part.items()}
+        else:
+            end_part = rec.end_part
         return Line(kind, ja, jb, end_part, feed, rec.feed_mode, rec.src, None, rec.dyn, frame)
 
 
@@ -200,12 +217,4 @@ def joint_space(records: Iterable, interp) -> Iterator:
             interp.diagnostics.append(Diagnostic(rec.src.file, rec.src.line, 1, "KIN022", "info", text,
                                                  rec.src.text))
 
-    stage = JointStage(interp.machine.kinematics_tolerance, limits, note)
-    last = None
-    for rec in stage.run(records):
-        if getattr(rec, "frame", None) is not None and last is not None and rec.kind in ("linear", "rapid", "arc"):
-            if rec.start != last:
-                rec = replace(rec, start=last)   # the joints go on from where the last move left them
-        if rec.kind in ("linear", "rapid", "arc"):
-            last = rec.end
-        yield rec
+    yield from JointStage(interp.machine.kinematics_tolerance, limits, note).run(records)
