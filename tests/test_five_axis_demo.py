@@ -94,6 +94,7 @@ def test_rtcp_program_tip_follows(rtcp):
 def test_cycle_time_is_the_joint_space_plan(rtcp):
     # the turn N90 alone: C turns 90 deg at most 10800 deg/min while X, Y, Z follow the tip's circle of
     # radius 40 (and its tilt): it cannot take less than 90 / (10800/60) = 0.5 s
-    segs = [s for s in rtcp.segments() if getattr(s, "record", None) is not None and s.record.src.text.startswith("N90 ")]
+    segs = [s for s in rtcp.segments()
+            if getattr(s, "record", None) is not None and s.record.src.text.startswith("N90 ")]
     assert sum(s.duration for s in segs) >= 0.5
     assert rtcp.cycle_time == pytest.approx(sum(s.duration for s in rtcp.segments()), rel=1e-6)
