@@ -164,6 +164,12 @@ CODES: dict[str, str] = {
     "KIN022": "arc in an inclined plane run as joint-space lines",
     "KIN023": "machine variable of a kinematics fagorcnc does not hold (TDATA)",
     "KIN024": "kinematics statement on a machine without rotary axes: the identity kinematics",
+    "KIN025": "move that does not continue the transformed moves before it",
+    "KIN030": "#CYL without the cylinder radius",
+    "KIN031": "#CYL with radius 0 (the tool's distance to the centre) not computed",
+    "KIN032": "#FACE/#CYL axes: not in the channel, or not one rotary axis and linear ones",
+    "KIN033": "#FACE/#CYL kinematics number not of a C-axis type",
+    "KIN034": "#FACE/#CYL with another C axis or a coordinate transformation active",
 }
 
 

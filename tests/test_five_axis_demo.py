@@ -40,12 +40,12 @@ def within_limits(r) -> None:
 
 @pytest.fixture(scope="module")
 def tilted():
-    return fagorcnc.simulate(ROOT / "programs" / "five_axis_tilted.nc", MACHINE)
+    return fagorcnc.simulate(ROOT / "programs" / "five_axis" / "tilted_plane.nc", MACHINE)
 
 
 @pytest.fixture(scope="module")
 def rtcp():
-    return fagorcnc.simulate(ROOT / "programs" / "five_axis_rtcp.nc", MACHINE)
+    return fagorcnc.simulate(ROOT / "programs" / "five_axis" / "rtcp_table.nc", MACHINE)
 
 
 def test_tilted_plane_holes_and_slot(tilted):
@@ -98,3 +98,16 @@ def test_cycle_time_is_the_joint_space_plan(rtcp):
             if getattr(s, "record", None) is not None and s.record.src.text.startswith("N90 ")]
     assert sum(s.duration for s in segs) >= 0.5
     assert rtcp.cycle_time == pytest.approx(sum(s.duration for s in rtcp.segments()), rel=1e-6)
+
+
+@pytest.mark.parametrize("name", ["tilted_plane.nc", "rtcp_table.nc"])
+def test_demos_pass_check(name):
+    # `fagorcnc check --machine machines/five_axis_ac.toml programs/five_axis/...`: the streamed
+    # verification (PLN100 envelope of the planned path included) agrees with simulate()
+    from fagorcnc.commands.check import check_file
+
+    path = ROOT / "programs" / "five_axis" / name
+    report = check_file(path, MACHINE)
+    result = fagorcnc.simulate(path, MACHINE)
+    assert report.verdict() == "pass" and not report.diagnostics, report.diagnostics
+    assert report.cycle_time == pytest.approx(result.cycle_time, rel=1e-9)

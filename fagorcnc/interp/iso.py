@@ -177,8 +177,8 @@ class IsoExecutor:
     def length(self, value: float, axis: str | None = None, diameter_ok: bool = True) -> float:
         """A programmed length in mm (G70 inch, G151 diameter axes)."""
         st = self.state
-        if axis is not None and st.machine.axes[axis].rotary:
-            return value
+        if axis is not None and st.machine.axes[axis].rotary and axis not in st.kin.as_linear:
+            return value   # (a rotary axis of #FACE/#CYL is programmed as a length)
         if st.modes["units"] == 70:
             value *= INCH
         if diameter_ok and axis is not None and st.modes["diameter"] == 151 and st.machine.axes[axis].diameter:
@@ -192,7 +192,7 @@ class IsoExecutor:
         out = dict(current_part)
         for axis, (v, col) in bw.axes.items():
             ax = st.machine.axes[axis]
-            if ax.rotary and ax.rotary_mode != "linearlike":
+            if ax.rotary and ax.rotary_mode != "linearlike" and axis not in st.kin.as_linear:
                 out[axis] = self._rotary(ax, current_part[axis], v, incremental, col)
             elif incremental:
                 out[axis] = current_part[axis] + self.length(v, axis)

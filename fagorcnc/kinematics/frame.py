@@ -44,6 +44,8 @@ class Frame:
     engaged: bool = False             # the kinematics turns tool-tip positions into joints
     tlc: float = 0.0
     pieces: bool = False              # the frame of the joint-space lines of one move (one per move)
+    arcs = True                       # an arc may stay an arc (see stage.JointStage)
+    initial_pieces = 1                # the first cut of a move into joint-space lines
 
     @property
     def tool_length(self) -> float:
@@ -57,8 +59,9 @@ class Frame:
         kin = self.kinematics
         return {a: pos.get(a, 0.0) for a in kin.axes} if kin is not None else {}
 
-    def point(self, pos: dict) -> dict:
-        """Machine joint positions of the virtual position ``pos`` (a dict of every axis it names)."""
+    def point(self, pos: dict, near: dict | None = None) -> dict:
+        """Machine joint positions of the virtual position ``pos`` (a dict of every axis it names);
+        ``near`` is for frames whose joints have several values (see caxis.FaceFrame)."""
         x, y, z = self.linear
         v = np.array([pos[x], pos[y], pos[z]], dtype=float)
         p = self.rotation @ (v - self.length) + self.shift

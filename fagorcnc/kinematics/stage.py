@@ -50,6 +50,10 @@ def _arc_point(rec: Arc, s: float) -> dict:
     return out
 
 
+def _turned(pos: dict, turns: dict) -> dict:
+    return {k: v + turns.get(k, 0.0) for k, v in pos.items()}
+
+
 def _line_point(rec, s: float) -> dict:
     return {x: rec.start[x] + (rec.end[x] - rec.start[x]) * s for x in rec.end}
 
@@ -63,7 +67,10 @@ class JointStage:
         self.note = note   # note(record, text): told once that inclined arcs run as chords
 
     def run(self, records: Iterable) -> Iterator:
-        last = None   # the joints where the last move ended
+        last = None   # the joints where the last transformed move ended (and the moves after it)
+        had_frame = False
+        turns: dict[str, float] = {}   # whole turns the joints stand from what the state says (#FACE)
+        wrapped: tuple = ()
         for rec in records:
             kind = rec.kind
             if kind not in ("linear", "rapid", "arc"):
@@ -71,22 +78,41 @@ class JointStage:
                 continue
             frame = rec.frame
             if frame is None:
-                last = rec.end
+                if turns:
+                    rec = replace(rec, start=_turned(rec.start, turns), end=_turned(rec.end, turns))
+                if last is not None and wrapped:
+                    # the C axis of #FACE stands some turns away from the angle the state knows
+                    for k in wrapped:
+                        extra = 360.0 * round((last[k] - rec.start[k]) / 360.0)
+                        if extra:
+                            turns[k] = turns.get(k, 0.0) + extra
+                            rec = replace(rec, start=_turned(rec.start, {k: extra}), end=_turned(rec.end, {k: extra}))
+                    wrapped = ()
+                if last is not None and any(abs(rec.start.get(k, v) - v) > 1e-6 for k, v in last.items()):
+                    # a move after transformed ones must start where their joints ended: refuse
+                    # rather than jump (a stage that dropped the frame would otherwise pass unseen)
+                    raise StageError(rec, "KIN025", "this move does not start where the transformed moves "
+                                     "before it left the joints; fagorcnc cannot compute it")
+                last = rec.end if had_frame else None
                 yield rec
                 continue
+            had_frame = True
+            turns = {}
+            wrapped = getattr(frame, "wrapped", ())
             if last is not None:
                 # the move starts where the joints are, seen in its own frame (the tool length offset
                 # the interpreter applies with a move changes the frame at that move)
                 start = frame.inverse(last)
                 if any(abs(start[k] - rec.start[k]) > 1e-9 for k in rec.start):
                     rec = replace(rec, start={k: start[k] for k in rec.start})
-            for out in self._map(rec, frame):
+            for out in self._map(rec, frame, last):
                 last = out.end
                 yield out
 
-    def _map(self, rec, frame: Frame) -> Iterator:
-        start, end = frame.point(rec.start), frame.point(rec.end)
-        if frame.affine_between(rec.start, rec.end):
+    def _map(self, rec, frame: Frame, last: dict | None) -> Iterator:
+        start = frame.point(rec.start, last)
+        if frame.affine_between(rec.start, rec.end) and (rec.kind != "arc" or frame.arcs):
+            end = frame.point(rec.end, start)
             if rec.kind != "arc":
                 self.limits(end, rec)
                 yield replace(rec, start=start, end=end)
@@ -130,15 +156,17 @@ class JointStage:
 
     def _pieces(self, rec, frame: Frame, point, start: dict) -> Iterator:
         """Joint-space lines whose tool tip stays within the tolerance of the programmed path."""
-        cuts = [0.0, 1.0]
-        joints = {0.0: start, 1.0: frame.point(rec.end)}
-        stack = [(0.0, 1.0, 0)]
+        n = frame.initial_pieces
+        joints = {0.0: start}
+        for i in range(1, n + 1):   # the first cut, each joint position followed from the one before
+            joints[i / n] = frame.point(point(rec, i / n) if i < n else rec.end, joints[(i - 1) / n])
+        stack = [((n - 1 - i) / n, (n - i) / n, 0) for i in range(n)]
         done = []
         while stack:
             s0, s1, depth = stack.pop()
             sm = 0.5 * (s0 + s1)
             pm = point(rec, sm)
-            jm = frame.point(pm)
+            jm = frame.point(pm, joints[s0])
             j0, j1 = joints[s0], joints[s1]
             mid = {k: 0.5 * (j0[k] + j1[k]) for k in j0}
             # the tool tip where the joint-space line puts it, against the programmed tip
@@ -155,7 +183,6 @@ class JointStage:
                 stack.append((s0, sm, depth + 1))
             else:
                 done.append((s0, s1))
-                cuts.append(sm)
         done.sort()
         for s0, s1 in done:
             for s_a, s_b in ((s0, 0.5 * (s0 + s1)), (0.5 * (s0 + s1), s1)):

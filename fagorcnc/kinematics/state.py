@@ -36,6 +36,8 @@ class KinState:
         self.frame: Frame | None = None
         self.toolori: tuple[dict, dict] | None = None   # (solution 1, solution 2) of the active plane
         self.identity_told = False   # KIN024 given (no kinematics, no rotary axes)
+        self.caxis: tuple | None = None     # ("FACE" | "CYL", its frame, the modes it replaced)
+        self.as_linear: frozenset = frozenset()   # rotary axes programmed as lengths (#FACE, #CYL)
 
     @property
     def current(self) -> Kinematics | None:
@@ -82,6 +84,8 @@ class KinState:
         st.machine_pos = self.frame.inverse(real) if self.frame is not None else real
 
     def _build(self, st) -> Frame | None:
+        if self.caxis is not None:
+            return self.caxis[1]
         if not self.active:
             self.zero = None
             self.tool_ori = False
@@ -102,6 +106,6 @@ class KinState:
         """The frame of a record made now (rebuilt when the tool length offset changed with the move,
         which the interpreter applies with it)."""
         f = self.frame
-        if f is not None and not np.array_equal(f.length, self._length(st, f.linear)):
+        if type(f) is Frame and not np.array_equal(f.length, self._length(st, f.linear)):
             f = self.frame = self._build(st)
         return f

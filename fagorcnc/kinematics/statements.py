@@ -7,13 +7,13 @@ import numpy as np
 
 from ..interp.expressions import InterpError, whole
 from ..syntax.ast import ItemList, Keyed, Name
-from . import frames
+from . import caxis, frames
 from .rotation import wrap
 from .solve import KinematicsError, orientations, tool_direction_part
 from .state import MAX_ACTIVE, KinState
 
 #: Statements handled here (the keyword after #, and #TOOL followed by ORI).
-KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC"})
+KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC", "FACE", "CYL"})
 
 
 def handles(kw: str, sub: str | None) -> bool:
@@ -34,6 +34,8 @@ def execute(interp, node) -> None:
         _rtcp(interp, kin, tokens, node.col)
     elif kw == "TLC":
         _tlc(interp, kin, tokens, node.col)
+    elif kw in ("FACE", "CYL"):
+        caxis.statement(interp, node, list(node.args))
     else:
         _tool_ori(interp, kin, node.col)
 
