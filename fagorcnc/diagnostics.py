@@ -170,6 +170,7 @@ CODES: dict[str, str] = {
     "KIN032": "#FACE/#CYL axes: not in the channel, or not one rotary axis and linear ones",
     "KIN033": "#FACE/#CYL kinematics number not of a C-axis type",
     "KIN034": "#FACE/#CYL with another C axis or a coordinate transformation active",
+    "KIN035": "#FACE/#CYL with a work offset on the C axis active",
 }
 
 

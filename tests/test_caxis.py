@@ -96,6 +96,7 @@ def test_cylinder_g01_with_b_alone_is_one_line():
     ("#FACE [X,C]\n", "KIN032"),
     ("#CYL [Y,B,Z20]\n#FACE [X,B]\n", "KIN034"),
     ("#FACE [X,B][1]\n", "KIN033"),
+    ("G92 B10\n#CYL [Y,B,Z20]\n", "KIN035"),
 ])
 def test_caxis_errors(text, code):
     assert codes(fagorcnc.simulate(text + "M30\n", MILL_B)) == [code]

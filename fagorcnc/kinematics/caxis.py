@@ -161,6 +161,10 @@ def statement(interp, node, tokens: list) -> None:
         raise InterpError("KIN032", f"#{kw}: the longitudinal axis must be a linear axis", col)
     c = rotary[0]
     other = names[0] if names[1] == c else names[1]
+    if abs(st.chain(c)) > 1e-12:
+        # seed 002 L11567: the C component of an offset active at the switch-on is not applied
+        raise InterpError("KIN035", f"#{kw}: a work offset with a {c} component is active; the CNC drops that "
+                          "component (L11567), which fagorcnc does not compute: cancel it first", col)
     if kw == "CYL":
         if radius <= 0:
             raise InterpError("KIN031", "#CYL with radius 0 (the tool's own distance to the centre) is not "
