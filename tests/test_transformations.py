@@ -279,3 +279,11 @@ def test_mpk_variables():
     assert [r.state.param(i) for i in (1, 2, 3, 4)] == [1, 10, 2, 0]
     assert codes(run("P1=V.MPK.TDATA1[3]\nM30\n", TABLE_AC)) == ["KIN023"]
     assert codes(run("P1=V.MPK.TYPE[2]\nM30\n", TABLE_AC)) == ["INT045"]
+
+
+def test_machine_position_variables_are_the_joints():
+    # V.A.POS and the final machine position are the real axes, the plane point (60, 20, 3) of the
+    # MODE 1 plane being machine (60, 15.8205, 32.5981); V.A.PPOS is in the plane
+    r = run("#CS ON [1] [MODE 1, 0, 0, 20, 30, 0, 0]\nG0 X60 Y20 Z3\nP1=V.A.POS.Y\nP2=V.A.PPOS.Y\nM30\n")
+    assert r.state.param(1) == pytest.approx(15.8205081) and r.state.param(2) == pytest.approx(20)
+    assert approx(r.state.position("machine"), Y=15.8205081, Z=32.5980762)

@@ -109,6 +109,12 @@ class ChannelState:
         """Machine minus part coordinate on ``axis``: origin chain plus tool length compensation."""
         return self.chain(axis) + self.length_offset.get(axis, 0.0)
 
+    def joints(self) -> dict[str, float]:
+        """The machine axes' positions: ``machine_pos`` is in the programmed plane's coordinates while
+        a transformation is active (#CS, #RTCP, #FACE...; fagorcnc.kinematics.frame)."""
+        frame = self.kin.frame
+        return frame.point(self.machine_pos) if frame is not None else dict(self.machine_pos)
+
     def part_pos(self) -> dict[str, float]:
         """Tool tip in (transformed) part coordinates."""
         return {a: self.machine_pos[a] - self.axis_offset(a) for a in self.axes}

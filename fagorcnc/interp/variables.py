@@ -70,8 +70,8 @@ class Variables:
         # name -> (getter, setter or None); axis variables take the axis as 3rd argument
         self.axis_vars: dict[str, tuple[Getter, Setter | None]] = {
             "V.A.PPOS": (lambda st, i, a: st.part_pos()[a], None),          # L35650
-            "V.A.POS": (lambda st, i, a: st.machine_pos[a], None),          # L35803
-            "V.A.TPOS": (lambda st, i, a: st.machine_pos[a], None),         # L35816
+            "V.A.POS": (lambda st, i, a: st.joints()[a], None),             # L35803
+            "V.A.TPOS": (lambda st, i, a: st.joints()[a], None),            # L35816
             # the controlled point is the tool base (POS, L35803): the tip is the tool length away from it
             # in machine coordinates (TIPPOS, L35846), the base in part coordinates leaves the tool
             # length out (APOS, L35734)
