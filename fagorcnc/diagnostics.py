@@ -171,6 +171,9 @@ CODES: dict[str, str] = {
     "KIN033": "#FACE/#CYL kinematics number not of a C-axis type",
     "KIN034": "#FACE/#CYL with another C axis or a coordinate transformation active",
     "KIN035": "#FACE/#CYL with a work offset on the C axis active",
+    "KIN040": "#ANGAX: transformation number missing or not set up",
+    "KIN041": "suspended #ANGAX with scaling, rotation or mirror active",
+    "KIN042": "G74 homing not allowed with #ANGAX, or of an axis outside the #RTCP",
 }
 
 

@@ -137,6 +137,7 @@ class Machine:
     kinematics: list = field(default_factory=list)   # [[kinematics]]: fagorcnc.kinematics.config.Kinematics
     kinid: int = 0               # KINID: the kinematics selected at power-on (0 = none)
     kinematics_tolerance: float = 0.001   # mm: tool-tip deviation of transformed moves cut into joint lines
+    angular_axes: list = field(default_factory=list)   # [[angular_axes]]: fagorcnc.kinematics.angax (#ANGAX)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -293,13 +294,15 @@ def _build(data: dict) -> Machine:
 
 def _kinematics(data: dict, axes: dict) -> dict:
     """``[[kinematics]]``, ``kinid`` and ``kinematics_tolerance`` (fagorcnc.kinematics.config)."""
+    from ..kinematics.angax import parse_angular_axes
     from ..kinematics.config import parse_kinematics, parse_kinid
 
     kins = parse_kinematics(data.get("kinematics"), axes)
     tol = _number("kinematics_tolerance", data.get("kinematics_tolerance", 0.001))
     if not 1e-6 <= tol <= 1.0:
         raise MachineError(f"kinematics_tolerance = {tol:g}: mm between 0.000001 and 1")
-    return {"kinematics": kins, "kinid": parse_kinid(data.get("kinid"), kins), "kinematics_tolerance": tol}
+    return {"kinematics": kins, "kinid": parse_kinid(data.get("kinid"), kins), "kinematics_tolerance": tol,
+            "angular_axes": parse_angular_axes(data.get("angular_axes"), axes)}
 
 
 def _parameter_file(value: Any) -> Path | None:

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..kinematics.statements import orient_target
+from ..kinematics.statements import adjust_target
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
@@ -198,8 +198,8 @@ class IsoExecutor:
                 out[axis] = current_part[axis] + self.length(v, axis)
             else:
                 out[axis] = self.length(v, axis)
-        if st.kin.pending_ori:   # #TOOL ORI: the rotary axes turn during this move (seed 002 L13131)
-            orient_target(self.interp, out)
+        if st.kin.pending_ori or st.kin.angax:   # #TOOL ORI (seed 002 L13131), a suspended #ANGAX (L11939)
+            adjust_target(self.interp, bw, out)
         return out
 
     @staticmethod
@@ -624,6 +624,7 @@ class IsoExecutor:
         bw.speeds.clear()
         if not bw.axes:
             raise InterpError("INT067", "G74 needs the axes to reference with their order: G74 X1 Y2", col)
+        st.kin.check_home(bw.axes, col)
         groups: dict[int, list[str]] = {}
         for axis, (v, c) in bw.axes.items():
             if whole(v) is None or v < 1:

@@ -195,6 +195,7 @@ class ChannelState:
         if self.machine.default("MIRRORCANCEL"):
             self.transform.mirror = set()
         self.tool_axis = None
+        self.kin.reset()              # a suspended #ANGAX is active again (L11950)
         self.aid_size = None
         self.planner = {}
         self.hsc = None               # L13665: HSC is cancelled by M02/M30 and reset

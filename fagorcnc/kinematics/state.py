@@ -38,6 +38,8 @@ class KinState:
         self.identity_told = False   # KIN024 given (no kinematics, no rotary axes)
         self.caxis: tuple | None = None     # ("FACE" | "CYL", its frame, the modes it replaced)
         self.as_linear: frozenset = frozenset()   # rotary axes programmed as lengths (#FACE, #CYL)
+        self.angular_axes = list(getattr(machine, "angular_axes", []))   # [[angular_axes]] (#ANGAX)
+        self.angax: dict[int, int] = {}   # #ANGAX: transformation number -> 1 active, 2 suspended
 
     @property
     def current(self) -> Kinematics | None:
@@ -86,6 +88,10 @@ class KinState:
     def _build(self, st) -> Frame | None:
         if self.caxis is not None:
             return self.caxis[1]
+        if self.angax:
+            from .angax import frame_of
+
+            return frame_of(self)
         if not self.active:
             self.zero = None
             self.tool_ori = False
@@ -101,6 +107,28 @@ class KinState:
         shift = zero + v - r @ zero
         engaged = kin is not None and (self.rtcp or self.tool_ori)
         return Frame(self.description(), r, shift, linear, self._length(st, linear), kin, engaged, self.tlc or 0.0)
+
+    def reset(self) -> None:
+        """M02/M30 and reset: a suspended #ANGAX is active again (seed 002 L11950); everything else of
+        this chapter is kept (L12594, L13309, L11903)."""
+        for n, v in self.angax.items():
+            if v == 2:
+                self.angax[n] = 1
+
+    def check_home(self, axes, col: int) -> None:
+        """G74: refused with an angular transformation active (L11867), and under #RTCP for axes that
+        are not the RTCP's (L13319)."""
+        from ..interp.expressions import InterpError
+
+        if self.angax:
+            raise InterpError("KIN042", "G74 homing is not allowed with an angular transformation (#ANGAX) active "
+                              "(L11867)", col)
+        if self.rtcp and self.current is not None:
+            mine = set(self.current.axes) | {"X", "Y", "Z"}
+            other = [a for a in axes if a not in mine]
+            if other:
+                raise InterpError("KIN042", f"G74 of {', '.join(other)} while #RTCP is active: only the RTCP's "
+                                  "axes may be homed (L13319)", col)
 
     def frame_for(self, st) -> Frame | None:
         """The frame of a record made now (rebuilt when the tool length offset changed with the move,

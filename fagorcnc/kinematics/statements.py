@@ -7,13 +7,13 @@ import numpy as np
 
 from ..interp.expressions import InterpError, whole
 from ..syntax.ast import ItemList, Keyed, Name
-from . import caxis, frames
+from . import angax, caxis, frames
 from .rotation import wrap
 from .solve import KinematicsError, orientations, tool_direction_part
 from .state import MAX_ACTIVE, KinState
 
 #: Statements handled here (the keyword after #, and #TOOL followed by ORI).
-KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC", "FACE", "CYL"})
+KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC", "FACE", "CYL", "ANGAX"})
 
 
 def handles(kw: str, sub: str | None) -> bool:
@@ -36,6 +36,8 @@ def execute(interp, node) -> None:
         _tlc(interp, kin, tokens, node.col)
     elif kw in ("FACE", "CYL"):
         caxis.statement(interp, node, list(node.args))
+    elif kw == "ANGAX":
+        angax.statement(interp, node)
     else:
         _tool_ori(interp, kin, node.col)
 
@@ -186,6 +188,16 @@ def _nearest(st, axis: str, angle: float) -> float:
             if best is None or abs(v - cur) < abs(best - cur):
                 best = v
     return angle if best is None else best
+
+
+def adjust_target(interp, bw, end: dict) -> None:
+    """The end point of a move as this chapter changes it: #TOOL ORI's rotary positions, a suspended
+    #ANGAX."""
+    kin: KinState = interp.state.kin
+    if kin.pending_ori:
+        orient_target(interp, end)
+    if kin.angax:
+        angax.suspended_target(interp, bw, end)
 
 
 def orient_target(interp, end: dict) -> None:

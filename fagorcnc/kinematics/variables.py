@@ -58,6 +58,9 @@ def variables(st) -> dict:
         "V.G.TOOLORIF2": (lambda i: _toolori(st, 1, 0), None),
         "V.G.TOOLORIS2": (lambda i: _toolori(st, 1, 1), None),
     }
+    from .angax import variables as angax_variables
+
+    out.update(angax_variables(st))
     for n in range(1, 7):
         out[f"V.MPK.TDATA{n}[]"] = (_tdata, None)
         out[f"V.MPK.TDATA_I{n}[]"] = (_tdata, None)
