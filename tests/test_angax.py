@@ -9,7 +9,8 @@ import pytest
 import fagorcnc
 from fagorcnc.machine import MachineError, load_machine
 
-LATHE = {"axes": {"X": {}, "Y": {}, "Z": {}}, "angular_axes": [{"angular_axis": "X", "orthogonal_axis": "Z", "angle": 30}]}
+LATHE = {"axes": {"X": {}, "Y": {}, "Z": {}},
+         "angular_axes": [{"angular_axis": "X", "orthogonal_axis": "Z", "angle": 30}]}
 T30, C30 = math.tan(math.radians(30)), math.cos(math.radians(30))
 
 
