@@ -174,6 +174,10 @@ CODES: dict[str, str] = {
     "KIN040": "#ANGAX: transformation number missing or not set up",
     "KIN041": "suspended #ANGAX with scaling, rotation or mirror active",
     "KIN042": "G74 homing not allowed with #ANGAX, or of an axis outside the #RTCP",
+    "KIN050": "tangential axis not a modulo rotary axis, or an axis of the plane",
+    "KIN051": "tangential control: angle outside ±359.9999, no axis nor F, G145 K not 0 or 1",
+    "KIN052": "tangential control with compensation, corner aids or a transformation not computed",
+    "KIN053": "axis under tangential control programmed",
 }
 
 

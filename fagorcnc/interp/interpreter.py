@@ -18,6 +18,7 @@ from time import monotonic
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
 from ..kinematics.stage import StageError, joint_space, with_frames
+from ..kinematics.tangential import follow
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
@@ -101,7 +102,7 @@ class Interpreter:
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
-            records = compensate(apply_aids(with_frames(self._guarded(), self.state), self._aid_error))
+            records = compensate(apply_aids(with_frames(follow(self._guarded(), self), self.state), self._aid_error))
             for record in joint_space(records, self):
                 self.cycle_time += record_time(machine, record)
                 handed = monotonic()

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..kinematics import tangential
 from ..kinematics.statements import adjust_target
 from ..path import arcs
 from ..path.aids import Aid
@@ -198,7 +199,7 @@ class IsoExecutor:
                 out[axis] = current_part[axis] + self.length(v, axis)
             else:
                 out[axis] = self.length(v, axis)
-        if st.kin.pending_ori or st.kin.angax:   # #TOOL ORI (seed 002 L13131), a suspended #ANGAX (L11939)
+        if st.kin.pending_ori or st.kin.angax or st.kin.tangential:   # #TOOL ORI, #ANGAX SUSP, G45 (ch. 15-17)
             adjust_target(self.interp, bw, out)
         return out
 
@@ -307,6 +308,8 @@ class IsoExecutor:
                 after.append((m, col))
                 continue
             yield from self._m_before(m, col, bw, src)
+        if 45 in gs or 145 in gs:   # tangential control (seed 002 ch. 16): its axis words are angles
+            (tangential.g45 if 45 in gs else tangential.g145)(self.interp, bw, gs[45 if 45 in gs else 145][0])
         # 5. motion
         moved = False
         if 4 in gs:

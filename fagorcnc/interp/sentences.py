@@ -25,7 +25,7 @@ RECORDED = frozenset({"ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "DGWZ", "ESTOP", "DS
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
 #: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
 #: through the points, L15690), #CD (loops removed, L15598).
-NOT_YET = frozenset({"TOOL", "TANGCTRL", "CAX", "POLY",
+NOT_YET = frozenset({"TOOL", "CAX", "POLY",
                      "SPLINE", "ASPLINE", "CD",
                      "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
                      "INIT", "RPT"})

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..kinematics.variables import axis_variables as kinematics_axis_variables
 from ..kinematics.variables import variables as kinematics_variables
 from .expressions import InterpError
 from .iso import INCH, whole
@@ -181,7 +182,8 @@ class Variables:
             "V.G.M01STOP": (lambda i: 0.0, None),
             "V.G.RAPID": (lambda i: 0.0, None),
         })
-        self.plain_vars.update(kinematics_variables(s))   # V.MPK.*, V.G.POSROT*, V.G.TOOLORI*
+        self.plain_vars.update(kinematics_variables(s))   # V.MPK.*, V.G.POSROT*, V.G.TOOLORI*, V.G.TANGFEED
+        self.axis_vars.update(kinematics_axis_variables())   # V.A.TANGAN, V.A.TGCTRLST
         for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ":
             self.plain_vars[f"V.C.PCALLP_{letter}"] = (
                 lambda i, x=letter: 1.0 if x in s.call_letters[-1] else 0.0, None)

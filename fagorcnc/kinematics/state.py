@@ -40,6 +40,8 @@ class KinState:
         self.as_linear: frozenset = frozenset()   # rotary axes programmed as lengths (#FACE, #CYL)
         self.angular_axes = list(getattr(machine, "angular_axes", []))   # [[angular_axes]] (#ANGAX)
         self.angax: dict[int, int] = {}   # #ANGAX: transformation number -> 1 active, 2 suspended
+        self.tangential: dict[str, list] = {}   # G45/#TANGCTRL: axis -> [angle, 1 active | 2 suspended]
+        self.tangfeed: float | None = None      # #TANGCTRL F (kept after cancellation, L12170)
 
     @property
     def current(self) -> Kinematics | None:
@@ -109,11 +111,12 @@ class KinState:
         return Frame(self.description(), r, shift, linear, self._length(st, linear), kin, engaged, self.tlc or 0.0)
 
     def reset(self) -> None:
-        """M02/M30 and reset: a suspended #ANGAX is active again (seed 002 L11950); everything else of
-        this chapter is kept (L12594, L13309, L11903)."""
+        """M02/M30 and reset: a suspended #ANGAX is active again (seed 002 L11950), tangential control is
+        cancelled (L12056); #CS/#ACS, #RTCP, #TLC and #ANGAX are kept (L12594, L13309, L11903)."""
         for n, v in self.angax.items():
             if v == 2:
                 self.angax[n] = 1
+        self.tangential = {}   # tangential control is cancelled by M02/M30 and reset (L12056)
 
     def check_home(self, axes, col: int) -> None:
         """G74: refused with an angular transformation active (L11867), and under #RTCP for axes that

@@ -7,13 +7,13 @@ import numpy as np
 
 from ..interp.expressions import InterpError, whole
 from ..syntax.ast import ItemList, Keyed, Name
-from . import angax, caxis, frames
+from . import angax, caxis, frames, tangential
 from .rotation import wrap
 from .solve import KinematicsError, orientations, tool_direction_part
 from .state import MAX_ACTIVE, KinState
 
 #: Statements handled here (the keyword after #, and #TOOL followed by ORI).
-KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC", "FACE", "CYL", "ANGAX"})
+KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC", "FACE", "CYL", "ANGAX", "TANGCTRL"})
 
 
 def handles(kw: str, sub: str | None) -> bool:
@@ -38,6 +38,8 @@ def execute(interp, node) -> None:
         caxis.statement(interp, node, list(node.args))
     elif kw == "ANGAX":
         angax.statement(interp, node)
+    elif kw == "TANGCTRL":
+        tangential.statement(interp, node)
     else:
         _tool_ori(interp, kin, node.col)
 
@@ -192,8 +194,10 @@ def _nearest(st, axis: str, angle: float) -> float:
 
 def adjust_target(interp, bw, end: dict) -> None:
     """The end point of a move as this chapter changes it: #TOOL ORI's rotary positions, a suspended
-    #ANGAX."""
+    #ANGAX; a tangential axis may not be programmed."""
     kin: KinState = interp.state.kin
+    if kin.tangential:
+        tangential.programmed(interp.state, bw)
     if kin.pending_ori:
         orient_target(interp, end)
     if kin.angax:

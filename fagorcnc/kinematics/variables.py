@@ -61,7 +61,32 @@ def variables(st) -> dict:
     from .angax import variables as angax_variables
 
     out.update(angax_variables(st))
+    out.update(tangential_variables(st))
     for n in range(1, 7):
         out[f"V.MPK.TDATA{n}[]"] = (_tdata, None)
         out[f"V.MPK.TDATA_I{n}[]"] = (_tdata, None)
     return out
+
+
+def axis_variables() -> dict:
+    """V.A.TANGAN.Xn (the programmed tangential angle, kept while suspended) and V.A.TGCTRLST.Xn
+    (0 off, 1 active, 2 suspended), as ``Variables.axis_vars`` (seed 002 L12331-L12391)."""
+    def entry(st, a: str):
+        return st.kin.tangential.get(a)
+
+    return {
+        "V.A.TANGAN": (lambda st, i, a: entry(st, a)[0] if entry(st, a) else 0.0, None),
+        "V.A.TGCTRLST": (lambda st, i, a: float(entry(st, a)[1]) if entry(st, a) else 0.0, None),
+    }
+
+
+def tangential_variables(st) -> dict:
+    """V.G.TANGFEED and V.G.TGCTRLST (the channel: 0 off, 1 active, 2 suspended)."""
+    def channel(i: tuple) -> float:
+        modes = {m for _phi, m in st.kin.tangential.values()}
+        return 1.0 if 1 in modes else 2.0 if 2 in modes else 0.0
+
+    return {
+        "V.G.TANGFEED": (lambda i: st.kin.tangfeed or 0.0, None),
+        "V.G.TGCTRLST": (channel, None),
+    }
