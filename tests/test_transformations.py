@@ -287,3 +287,32 @@ def test_machine_position_variables_are_the_joints():
     r = run("#CS ON [1] [MODE 1, 0, 0, 20, 30, 0, 0]\nG0 X60 Y20 Z3\nP1=V.A.POS.Y\nP2=V.A.PPOS.Y\nM30\n")
     assert r.state.param(1) == pytest.approx(15.8205081) and r.state.param(2) == pytest.approx(20)
     assert approx(r.state.position("machine"), Y=15.8205081, Z=32.5980762)
+
+
+def test_mode_6_retract_along_the_tool():
+    # seed 002 L13415-L13431: after a lost plane, #CS ON [MODE 6, 0, 0, 0, 0] makes Z' the present tool
+    # direction and G91 Z20 backs the tool out along it.  A head ZX (C about Z, A about X) at A = 90:
+    # the tool (tip -> spindle) is Rx(90) Z = (0, -1, 0), so the retract is 20 along -Y
+    m = {"axes": AXES3 | {"A": {"type": "rotary"}, "C": {"type": "rotary"}}, "kinematics": [{"type": 2}]}
+    r = run("G1 A90 F1000\n#KIN ID [1]\n#CS ON [1] [MODE 6, 0, 0, 0, 0]\nG0 G91 Z20\nM30\n", m)
+    assert r.ok, r.diagnostics
+    assert approx(moves(r)[-1].end, X=0, Y=-20, Z=0, A=90)
+
+
+def test_g17_arc_in_a_plane_turned_onto_machine_zx():
+    # Rx(90): X' = X, Y' = Z.  The plane's G03 from (10, 0) to (-10, 0) about 0 passes machine (0, 0, 10):
+    # a machine Z-X (G18 order) arc, clockwise in that order
+    r = run("#CS ON [1] [MODE 1, 0,0,0, 90,0,0]\nG0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F500\nM30\n")
+    arc = moves(r)[-1]
+    assert arc.kind == "arc" and arc.plane[:2] == ("Z", "X") and arc.direction == "cw"
+    assert approx(arc.end, X=-10, Y=0, Z=0) and approx(arc.center, Z=0, X=0)
+
+
+def test_tool_axis_in_the_inclined_plane():
+    # #TOOL AX [Y+] under the plane Rx(30), no kinematics: the tool is along the machine's Y, so its
+    # length (50, orientation +: the controlled point at -50 on the axis) stays on machine Y while
+    # the tip goes to the plane's zero: machine (0, -50, 0)
+    r = run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nT1 D1 M6\n#TOOL AX [Y+]\nG1 X0 Y0 Z0 F100\nM30\n",
+            {"tools": {"1": {"1": {"length": 50.0}}}})
+    assert r.ok, r.diagnostics
+    assert approx(moves(r)[-1].end, X=0, Y=-50, Z=0)
