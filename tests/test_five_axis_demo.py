@@ -111,3 +111,17 @@ def test_demos_pass_check(name):
     result = fagorcnc.simulate(path, MACHINE)
     assert report.verdict() == "pass" and not report.diagnostics, report.diagnostics
     assert report.cycle_time == pytest.approx(result.cycle_time, rel=1e-9)
+
+
+def test_sampled_tool_tip_stays_on_the_part_point(rtcp):
+    # the 1 ms samples of N90 (the table turns C 0 -> 90 at A -20): the tip, through the forward
+    # kinematics, stays at the part point (40, 0, 5) within the joint-space tolerance
+    from fagorcnc.kinematics.tip import tool_tip
+
+    traj = rtcp.trajectory()
+    tip = tool_tip(traj, rtcp.machine.kinematics[0], 60.0)
+    line = next(m.src.line for m in rtcp.moves if m.src.text.startswith("N90 "))
+    sel = np.asarray(traj.line) == line
+    assert sel.sum() > 100
+    dist = np.sqrt((tip["X"][sel] - 40) ** 2 + tip["Y"][sel] ** 2 + (tip["Z"][sel] - 5) ** 2)
+    assert dist.max() < 0.002

@@ -6,5 +6,7 @@
 * :mod:`.frame`: the transformation of a record (``record.frame``) from the interpreter's coordinates
   to machine joints;
 * :mod:`.state`, :mod:`.statements`: #KIN ID, #CS, #ACS, #RTCP, #TLC, #TOOL ORI;
-* :mod:`.stage`: the joint-space stage after radius compensation.
+* :mod:`.stage`: the joint-space stage after radius compensation;
+* :mod:`.caxis` (#FACE, #CYL), :mod:`.angax` (#ANGAX), :mod:`.tangential` (G45, G145, #TANGCTRL);
+* :mod:`.variables` (V.MPK, V.G.TOOLORI*...), :mod:`.tip` (the tool tip of a sampled trajectory).
 """
