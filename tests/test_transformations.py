@@ -316,3 +316,11 @@ def test_tool_axis_in_the_inclined_plane():
             {"tools": {"1": {"1": {"length": 50.0}}}})
     assert r.ok, r.diagnostics
     assert approx(moves(r)[-1].end, X=0, Y=-50, Z=0)
+
+
+def test_homing_and_mcs_under_a_transformation_are_refused():
+    # L13319: under #RTCP only its axes may be homed; homing and #MCS moves under a transformation are
+    # not computed (the home point and #MCS are joint positions): refused before anything moves
+    assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nG74 Z1\nM30\n")) == ["KIN042"]
+    assert codes(run("#RTCP ON\nG74 Z1\nM30\n", HEAD_B)) == ["KIN042"]
+    assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\n#MCS ON\nG0 X10\nM30\n")) == ["KIN043"]

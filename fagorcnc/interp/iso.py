@@ -935,6 +935,9 @@ class IsoExecutor:
         G02/G03 arcs by their centre or radius (seed 002 L3196-L3271: the #MCS ON example runs G01,
         G02 and G00)."""
         st = self.state
+        if st.kin.frame is not None:   # machine coordinates while the interpreter works in the plane's
+            raise InterpError("KIN043", f"#MCS moves with {st.kin.frame.description} active are not computed by "
+                              "fagorcnc", 1)
         a, o, _ = st.plane_axes()
         mode = st.modes["motion"]
         polar = "Q" in bw.params or ("R" in bw.params and (mode not in (2, 3) or not {a, o} & bw.axes.keys()))

@@ -119,8 +119,8 @@ class KinState:
         self.tangential = {}   # tangential control is cancelled by M02/M30 and reset (L12056)
 
     def check_home(self, axes, col: int) -> None:
-        """G74: refused with an angular transformation active (L11867), and under #RTCP for axes that
-        are not the RTCP's (L13319)."""
+        """G74: refused with an angular transformation active (L11867), under #RTCP for axes that are
+        not the RTCP's (L13319), and under a plane, #TLC, #FACE/#CYL (not computed)."""
         from ..interp.expressions import InterpError
 
         if self.angax:
@@ -132,6 +132,9 @@ class KinState:
             if other:
                 raise InterpError("KIN042", f"G74 of {', '.join(other)} while #RTCP is active: only the RTCP's "
                                   "axes may be homed (L13319)", col)
+        if self.frame is not None:   # (the RTCP's own axes too: the home point is a joint position)
+            raise InterpError("KIN042", f"G74 homing with {self.frame.description} active is not computed by "
+                              "fagorcnc: switch the transformation off first", col)
 
     def frame_for(self, st) -> Frame | None:
         """The frame of a record made now (rebuilt when the tool length offset changed with the move,
