@@ -134,10 +134,10 @@ class Machine:
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     backends: dict[str, dict] = field(default_factory=dict)   # [backends.<name>] tables, read by each back-end
     parameter_file: Path | None = None   # global/common parameters kept between runs (fagorcnc.config.parameter_file)
-    kinematics: list = field(default_factory=list)   # [[kinematics]]: fagorcnc.kinematics.config.Kinematics
+    kinematics: list = field(default_factory=list)   # [[kinematics]]: fagorcnc.config.kinematics.Kinematics
     kinid: int = 0               # KINID: the kinematics selected at power-on (0 = none)
     kinematics_tolerance: float = 0.001   # mm: tool-tip deviation of transformed moves cut into joint lines
-    angular_axes: list = field(default_factory=list)   # [[angular_axes]]: fagorcnc.kinematics.angax (#ANGAX)
+    angular_axes: list = field(default_factory=list)   # [[angular_axes]]: fagorcnc.config.kinematics (#ANGAX)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -293,9 +293,8 @@ def _build(data: dict) -> Machine:
 
 
 def _kinematics(data: dict, axes: dict) -> dict:
-    """``[[kinematics]]``, ``kinid`` and ``kinematics_tolerance`` (fagorcnc.kinematics.config)."""
-    from ..kinematics.angax import parse_angular_axes
-    from ..kinematics.config import parse_kinematics, parse_kinid
+    """``[[kinematics]]``, ``kinid`` and ``kinematics_tolerance`` (fagorcnc.config.kinematics)."""
+    from .kinematics import parse_angular_axes, parse_kinematics, parse_kinid
 
     kins = parse_kinematics(data.get("kinematics"), axes)
     tol = _number("kinematics_tolerance", data.get("kinematics_tolerance", 0.001))

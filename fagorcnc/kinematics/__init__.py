@@ -1,6 +1,6 @@
 """Kinematics and coordinate transformations (seed 002 ch. 17; spec 05 §6, spec 07 §B.8).
 
-* :mod:`.config`: ``[[kinematics]]`` of the machine file (``MPK.TYPE`` families, named geometry);
+* :mod:`fagorcnc.config.kinematics`: ``[[kinematics]]`` and ``[[angular_axes]]`` of the machine file;
 * :mod:`.rotation`, :mod:`.solve`: forward and inverse kinematics;
 * :mod:`.frames`: the #CS/#ACS definition modes and their composition;
 * :mod:`.frame`: the transformation of a record (``record.frame``) from the interpreter's coordinates

@@ -17,58 +17,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
-from ..config.errors import MachineError
-
-
-@dataclass(frozen=True)
-class AngularAxis:
-    """One angular transformation: ``angular`` (X') inclined by ``angle`` degrees from its Cartesian
-    direction toward the ``orthogonal`` axis (Z)."""
-
-    number: int
-    angular: str
-    orthogonal: str
-    angle: float
-    sense: int = 1
-    offset: float = 0.0
-
-
-def parse_angular_axes(tables: Any, axes: dict) -> list[AngularAxis]:
-    """The ``[[angular_axes]]`` array of a machine file."""
-    if tables is None:
-        return []
-    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
-        raise MachineError("angular_axes: expected an array of tables [[angular_axes]]")
-    out = []
-    for n, t in enumerate(tables, 1):
-        where = f"angular_axes[{n}]"
-        unknown = set(t) - {"angular_axis", "orthogonal_axis", "angle", "sense", "offset"}
-        if unknown:
-            raise MachineError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-        ang, ort = t.get("angular_axis"), t.get("orthogonal_axis")
-        for key, a in (("angular_axis", ang), ("orthogonal_axis", ort)):
-            if not isinstance(a, str) or a not in axes:
-                raise MachineError(f"{where}.{key}: an axis of the machine, got {a!r}")
-            if axes[a].rotary:
-                raise MachineError(f"{where}.{key}: {a} is rotary; both axes must be linear (L11858)")
-        if ang == ort:
-            raise MachineError(f"{where}: the angular and the orthogonal axis are the same")
-        angle = t.get("angle")
-        if isinstance(angle, bool) or not isinstance(angle, int | float) or not -89.0 <= angle <= 89.0:
-            raise MachineError(f"{where}.angle: degrees between -89 and 89 (ANGANTR), got {angle!r}")
-        sense = t.get("sense", 1)
-        if sense not in (1, -1):
-            raise MachineError(f"{where}.sense: 1 or -1, got {sense!r}")
-        offset = t.get("offset", 0.0)
-        if isinstance(offset, bool) or not isinstance(offset, int | float):
-            raise MachineError(f"{where}.offset: a length (OFFANGAX), got {offset!r}")
-        if offset != 0:
-            raise MachineError(f"{where}.offset: a non-zero OFFANGAX is not computed by fagorcnc (how the CNC "
-                               "uses it is in a figure the manual's text lost)")
-        out.append(AngularAxis(n, ang, ort, float(angle), int(sense), float(offset)))
-    return out
+from ..config.kinematics import AngularAxis
 
 
 @dataclass(frozen=True, eq=False)

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .config import Kinematics
+from ..config.kinematics import Kinematics
 from .solve import forward, linear_for_tip, tool_direction_machine
 
 

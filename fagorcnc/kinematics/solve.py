@@ -1,4 +1,4 @@
-"""Forward and inverse kinematics of a :class:`~fagorcnc.kinematics.config.Kinematics`.
+"""Forward and inverse kinematics of a :class:`~fagorcnc.config.kinematics.Kinematics`.
 
 Model (product of rotations about the joints' lines at rest, main joint last):
 
@@ -18,7 +18,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .config import Joint, Kinematics
+from ..config.kinematics import Joint, Kinematics
 from .rotation import rot, two_angles, wrap
 
 

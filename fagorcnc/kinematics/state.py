@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .config import Kinematics
+from ..config.kinematics import Kinematics
 from .frame import Frame
 from .frames import CoordinateSystem, compose
 

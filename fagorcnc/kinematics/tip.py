@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .config import Kinematics
+from ..config.kinematics import Kinematics
 from .solve import forward
 
 

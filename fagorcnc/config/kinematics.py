@@ -26,10 +26,18 @@ from typing import Any
 
 import numpy as np
 
-from ..config.errors import MachineError
-from .rotation import unit
+from .errors import MachineError
 
 _X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+
+
+def unit(v) -> np.ndarray:
+    """``v`` scaled to length 1 (ValueError for a null vector)."""
+    v = np.asarray(v, dtype=float)
+    n = float(np.linalg.norm(v))
+    if n < 1e-9:
+        raise ValueError("a direction needs a non-zero vector")
+    return v / n
 _DIR = {"X": _X, "Y": _Y, "Z": _Z, "A": _X, "B": _Y, "C": _Z}
 _AXIS_OF = {"X": "A", "Y": "B", "Z": "C"}
 
@@ -197,3 +205,53 @@ def parse_kinid(value: Any, kinematics: list[Kinematics]) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= len(kinematics):
         raise MachineError(f"kinid: 0 (none) or a kinematics number 1..{len(kinematics)}, got {value!r}")
     return value
+
+
+# ---------------------------------------------------------------------- #ANGAX (seed 002 ch. 15)
+@dataclass(frozen=True)
+class AngularAxis:
+    """One angular transformation: ``angular`` (X') inclined by ``angle`` degrees from its Cartesian
+    direction toward the ``orthogonal`` axis (Z)."""
+
+    number: int
+    angular: str
+    orthogonal: str
+    angle: float
+    sense: int = 1
+    offset: float = 0.0
+
+
+def parse_angular_axes(tables: Any, axes: dict) -> list[AngularAxis]:
+    """The ``[[angular_axes]]`` array of a machine file."""
+    if tables is None:
+        return []
+    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
+        raise MachineError("angular_axes: expected an array of tables [[angular_axes]]")
+    out = []
+    for n, t in enumerate(tables, 1):
+        where = f"angular_axes[{n}]"
+        unknown = set(t) - {"angular_axis", "orthogonal_axis", "angle", "sense", "offset"}
+        if unknown:
+            raise MachineError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        ang, ort = t.get("angular_axis"), t.get("orthogonal_axis")
+        for key, a in (("angular_axis", ang), ("orthogonal_axis", ort)):
+            if not isinstance(a, str) or a not in axes:
+                raise MachineError(f"{where}.{key}: an axis of the machine, got {a!r}")
+            if axes[a].rotary:
+                raise MachineError(f"{where}.{key}: {a} is rotary; both axes must be linear (L11858)")
+        if ang == ort:
+            raise MachineError(f"{where}: the angular and the orthogonal axis are the same")
+        angle = t.get("angle")
+        if isinstance(angle, bool) or not isinstance(angle, int | float) or not -89.0 <= angle <= 89.0:
+            raise MachineError(f"{where}.angle: degrees between -89 and 89 (ANGANTR), got {angle!r}")
+        sense = t.get("sense", 1)
+        if sense not in (1, -1):
+            raise MachineError(f"{where}.sense: 1 or -1, got {sense!r}")
+        offset = t.get("offset", 0.0)
+        if isinstance(offset, bool) or not isinstance(offset, int | float):
+            raise MachineError(f"{where}.offset: a length (OFFANGAX), got {offset!r}")
+        if offset != 0:
+            raise MachineError(f"{where}.offset: a non-zero OFFANGAX is not computed by fagorcnc (how the CNC "
+                               "uses it is in a figure the manual's text lost)")
+        out.append(AngularAxis(n, ang, ort, float(angle), int(sense), float(offset)))
+    return out
