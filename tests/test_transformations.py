@@ -324,3 +324,12 @@ def test_homing_and_mcs_under_a_transformation_are_refused():
     assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nG74 Z1\nM30\n")) == ["KIN042"]
     assert codes(run("#RTCP ON\nG74 Z1\nM30\n", HEAD_B)) == ["KIN042"]
     assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\n#MCS ON\nG0 X10\nM30\n")) == ["KIN043"]
+
+
+def test_plane_variables():
+    # seed 002 L41252-L41430: after #CS ON [2] [MODE 1, 5,0,0, 0,0,90] (Rz(90)): V.G.CS = 2, CSMAT1..9
+    # row by row = (0,-1,0, 1,0,0, 0,0,1), CSMAT10..12 = the plane zero (5, 0, 0); #RTCP -> TOOLCOMP 1
+    r = run("#CS ON [2] [MODE 1, 5,0,0, 0,0,90]\nP1=V.G.CS\nP2=V.G.ACS\nP3=V.G.CSMAT2\nP4=V.G.CSMAT4\n"
+            "P5=V.G.CSMAT10\nP6=V.G.TOOLCOMP\n#CS OFF\n#RTCP ON\nP7=V.G.TOOLCOMP\nP8=V.G.KINID\nM30\n", HEAD_B)
+    assert r.ok, r.diagnostics
+    assert [round(r.state.param(i), 9) for i in range(1, 9)] == [2, 0, -1, 1, 5, 3, 1, 1]
