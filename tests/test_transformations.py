@@ -333,3 +333,14 @@ def test_plane_variables():
             "P5=V.G.CSMAT10\nP6=V.G.TOOLCOMP\n#CS OFF\n#RTCP ON\nP7=V.G.TOOLCOMP\nP8=V.G.KINID\nM30\n", HEAD_B)
     assert r.ok, r.diagnostics
     assert [round(r.state.param(i), 9) for i in range(1, 9)] == [2, 0, -1, 1, 5, 3, 1, 1]
+
+
+def test_arc_in_a_plane_turned_37_degrees_about_z_stays_an_arc():
+    # Rz(37): the G17 circle of radius 10 about 0 stays a G17 arc of radius 10 about 0, end point
+    # (10 cos37, 10 sin37) -> after a half turn (-10 cos37, -10 sin37)
+    r = run("#CS ON [1] [MODE 1, 0,0,0, 0,0,37]\nG0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F500\nM30\n")
+    arc = moves(r)[-1]
+    c, s = math.cos(math.radians(37)), math.sin(math.radians(37))
+    assert arc.kind == "arc" and arc.plane[:2] == ("X", "Y") and arc.direction == "ccw"
+    assert approx(arc.start, X=10 * c, Y=10 * s) and approx(arc.end, X=-10 * c, Y=-10 * s)
+    assert approx(arc.center, X=0, Y=0) and arc.radius == pytest.approx(10)

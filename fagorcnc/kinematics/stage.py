@@ -130,26 +130,23 @@ class JointStage:
         yield from self._pieces(rec, replace(frame, pieces=True), point, start)
 
     def _arc(self, rec: Arc, frame: Frame, start: dict, end: dict) -> Arc | None:
-        """The arc in machine coordinates when the map takes its plane onto a machine plane."""
-        x, y, z = frame.linear
-        names = (x, y, z)
+        """The arc in machine coordinates when the (rigid) map takes its plane onto a machine plane:
+        the image of the plane's normal is a machine axis.  The machine plane is written in its own
+        order (XY, YZ, ZX as G17, G19, G18) and the sense follows the image of the normal."""
+        names = frame.linear
         a, o = rec.plane[0], rec.plane[1]
         if a not in names or o not in names:
-            return replace(rec, start=start, end=end) if not frame.rotates() else None
-        m = frame.linear_part(rec.start)
-        ia, io = names.index(a), names.index(o)
-        ca, co = m[:, ia], m[:, io]
-        ja, jo = int(np.argmax(np.abs(ca))), int(np.argmax(np.abs(co)))
-        if ja == jo or abs(abs(ca[ja]) - 1.0) > 1e-9 or abs(abs(co[jo]) - 1.0) > 1e-9:
             return None
-        sa, so = math.copysign(1.0, ca[ja]), math.copysign(1.0, co[jo])
-        ccw = rec.direction == "ccw"
-        if sa * so < 0:
-            ccw = not ccw
-        na, no = names[ja], names[jo]
-        if (jo - ja) % 3 != 1:   # the machine plane in its own order (XY, YZ, ZX: G17, G19, G18)
-            na, no, ccw = no, na, not ccw
-        nn = next(v for v in names if v not in (na, no))
+        m = frame.linear_part(rec.start)
+        ca, co = m[:, names.index(a)], m[:, names.index(o)]
+        if abs(float(ca @ ca) - 1.0) > 1e-9 or abs(float(co @ co) - 1.0) > 1e-9 or abs(float(ca @ co)) > 1e-9:
+            return None   # not rigid on the plane: the circle would not stay a circle
+        w = np.cross(ca, co)
+        k = int(np.argmax(np.abs(w)))
+        if abs(abs(float(w[k])) - 1.0) > 1e-9:
+            return None
+        ccw = (rec.direction == "ccw") == (w[k] > 0)
+        na, no, nn = names[(k + 1) % 3], names[(k + 2) % 3], names[k]
         c = frame.point({**rec.start, a: rec.center[a], o: rec.center[o]})
         return replace(rec, start=start, end=end, center={na: c[na], no: c[no]}, plane=(na, no, nn),
                        direction="ccw" if ccw else "cw")
