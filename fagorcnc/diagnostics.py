@@ -174,7 +174,6 @@ CODES: dict[str, str] = {
     "KIN040": "#ANGAX: transformation number missing or not set up",
     "KIN041": "suspended #ANGAX with scaling, rotation or mirror active",
     "KIN042": "G74 homing with #ANGAX, #RTCP (axes outside it) or another transformation active",
-    "KIN043": "#MCS move with a coordinate transformation active",
     "KIN050": "tangential axis not a modulo rotary axis, or an axis of the plane",
     "KIN051": "tangential control: angle outside ±359.9999, no axis nor F, G145 K not 0 or 1",
     "KIN052": "tangential control with compensation, corner aids or a transformation not computed",

@@ -318,12 +318,25 @@ def test_tool_axis_in_the_inclined_plane():
     assert approx(moves(r)[-1].end, X=0, Y=-50, Z=0)
 
 
-def test_homing_and_mcs_under_a_transformation_are_refused():
-    # L13319: under #RTCP only its axes may be homed; homing and #MCS moves under a transformation are
-    # not computed (the home point and #MCS are joint positions): refused before anything moves
+def test_homing_under_a_transformation_is_refused():
+    # L13319: under #RTCP only its axes may be homed; homing under a transformation is not computed
+    # (the home point is a joint position): refused before anything moves
     assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nG74 Z1\nM30\n")) == ["KIN042"]
     assert codes(run("#RTCP ON\nG74 Z1\nM30\n", HEAD_B)) == ["KIN042"]
-    assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\n#MCS ON\nG0 X10\nM30\n")) == ["KIN043"]
+
+
+def test_mcs_moves_inside_an_inclined_plane():
+    # seed 002 L13195: "#MCS ON / G1 G91 Z-10 / G0 Z10 / #MCS OFF" inside a plane drills along the
+    # machine's Z; after #MCS OFF the plane's coordinates again.  Plane Rx(30) at (0, 0, 20): the plane
+    # point (0, 0, 0) is machine (0, 0, 20); the #MCS move goes to machine Z 10; G90 X0 Y0 Z0 of the
+    # plane comes back to machine (0, 0, 20)
+    r = run("#CS ON [1] [MODE 1, 0, 0, 20, 30, 0, 0]\nG0 X0 Y0 Z0\n#MCS ON\nG1 G91 Z-10 F1000\n#MCS OFF\n"
+            "G90 G0 X0 Y0 Z0\nM30\n")
+    assert r.ok, r.diagnostics
+    a, b, c = moves(r)
+    assert approx(a.end, X=0, Y=0, Z=20)
+    assert approx(b.start, X=0, Y=0, Z=20) and approx(b.end, X=0, Y=0, Z=10) and b.frame is None
+    assert approx(c.start, X=0, Y=0, Z=10) and approx(c.end, X=0, Y=0, Z=20) and c.frame is not None
 
 
 def test_plane_variables():
@@ -344,3 +357,20 @@ def test_arc_in_a_plane_turned_37_degrees_about_z_stays_an_arc():
     assert arc.kind == "arc" and arc.plane[:2] == ("X", "Y") and arc.direction == "ccw"
     assert approx(arc.start, X=10 * c, Y=10 * s) and approx(arc.end, X=-10 * c, Y=-10 * s)
     assert approx(arc.center, X=0, Y=0) and arc.radius == pytest.approx(10)
+
+
+def test_tool_ori_example_of_the_manual_four_holes():
+    # seed 002 L13139-L13173 on the AC table: once the table is at A -30 the plane is horizontal, its
+    # zero at machine (0, 120 sin30, 120 cos30 - 100) = (0, 60, 3.9230) and its axes along X, Y, Z:
+    # the plane point (x, y, 3) is machine (x, 60 + y, 6.9230), the bottom of each hole (x, y, -10)
+    # is machine (x, 60 + y, -6.0770)
+    text = ("#CS ON [1] [MODE 1, 0, 0, 20, 30, 0, 0]\n#TOOL ORI\nG90 G0 X60 Y20 Z3\nG1 G91 Z-13 F1000\nG0 Z13\n"
+            "G0 G90 X120 Y20\nG1 G91 Z-13 F1000\nG0 Z13\nG0 G90 X120 Y120\nG1 G91 Z-13 F1000\nG0 Z13\n"
+            "G0 G90 X60 Y120\nG1 G91 Z-13 F1000\nG0 Z13\nM30\n")
+    r = run(text, TABLE_AC)
+    assert r.ok, r.diagnostics
+    z0 = 120 * C30 - 100
+    bottoms = [m.end for m in moves(r) if m.kind == "linear" and m.feed == 1000]
+    assert len(bottoms) == 4
+    for end, (x, y) in zip(bottoms, [(60, 20), (120, 20), (120, 120), (60, 120)], strict=True):
+        assert approx(end, X=x, Y=60 + y, Z=z0 - 10, A=-30, C=0)

@@ -670,7 +670,7 @@ class Interpreter:
         An axis already outside its limits may only move back toward them.
         """
         st = self.state
-        frame = st.kin.frame_for(st) if st.kin.frame is not None else None
+        frame = st.kin.frame_for(st) if st.kin.frame is not None and not st.kin.raw else None
         if frame is not None:   # a transformed move: the joints' limits (fagorcnc.kinematics)
             position, start = frame.point(position), frame.point(start) if start is not None else None
         for a, v in position.items():

@@ -931,13 +931,18 @@ class IsoExecutor:
         return signed, turns, e
 
     def _mcs_move(self, gs: dict, bw: BlockWords, src: Source) -> Line | Arc:
+        """#MCS move; under a transformation (#CS, #RTCP...) it is written in the joints and not
+        transformed (seed 002 L13195: "#MCS ON ... G1 G91 Z-10" inside an inclined plane)."""
+        kin = self.state.kin
+        if kin.frame is None:
+            return self._mcs_plain(gs, bw, src)
+        return kin.raw_move(self.state, lambda: self._mcs_plain(gs, bw, src))
+
+    def _mcs_plain(self, gs: dict, bw: BlockWords, src: Source) -> Line | Arc:
         """#MCS move: machine coordinates, INCHES units, no offsets, no polar coordinates; G00, G01 and
         G02/G03 arcs by their centre or radius (seed 002 L3196-L3271: the #MCS ON example runs G01,
         G02 and G00)."""
         st = self.state
-        if st.kin.frame is not None:   # machine coordinates while the interpreter works in the plane's
-            raise InterpError("KIN043", f"#MCS moves with {st.kin.frame.description} active are not computed by "
-                              "fagorcnc", 1)
         a, o, _ = st.plane_axes()
         mode = st.modes["motion"]
         polar = "Q" in bw.params or ("R" in bw.params and (mode not in (2, 3) or not {a, o} & bw.axes.keys()))

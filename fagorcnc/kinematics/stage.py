@@ -210,6 +210,10 @@ def with_frames(records: Iterable, state) -> Iterator:
     a dwell or an auxiliary function made under one gets its position in machine joints."""
     kin = state.kin
     for rec in records:
+        if kin.raw and rec.kind in ("linear", "rapid", "arc"):
+            kin.raw = False   # an #MCS move: already in the joints
+            yield rec
+            continue
         frame = kin.frame_for(state) if kin.frame is not None else None
         if frame is not None:
             kind = rec.kind

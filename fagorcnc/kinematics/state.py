@@ -36,6 +36,7 @@ class KinState:
         self.frame: Frame | None = None
         self.toolori: tuple[dict, dict] | None = None   # (solution 1, solution 2) of the active plane
         self.identity_told = False   # KIN024 given (no kinematics, no rotary axes)
+        self.raw = False             # the record being made is in machine joints already (#MCS)
         self.caxis: tuple | None = None     # ("FACE" | "CYL", its frame, the modes it replaced)
         self.as_linear: frozenset = frozenset()   # rotary axes programmed as lengths (#FACE, #CYL)
         self.angular_axes = list(getattr(machine, "angular_axes", []))   # [[angular_axes]] (#ANGAX)
@@ -135,6 +136,18 @@ class KinState:
         if self.frame is not None:   # (the RTCP's own axes too: the home point is a joint position)
             raise InterpError("KIN042", f"G74 homing with {self.frame.description} active is not computed by "
                               "fagorcnc: switch the transformation off first", col)
+
+    def raw_move(self, st, make):
+        """A move written in machine joints while a transformation is active (#MCS): made with the
+        channel's position in joints, handed on untransformed; the position goes back to the frame's
+        coordinates afterwards."""
+        frame = self.frame
+        st.machine_pos = frame.point(st.machine_pos)
+        self.raw = True
+        try:
+            return make()
+        finally:
+            st.machine_pos = frame.inverse(st.machine_pos)
 
     def frame_for(self, st) -> Frame | None:
         """The frame of a record made now (rebuilt when the tool length offset changed with the move,
