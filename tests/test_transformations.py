@@ -374,3 +374,20 @@ def test_tool_ori_example_of_the_manual_four_holes():
     assert len(bottoms) == 4
     for end, (x, y) in zip(bottoms, [(60, 20), (120, 20), (120, 120), (60, 120)], strict=True):
         assert approx(end, X=x, Y=60 + y, Z=z0 - 10, A=-30, C=0)
+
+
+def test_tool_ori_on_a_spindle_head():
+    # head ZX (C about Z, A about X), tool 100: the tool along Z' = (0, -sin30, cos30) is Rx(30) Z, so
+    # A = 30, C = 0 (C least from 0).  The tip at the plane point (60, 20, 3) = part (60, 15.8205,
+    # 32.5981); the head reference point is the tip + 100 Z' = (60, -34.1795, 119.2006); the drilling
+    # runs along -Z': 13 * (0, 0.5, -0.8660) further
+    m = {"axes": AXES3 | {"A": {"type": "rotary", "min_limit": -120, "max_limit": 120},
+                          "C": {"type": "rotary", "min_limit": -400, "max_limit": 400}},
+         "kinematics": [{"type": 2}], "tools": {"1": {"1": {"length": 100.0}}}}
+    r = run("T1 D1 M6\n#CS ON [1] [MODE 1, 0, 0, 20, 30, 0, 0]\n#TOOL ORI\nG0 X60 Y20 Z3\nG1 G91 Z-13 F100\n"
+            "#CS OFF\nM30\n", m)
+    assert r.ok, r.diagnostics
+    *_, turn, drill = moves(r)
+    y0, z0 = 20 * C30 - 3 * S30 - 100 * S30, 20 + 20 * S30 + 3 * C30 + 100 * C30
+    assert approx(turn.end, X=60, Y=y0, Z=z0, A=30, C=0)
+    assert approx(drill.end, X=60, Y=y0 + 13 * S30, Z=z0 - 13 * C30)
