@@ -178,6 +178,9 @@ CODES: dict[str, str] = {
     "KIN051": "tangential control: angle outside ±359.9999, no axis nor F, G145 K not 0 or 1",
     "KIN052": "tangential control with compensation, corner aids or a transformation not computed",
     "KIN053": "axis under tangential control programmed",
+    "KIN060": "#CAX: spindle without a C axis in the machine file, or another axis name",
+    "KIN061": "C axis of a spindle programmed without #CAX",
+    "KIN062": "speed programmed for a spindle working as C axis",
 }
 
 

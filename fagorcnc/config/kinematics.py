@@ -255,3 +255,24 @@ def parse_angular_axes(tables: Any, axes: dict) -> list[AngularAxis]:
                                "uses it is in a figure the manual's text lost)")
         out.append(AngularAxis(n, ang, ort, float(angle), int(sense), float(offset)))
     return out
+
+
+
+# ---------------------------------------------------------------------- #CAX (seed 002 ch. 14.1)
+def parse_c_axes(table: Any, axes: dict, spindles: list[str]) -> dict[str, str]:
+    """``c_axis = { S = "C" }``: the spindles that may work as a C axis (CAXIS) and the machine's rotary
+    axis that then stands for them (CAXNAME, the name the program uses)."""
+    if table is None:
+        return {}
+    if not isinstance(table, dict):
+        raise MachineError('c_axis: expected a table { spindle = "axis" }, e.g. c_axis = { S = "C" }')
+    out = {}
+    for spindle, axis in table.items():
+        if spindle not in spindles:
+            raise MachineError(f"c_axis.{spindle}: not a spindle of the machine")
+        if not isinstance(axis, str) or axis not in axes or not axes[axis].rotary:
+            raise MachineError(f"c_axis.{spindle}: the C axis is a rotary axis of the machine, got {axis!r}")
+        out[str(spindle)] = axis
+    if len(set(out.values())) != len(out):
+        raise MachineError("c_axis: two spindles share one C axis")
+    return out

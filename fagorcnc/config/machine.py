@@ -138,6 +138,7 @@ class Machine:
     kinid: int = 0               # KINID: the kinematics selected at power-on (0 = none)
     kinematics_tolerance: float = 0.001   # mm: tool-tip deviation of transformed moves cut into joint lines
     angular_axes: list = field(default_factory=list)   # [[angular_axes]]: fagorcnc.config.kinematics (#ANGAX)
+    c_axes: dict[str, str] = field(default_factory=dict)   # c_axis = { S = "C" }: spindle -> its C axis (#CAX)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -294,14 +295,15 @@ def _build(data: dict) -> Machine:
 
 def _kinematics(data: dict, axes: dict) -> dict:
     """``[[kinematics]]``, ``kinid`` and ``kinematics_tolerance`` (fagorcnc.config.kinematics)."""
-    from .kinematics import parse_angular_axes, parse_kinematics, parse_kinid
+    from .kinematics import parse_angular_axes, parse_c_axes, parse_kinematics, parse_kinid
 
     kins = parse_kinematics(data.get("kinematics"), axes)
     tol = _number("kinematics_tolerance", data.get("kinematics_tolerance", 0.001))
     if not 1e-6 <= tol <= 1.0:
         raise MachineError(f"kinematics_tolerance = {tol:g}: mm between 0.000001 and 1")
     return {"kinematics": kins, "kinid": parse_kinid(data.get("kinid"), kins), "kinematics_tolerance": tol,
-            "angular_axes": parse_angular_axes(data.get("angular_axes"), axes)}
+            "angular_axes": parse_angular_axes(data.get("angular_axes"), axes),
+            "c_axes": parse_c_axes(data.get("c_axis"), axes, [str(x) for x in data.get("spindles", ["S"])])}
 
 
 def _parameter_file(value: Any) -> Path | None:

@@ -199,7 +199,8 @@ class IsoExecutor:
                 out[axis] = current_part[axis] + self.length(v, axis)
             else:
                 out[axis] = self.length(v, axis)
-        if st.kin.pending_ori or st.kin.angax or st.kin.tangential:   # #TOOL ORI, #ANGAX SUSP, G45 (ch. 15-17)
+        kin = st.kin
+        if kin.pending_ori or kin.angax or kin.tangential or kin.c_axes:   # #TOOL ORI, #ANGAX SUSP, G45, #CAX
             adjust_target(self.interp, bw, out)
         return out
 
@@ -289,6 +290,7 @@ class IsoExecutor:
                 continue
             if v < 0:
                 raise InterpError("INT027", f"spindle speed {v:g} is negative", col)
+            st.kin.speed_check(spindle, col)   # not for a spindle working as C axis (#CAX, L11601)
             st.speeds[spindle] = v
             yield self.aux("S", v, "before", src, spindle)
         if bw.tool is not None:
@@ -560,6 +562,7 @@ class IsoExecutor:
         if m in (3, 4, 5):
             for s in st.spindle_state:
                 st.spindle_state[s] = m
+                st.kin.spindle_order(s)   # a spindle working as C axis is a spindle again (L11617)
                 break
         yield self.aux("M", float(m), "before", src)
         if m == 6:  # tool change: the preselected tool goes to the spindle (L4700-L4708)

@@ -25,7 +25,7 @@ RECORDED = frozenset({"ESBLK", "DSBLK", "SWTOUT", "PWMOUT", "DGWZ", "ESTOP", "DS
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
 #: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
 #: through the points, L15690), #CD (loops removed, L15598).
-NOT_YET = frozenset({"TOOL", "CAX", "POLY",
+NOT_YET = frozenset({"TOOL", "POLY",
                      "SPLINE", "ASPLINE", "CD",
                      "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "DEF",
                      "INIT", "RPT"})
@@ -150,8 +150,8 @@ def execute_sentence(interp, node, src):
             raise InterpError("INT071", "#TOOL AX needs one axis and its direction: #TOOL AX [Z+]", node.col)
         st.tool_axis = (item.name, 1 if item.sign == "+" else -1)
         return
-    if kinematics.handles(kw, sub):   # seed 002 ch. 17: #KIN ID, #CS, #ACS, #RTCP, #TLC, #TOOL ORI
-        kinematics.execute(interp, node)
+    if kinematics.handles(kw, sub):   # seed 002 ch. 14-17: #KIN ID, #CS, #ACS, #RTCP, #TLC, #TOOL ORI...
+        yield from kinematics.execute(interp, node, src)
         return
     if kw == "HSC":
         dynamics.hsc_statement(interp, node, sub)

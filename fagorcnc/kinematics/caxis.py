@@ -193,3 +193,67 @@ def _off(kin, st) -> None:
     kin.caxis = None
     kin.as_linear = frozenset()
     kin.rebuild(st)
+
+
+
+# ---------------------------------------------------------------------- #CAX
+def cax_statement(interp, node, src) -> list:
+    """#CAX [<spindle><, name>], #CAX OFF (seed 002 L11576-L11662): the spindle stops and works as its C
+    axis, which is referenced (moved to its home position); the records to hand on."""
+    from ..interp.expressions import InterpError
+    from ..interp.records import Line
+    from ..syntax.ast import ItemList, Name
+
+    st = interp.state
+    kin = st.kin
+    col = node.col
+    args = node.args
+    if len(args) == 1 and type(args[0]) is Name and args[0].name == "OFF":
+        kin.cax = None
+        return []
+    names = []
+    if len(args) == 1 and type(args[0]) is ItemList:
+        for seq in args[0].items:
+            if len(seq) != 1 or type(seq[0]) is not Name:
+                raise InterpError("KIN005", "write #CAX, #CAX [S1], #CAX [S1, C1] or #CAX OFF", col)
+            names.append(seq[0].name)
+    elif args:
+        raise InterpError("KIN005", "write #CAX, #CAX [S1], #CAX [S1, C1] or #CAX OFF", col)
+    spindles = st.machine.spindles
+    spindle = names[0] if names else (spindles[0] if spindles else None)
+    if spindle not in st.machine.c_axes:
+        raise InterpError("KIN060", f"#CAX: spindle {spindle} cannot work as a C axis (c_axis in the machine file, "
+                          "CAXIS)", col)
+    axis = st.machine.c_axes[spindle]
+    if len(names) > 1 and names[1] != axis:
+        raise InterpError("KIN060", f"#CAX: the C axis of {spindle} is {axis} in the machine file; another name "
+                          f"({names[1]}) is not computed by fagorcnc", col)
+    if len(names) > 2:
+        raise InterpError("KIN005", "#CAX takes the spindle and the axis name", col)
+    if kin.cax is not None and kin.cax[0] != spindle:
+        raise InterpError("KIN034", f"#CAX: spindle {kin.cax[0]} already works as a C axis (one at a time, L11531)",
+                          col)
+    if kin.frame is not None:
+        raise InterpError("KIN034", f"#CAX with {kin.frame.description} active is not computed by fagorcnc", col)
+    kin.cax = (spindle, axis)
+    st.spindle_state[spindle] = 5   # a turning spindle stops (L11600)
+    st.speeds[spindle] = 0.0
+    start = dict(st.machine_pos)
+    end = {**start, axis: st.machine.axes[axis].home}   # the C axis is referenced (L11603)
+    st.machine_pos = dict(end)
+    if end == start:
+        return []
+    return [Line("rapid", start, end, st.to_part(end), None, "G94", src, dyn=st.dynamics())]
+
+
+def cax_check(st, bw) -> None:
+    """A spindle's C axis is programmed only under #CAX; a speed for the spindle working as C axis is
+    refused (L11601)."""
+    from ..interp.expressions import InterpError
+
+    active = st.kin.cax
+    for spindle, axis in st.machine.c_axes.items():
+        on = active is not None and active[0] == spindle
+        if axis in bw.axes and not on:
+            raise InterpError("KIN061", f"{axis} is the C axis of spindle {spindle}: program #CAX first",
+                              bw.axes[axis][1])

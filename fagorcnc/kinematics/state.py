@@ -37,6 +37,8 @@ class KinState:
         self.toolori: tuple[dict, dict] | None = None   # (solution 1, solution 2) of the active plane
         self.identity_told = False   # KIN024 given (no kinematics, no rotary axes)
         self.raw = False             # the record being made is in machine joints already (#MCS)
+        self.cax: tuple[str, str] | None = None   # #CAX: (spindle, its C axis)
+        self.c_axes = frozenset(getattr(machine, "c_axes", {}).values())   # axes that stand for spindles
         self.caxis: tuple | None = None     # ("FACE" | "CYL", its frame, the modes it replaced)
         self.as_linear: frozenset = frozenset()   # rotary axes programmed as lengths (#FACE, #CYL)
         self.angular_axes = list(getattr(machine, "angular_axes", []))   # [[angular_axes]] (#ANGAX)
@@ -136,6 +138,18 @@ class KinState:
         if self.frame is not None:   # (the RTCP's own axes too: the home point is a joint position)
             raise InterpError("KIN042", f"G74 homing with {self.frame.description} active is not computed by "
                               "fagorcnc: switch the transformation off first", col)
+
+    def spindle_order(self, spindle: str | None) -> None:
+        """M3/M4/M5 on the spindle working as C axis: it is a spindle again, as #CAX OFF (L11617)."""
+        if self.cax is not None and spindle == self.cax[0]:
+            self.cax = None
+
+    def speed_check(self, spindle: str, col: int) -> None:
+        from ..interp.expressions import InterpError
+
+        if self.cax is not None and spindle == self.cax[0]:
+            raise InterpError("KIN062", f"spindle {spindle} works as C axis {self.cax[1]}: no speed may be "
+                              "programmed for it (L11601)", col)
 
     def raw_move(self, st, make):
         """A move written in machine joints while a transformation is active (#MCS): made with the

@@ -13,18 +13,20 @@ from .solve import KinematicsError, orientations, tool_direction_part
 from .state import MAX_ACTIVE, KinState
 
 #: Statements handled here (the keyword after #, and #TOOL followed by ORI).
-KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC", "FACE", "CYL", "ANGAX", "TANGCTRL"})
+KEYWORDS = frozenset({"KIN", "CS", "ACS", "RTCP", "TLC", "FACE", "CYL", "ANGAX", "TANGCTRL", "CAX"})
 
 
 def handles(kw: str, sub: str | None) -> bool:
     return kw in KEYWORDS or (kw == "TOOL" and sub == "ORI")
 
 
-def execute(interp, node) -> None:
-    """Run one statement of this chapter."""
+def execute(interp, node, src=None) -> list:
+    """Run one statement of these chapters; the motion records it makes (#CAX references its axis)."""
     st = interp.state
     kin: KinState = st.kin
     kw = node.keyword
+    if kw == "CAX":
+        return caxis.cax_statement(interp, node, src)
     tokens = list(_flat(node.args))
     if kw == "KIN":
         _kin_id(interp, kin, tokens, node.col)
@@ -42,6 +44,7 @@ def execute(interp, node) -> None:
         tangential.statement(interp, node)
     else:
         _tool_ori(interp, kin, node.col)
+    return []
 
 
 def _flat(args):
@@ -196,6 +199,8 @@ def adjust_target(interp, bw, end: dict) -> None:
     """The end point of a move as this chapter changes it: #TOOL ORI's rotary positions, a suspended
     #ANGAX; a tangential axis may not be programmed."""
     kin: KinState = interp.state.kin
+    if kin.c_axes:
+        caxis.cax_check(interp.state, bw)
     if kin.tangential:
         tangential.programmed(interp.state, bw)
     if kin.pending_ori:
