@@ -7,8 +7,8 @@ user can filter on, a severity and a message written for a machinist.
 
 Codes are grouped by stage: ``SYN`` syntax of a block, ``STR`` program
 structure (headers, subroutines, labels, ``$`` nesting), ``INT`` the
-interpreter, ``CFG`` the machine configuration.  Later stages add their own
-prefixes.  A code, once published, keeps its meaning.
+interpreter, ``CFG`` the machine configuration, ``KIN`` kinematics and coordinate
+transformations (fagorcnc.kinematics).  Later stages add their own prefixes.  A code, once published, keeps its meaning.
 """
 
 from __future__ import annotations
@@ -201,6 +201,42 @@ CODES: dict[str, str] = {
     "CAM014": "move at feed with the spindle stopped",
     "CAM020": "G500-G599 subroutine with no file and no mapping in the machine file",
     "CAM021": "invalid argument of a built-in G500-G599 behaviour",
+    # kinematics and coordinate transformations (fagorcnc/kinematics, seed 002 ch. 14-17): KIN001-KIN099
+    "KIN001": "#KIN ID: kinematics number not set up (1..6)",
+    "KIN002": "kinematics changed while #RTCP or #TLC is active",
+    "KIN003": "statement needs a kinematics (#KIN ID) of the right kind",
+    "KIN004": "#RTCP and #TLC cannot be active together",
+    "KIN005": "malformed coordinate-transformation statement",
+    "KIN006": "#CS/#ACS system number outside 1..5",
+    "KIN007": "#CS/#ACS definition: MODE outside 1..6 or wrong number of values",
+    "KIN008": "#CS/#ACS ON of a system that is not defined",
+    "KIN009": "a second unnamed #CS/#ACS while one is active",
+    "KIN010": "KEEP, 0/1, FIRST/SECOND or SOL2 where the mode or statement does not take it",
+    "KIN011": "more than 10 #ACS and #CS active",
+    "KIN012": "#CS/#ACS OFF with none active: nothing changes",
+    "KIN013": "no position of the rotary axes gives the tool orientation asked for",
+    "KIN020": "move too close to a singular pose to keep the tool tip on the path",
+    "KIN021": "joint position beyond a software limit inside a transformed move",
+    "KIN022": "arc in an inclined plane run as joint-space lines",
+    "KIN023": "machine variable of a kinematics fagorcnc does not hold (TDATA)",
+    "KIN024": "kinematics statement on a machine without rotary axes: the identity kinematics",
+    "KIN025": "move that does not continue the transformed moves before it",
+    "KIN030": "#CYL without the cylinder radius",
+    "KIN031": "#CYL with radius 0 (the tool's distance to the centre) not computed",
+    "KIN032": "#FACE/#CYL axes: not in the channel, or not one rotary axis and linear ones",
+    "KIN033": "#FACE/#CYL kinematics number not of a C-axis type",
+    "KIN034": "#FACE/#CYL with another C axis or a coordinate transformation active",
+    "KIN035": "#FACE/#CYL with a work offset on the C axis active",
+    "KIN040": "#ANGAX: transformation number missing or not set up",
+    "KIN041": "suspended #ANGAX with scaling, rotation or mirror active",
+    "KIN042": "G74 homing with #ANGAX, #RTCP (axes outside it) or another transformation active",
+    "KIN050": "tangential axis not a modulo rotary axis, or an axis of the plane",
+    "KIN051": "tangential control: angle outside ±359.9999, no axis nor F, G145 K not 0 or 1",
+    "KIN052": "tangential control with compensation, corner aids or a transformation not computed",
+    "KIN053": "axis under tangential control programmed",
+    "KIN060": "#CAX: spindle without a C axis in the machine file, or another axis name",
+    "KIN061": "C axis of a spindle programmed without #CAX",
+    "KIN062": "speed programmed for a spindle working as C axis",
 }
 
 

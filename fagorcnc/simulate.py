@@ -39,7 +39,7 @@ class FinalState:
     def position(self, frame: str = "part") -> dict[str, float]:
         """Current position: ``frame="part"`` (work coordinates) or ``"machine"``."""
         if frame == "machine":
-            return dict(self._state.machine_pos)
+            return self._state.joints()
         if frame == "part":
             return self._state.part_pos()
         raise ValueError("frame must be 'part' or 'machine'")

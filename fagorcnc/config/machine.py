@@ -139,6 +139,11 @@ class Machine:
     backends: dict[str, dict] = field(default_factory=dict)   # [backends.<name>] tables, read by each back-end
     parameter_file: Path | None = None   # global/common parameters kept between runs (fagorcnc.config.parameter_file)
     compat: Compat = field(default_factory=Compat)   # [compat]: CAM constructs and lint (fagorcnc.config.compat)
+    kinematics: list = field(default_factory=list)   # [[kinematics]]: fagorcnc.config.kinematics.Kinematics
+    kinid: int = 0               # KINID: the kinematics selected at power-on (0 = none)
+    kinematics_tolerance: float = 0.001   # mm: tool-tip deviation of transformed moves cut into joint lines
+    angular_axes: list = field(default_factory=list)   # [[angular_axes]]: fagorcnc.config.kinematics (#ANGAX)
+    c_axes: dict[str, str] = field(default_factory=dict)   # c_axis = { S = "C" }: spindle -> its C axis (#CAX)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -290,6 +295,7 @@ def _build(data: dict) -> Machine:
         backends=_backends(data.get("backends", {})),
         parameter_file=_parameter_file(data.get("parameter_file")),
         compat=parse_compat(data.get("compat", {})),
+        **_kinematics(data, axes),
     )
 
 
@@ -325,6 +331,19 @@ def _oem_table(table: Any) -> dict[str, dict[int, str]]:
         else:
             raise MachineError(f"oem_subroutines.{key}: expected a file name, got {value!r}")
     return {"oem_subroutines": files, "oem_builtins": builtins}
+
+
+def _kinematics(data: dict, axes: dict) -> dict:
+    """``[[kinematics]]``, ``kinid`` and ``kinematics_tolerance`` (fagorcnc.config.kinematics)."""
+    from .kinematics import parse_angular_axes, parse_c_axes, parse_kinematics, parse_kinid
+
+    kins = parse_kinematics(data.get("kinematics"), axes)
+    tol = _number("kinematics_tolerance", data.get("kinematics_tolerance", 0.001))
+    if not 1e-6 <= tol <= 1.0:
+        raise MachineError(f"kinematics_tolerance = {tol:g}: mm between 0.000001 and 1")
+    return {"kinematics": kins, "kinid": parse_kinid(data.get("kinid"), kins), "kinematics_tolerance": tol,
+            "angular_axes": parse_angular_axes(data.get("angular_axes"), axes),
+            "c_axes": parse_c_axes(data.get("c_axis"), axes, [str(x) for x in data.get("spindles", ["S"])])}
 
 
 def _parameter_file(value: Any) -> Path | None:

@@ -17,6 +17,8 @@ from time import process_time as cpu_time
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
+from ..kinematics.stage import StageError, joint_space, with_frames
+from ..kinematics.tangential import follow
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
 from ..syntax import hints
@@ -124,8 +126,9 @@ class Interpreter:
         clock.start()
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
-            # tool radius compensation G41/G42
-            for record in compensate(apply_aids(self._guarded(), self._aid_error)):
+            # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
+            records = compensate(apply_aids(with_frames(follow(self._guarded(), self), self.state), self._aid_error))
+            for record in joint_space(records, self):
                 self.cycle_time += record_time(machine, record)
                 handed = cpu_time()
                 yield record
@@ -134,6 +137,10 @@ class Interpreter:
             src = exc.record.src
             if not self.failed:
                 self.diagnostics.append(Diagnostic(src.file, src.line, 1, "INT086", "error", str(exc), src.text))
+        except StageError as exc:
+            src = exc.record.src
+            if not self.failed:
+                self.diagnostics.append(Diagnostic(src.file, src.line, 1, exc.code, "error", str(exc), src.text))
         except _Stop:
             pass
 
@@ -749,6 +756,9 @@ class Interpreter:
         An axis already outside its limits may only move back toward them.
         """
         st = self.state
+        frame = st.kin.frame_for(st) if st.kin.frame is not None and not st.kin.raw else None
+        if frame is not None:   # a transformed move: the joints' limits (fagorcnc.kinematics)
+            position, start = frame.point(position), frame.point(start) if start is not None else None
         for a, v in position.items():
             lo, hi = st.lower_limits[a], st.upper_limits[a]
             if lo - 1e-9 <= v <= hi + 1e-9:

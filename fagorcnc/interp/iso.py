@@ -18,6 +18,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..kinematics import tangential
+from ..kinematics.statements import adjust_target
 from ..path import arcs
 from ..path.aids import Aid
 from ..syntax.ast import Word
@@ -224,8 +226,8 @@ class IsoExecutor:
     def length(self, value: float, axis: str | None = None, diameter_ok: bool = True) -> float:
         """A programmed length in mm (G70 inch, G151 diameter axes)."""
         st = self.state
-        if axis is not None and st.machine.axes[axis].rotary:
-            return value
+        if axis is not None and st.machine.axes[axis].rotary and axis not in st.kin.as_linear:
+            return value   # (a rotary axis of #FACE/#CYL is programmed as a length)
         if st.modes["units"] == 70:
             value *= INCH
         if diameter_ok and axis is not None and st.modes["diameter"] == 151 and st.machine.axes[axis].diameter:
@@ -239,12 +241,15 @@ class IsoExecutor:
         out = dict(current_part)
         for axis, (v, col) in bw.axes.items():
             ax = st.machine.axes[axis]
-            if ax.rotary and ax.rotary_mode != "linearlike":
+            if ax.rotary and ax.rotary_mode != "linearlike" and axis not in st.kin.as_linear:
                 out[axis] = self._rotary(ax, current_part[axis], v, incremental, col)
             elif incremental:
                 out[axis] = current_part[axis] + self.length(v, axis)
             else:
                 out[axis] = self.length(v, axis)
+        kin = st.kin
+        if kin.pending_ori or kin.angax or kin.tangential or kin.c_axes:   # #TOOL ORI, #ANGAX SUSP, G45, #CAX
+            adjust_target(self.interp, bw, out)
         return out
 
     @staticmethod
@@ -341,6 +346,7 @@ class IsoExecutor:
                 continue
             if v < 0:
                 raise InterpError("INT027", f"spindle speed {v:g} is negative", col)
+            st.kin.speed_check(spindle, col)   # not for a spindle working as C axis (#CAX, L11601)
             st.speeds[spindle] = v
             if spindle in modes.positioning:   # L5705: kept as the speed of the M03/M04 that ends positioning
                 modes.new_speed.add(spindle)
@@ -363,6 +369,8 @@ class IsoExecutor:
                 after.append((m, col))
                 continue
             yield from self._m_before(m, col, bw, src, k)
+        if 45 in gs or 145 in gs:   # tangential control (seed 002 ch. 16): its axis words are angles
+            (tangential.g45 if 45 in gs else tangential.g145)(self.interp, bw, gs[45 if 45 in gs else 145][0])
         # 5. motion
         moved = False
         if 4 in gs:
@@ -641,6 +649,8 @@ class IsoExecutor:
                         yield self.aux("S", st.speeds[s], "before", src, s)
                     modes.new_speed.discard(s)
                 st.spindle_state[s] = m
+                if m != 19:
+                    st.kin.spindle_order(s)   # a spindle working as C axis is a spindle again (L11617)
         yield self.aux("M", float(m), "before", src, named)
         if m == 6:  # tool change: the preselected tool goes to the spindle (L4700-L4708)
             st.tool = st.next_tool
@@ -707,6 +717,7 @@ class IsoExecutor:
         bw.speeds.clear()
         if not bw.axes:
             raise InterpError("INT067", "G74 needs the axes to reference with their order: G74 X1 Y2", col)
+        st.kin.check_home(bw.axes, col)
         groups: dict[int, list[str]] = {}
         for axis, (v, c) in bw.axes.items():
             if whole(v) is None or v < 1:
@@ -1014,6 +1025,14 @@ class IsoExecutor:
         return signed, turns, e
 
     def _mcs_move(self, gs: dict, bw: BlockWords, src: Source) -> Line | Arc:
+        """#MCS move; under a transformation (#CS, #RTCP...) it is written in the joints and not
+        transformed (seed 002 L13195: "#MCS ON ... G1 G91 Z-10" inside an inclined plane)."""
+        kin = self.state.kin
+        if kin.frame is None:
+            return self._mcs_plain(gs, bw, src)
+        return kin.raw_move(self.state, lambda: self._mcs_plain(gs, bw, src))
+
+    def _mcs_plain(self, gs: dict, bw: BlockWords, src: Source) -> Line | Arc:
         """#MCS move: machine coordinates, INCHES units, no offsets, no polar coordinates; G00, G01 and
         G02/G03 arcs by their centre or radius (seed 002 L3196-L3271: the #MCS ON example runs G01,
         G02 and G00)."""

@@ -6,6 +6,10 @@ the tool follows, never how fast in time.  Positions are ``{axis: float}`` in
 part coordinates.  Every record keeps its :class:`Source` so later errors can
 name the block.
 
+``frame`` is the transformation (#CS/#ACS, #RTCP, #TLC, #TOOL ORI) a move was made under, None
+when there is none; the joint-space stage (:mod:`fagorcnc.kinematics.stage`) has then already put
+``start``/``end`` in machine joints, ``end_part`` stays in the programmed frame.
+
 ``feed`` is always the programmed feed along the path in **mm/min** (after
 MAXFEED); ``feed_mode`` says how it was programmed: ``"G94"`` mm/min,
 ``"G95"`` mm/rev times the spindle speed, ``"G93"`` the move's time.
@@ -41,6 +45,7 @@ class Line:
     src: Source
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
+    frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
 
     @property
     def line(self) -> int:
@@ -83,6 +88,7 @@ class Arc:
     src: Source
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
+    frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
 
     @property
     def line(self) -> int:

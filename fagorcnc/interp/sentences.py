@@ -15,6 +15,7 @@ Three kinds:
 
 from __future__ import annotations
 
+from ..kinematics import statements as kinematics
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
 from . import dynamics, laser, macros, manual
 from .expressions import InterpError
@@ -25,7 +26,7 @@ RECORDED = frozenset({"ESBLK", "DSBLK", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
 #: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
 #: through the points, L15690), #CD (loops removed, L15598).
-NOT_YET = frozenset({"TOOL", "KIN", "RTCP", "CS", "ACS", "TLC", "ANGAX", "TANGCTRL", "CAX", "FACE", "CYL", "POLY",
+NOT_YET = frozenset({"TOOL", "POLY",
                      "SPLINE", "ASPLINE", "CD",
                      "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "RPT"})
 
@@ -187,6 +188,9 @@ def execute_sentence(interp, node, src):
             raise InterpError("INT071", "#TOOL AX needs one axis and its direction: #TOOL AX [Z+]", node.col)
         st.tool_axis = (item.name, 1 if item.sign == "+" else -1)
         interp.iso.cycles.cancel_for_plane()   # a new tool axis cancels the canned cycle (spec 09 §1.1)
+        return
+    if kinematics.handles(kw, sub):   # seed 002 ch. 14-17: #KIN ID, #CS, #ACS, #RTCP, #TLC, #TOOL ORI...
+        yield from kinematics.execute(interp, node, src)
         return
     if kw == "HSC":
         dynamics.hsc_statement(interp, node, sub)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import copy
 
 from ..config.machine import Machine
+from ..kinematics.state import KinState
 from ..path.transform import Transform
 from .cycles.model import CycleState
 from .dynamics import Dynamics, build, default_roundpar
@@ -84,6 +85,7 @@ class ChannelState:
         self.programmed_override = 0.0
         self.call_letters: list[frozenset] = [frozenset()]  # V.C.PCALLP_x per call level
         self.cycles = CycleState()             # the active canned cycle, V.C.x (interp/cycles)
+        self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)
 
     # ------------------------------------------------------------ planning context
     def dynamics_changed(self) -> None:
@@ -108,6 +110,12 @@ class ChannelState:
     def axis_offset(self, axis: str) -> float:
         """Machine minus part coordinate on ``axis``: origin chain plus tool length compensation."""
         return self.chain(axis) + self.length_offset.get(axis, 0.0)
+
+    def joints(self) -> dict[str, float]:
+        """The machine axes' positions: ``machine_pos`` is in the programmed plane's coordinates while
+        a transformation is active (#CS, #RTCP, #FACE...; fagorcnc.kinematics.frame)."""
+        frame = self.kin.frame
+        return frame.point(self.machine_pos) if frame is not None else dict(self.machine_pos)
 
     def part_pos(self) -> dict[str, float]:
         """Tool tip in (transformed) part coordinates."""
@@ -190,6 +198,7 @@ class ChannelState:
             self.transform.mirror = set()
         self.tool_axis = None
         self.cycles.reset()           # M02/M30/reset cancel the canned cycle (digest 09 §1.1)
+        self.kin.reset()              # a suspended #ANGAX is active again (L11950)
         self.aid_size = None
         self.planner = {}
         self.hsc = None               # L13665: HSC is cancelled by M02/M30 and reset

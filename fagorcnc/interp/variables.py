@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..kinematics.variables import axis_variables as kinematics_axis_variables
+from ..kinematics.variables import variables as kinematics_variables
 from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
 from .iso import INCH, whole
@@ -70,8 +72,8 @@ class Variables:
         # name -> (getter, setter or None); axis variables take the axis as 3rd argument
         self.axis_vars: dict[str, tuple[Getter, Setter | None]] = {
             "V.A.PPOS": (lambda st, i, a: st.part_pos()[a], None),          # L35650
-            "V.A.POS": (lambda st, i, a: st.machine_pos[a], None),          # L35803
-            "V.A.TPOS": (lambda st, i, a: st.machine_pos[a], None),         # L35816
+            "V.A.POS": (lambda st, i, a: st.joints()[a], None),             # L35803
+            "V.A.TPOS": (lambda st, i, a: st.joints()[a], None),            # L35816
             # the controlled point is the tool base (POS, L35803): the tip is the tool length away from it
             # in machine coordinates (TIPPOS, L35846), the base in part coordinates leaves the tool
             # length out (APOS, L35734)
@@ -181,6 +183,8 @@ class Variables:
             "V.G.M01STOP": (lambda i: 0.0, None),
             "V.G.RAPID": (lambda i: 0.0, None),
         })
+        self.plain_vars.update(kinematics_variables(s))   # V.MPK.*, V.G.POSROT*, V.G.TOOLORI*, V.G.TANGFEED
+        self.axis_vars.update(kinematics_axis_variables())   # V.A.TANGAN, V.A.TGCTRLST
         for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ":
             self.plain_vars[f"V.C.PCALLP_{letter}"] = (
                 lambda i, x=letter: 1.0 if x in s.call_letters[-1] else 0.0, None)

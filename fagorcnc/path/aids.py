@@ -285,7 +285,7 @@ def _arc_record(template, plane, s: Point, e: Point, c: Point, ccw: bool, feed):
     shift = {x: template.end_part[x] - template.end[x] for x in template.end}
     return Arc("arc", start, end, {x: v + shift[x] for x, v in end.items()}, {a: c[0], o: c[1]},
                {a: c[0] + shift[a], o: c[1] + shift[o]}, "ccw" if ccw else "cw", tuple(plane),
-               math.dist(s, c), 0, feed, template.feed_mode, template.src, dyn=template.dyn)
+               math.dist(s, c), 0, feed, template.feed_mode, template.src, dyn=template.dyn, frame=template.frame)
 
 
 def _line_record(template, plane, s: Point, e: Point, feed, kind: str):
@@ -296,7 +296,7 @@ def _line_record(template, plane, s: Point, e: Point, feed, kind: str):
     end = {**template.end, a: e[0], o: e[1]}
     shift = {x: template.end_part[x] - template.end[x] for x in template.end}
     return Line(kind, start, end, {x: v + shift[x] for x, v in end.items()}, feed, template.feed_mode,
-                template.src, dyn=template.dyn)
+                template.src, dyn=template.dyn, frame=template.frame)
 
 
 def apply_aids(records: Iterable, on_error) -> Iterator:

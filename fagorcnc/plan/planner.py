@@ -101,6 +101,12 @@ class PlanningError(RuntimeError):
         self.record = record
 
 
+def _pieces_of_one_move(a, b) -> bool:
+    """Joint-space lines of one transformed move (fagorcnc.kinematics.stage gives them one frame)."""
+    f = getattr(a, "frame", None)
+    return f is not None and f is getattr(b, "frame", None) and getattr(f, "pieces", False)
+
+
 class Planner:
     """Jerk-limited look-ahead planner for one channel.
 
@@ -215,7 +221,7 @@ class Planner:
         """Decide the junction prev -> nxt: sets ``prev.stop_after`` or returns a blend span."""
         dyn = prev.dyn
         corner = dyn.corner if dyn is not None else "G50"
-        if prev.record is nxt.record:
+        if prev.record is nxt.record or _pieces_of_one_move(prev.record, nxt.record):
             return None   # parts of one block (a long arc, a feed ramp): no corner between them
         if prev.rapid or nxt.rapid or corner in ("G07", "G50"):
             prev.stop_after = True

@@ -75,7 +75,7 @@ SENTENCES: dict[str, frozenset | None] = {
     "SPLINE": frozenset({"ON", "OFF"}),              # 21.1.13
     "SWTOUT": frozenset({"ON", "OFF"}),              # 19.1
     "SYNC": None,                                    # 21.1.10, 8.9.3 (#SYNC POS)
-    "TANGCTRL": frozenset({"ON", "OFF", "SUSP"}),    # 16.1, 16.2
+    "TANGCTRL": frozenset({"ON", "OFF", "SUSP", "RESUME"}),    # 16.1, 16.2 (RESUME: L12320)
     "TANGFEED": frozenset({"RMIN"}),                 # 6.2.3
     "TCAM": frozenset({"ON"}),                       # 21.1.20
     "TFOLLOW": frozenset({"ON"}),                    # 21.1.19
