@@ -19,6 +19,7 @@ import sys
 from collections.abc import Sequence
 
 from .commands import check as check_command
+from .commands import diff as diff_command
 from .commands import emulate as emulate_command
 from .commands import expand as expand_command
 from .commands import parse as parse_command
@@ -94,6 +95,7 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     plot.set_defaults(func=plot_command.command)
     expand_command.add_parser(sub)
+    diff_command.add_parser(sub)
     sub.add_parser("emulate", help="serve an emulated InterpCNC card (Modbus TCP) for tests and dry runs; "
                    "see fagorcnc emulate --help")
     return parser
