@@ -25,6 +25,7 @@ from .commands import expand as expand_command
 from .commands import parse as parse_command
 from .commands import plot as plot_command
 from .commands import run as run_command
+from .commands import view as view_command
 from .runtime import keep_freed_memory
 from .version import __version__
 
@@ -96,6 +97,7 @@ def build_parser() -> argparse.ArgumentParser:
     plot.set_defaults(func=plot_command.command)
     expand_command.add_parser(sub)
     diff_command.add_parser(sub)
+    view_command.add_parser(sub)
     sub.add_parser("emulate", help="serve an emulated InterpCNC card (Modbus TCP) for tests and dry runs; "
                    "see fagorcnc emulate --help")
     return parser
