@@ -22,6 +22,7 @@ from .commands import check as check_command
 from .commands import diff as diff_command
 from .commands import emulate as emulate_command
 from .commands import expand as expand_command
+from .commands import init as init_command
 from .commands import parse as parse_command
 from .commands import plot as plot_command
 from .commands import run as run_command
@@ -98,6 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
     expand_command.add_parser(sub)
     diff_command.add_parser(sub)
     view_command.add_parser(sub)
+    init_command.add_parser(sub)
     sub.add_parser("emulate", help="serve an emulated InterpCNC card (Modbus TCP) for tests and dry runs; "
                    "see fagorcnc emulate --help")
     return parser
