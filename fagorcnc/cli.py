@@ -19,6 +19,7 @@ import sys
 from collections.abc import Sequence
 
 from .commands import check as check_command
+from .commands import ci as ci_options
 from .commands import diff as diff_command
 from .commands import emulate as emulate_command
 from .commands import expand as expand_command
@@ -67,13 +68,14 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
     run.set_defaults(func=run_command.command)
     check = sub.add_parser("check", help="verify programs offline for CI: diagnostics, limits, tools, cycle time")
-    check.add_argument("files", nargs="+", metavar="FILE", help="part program files")
+    check.add_argument("files", nargs="*", metavar="FILE",
+                       help="part program files (default: [tool.fagorcnc] paths of pyproject.toml)")
     check.add_argument("--machine", metavar="M", help="machine configuration (TOML or LinuxCNC INI)")
-    check.add_argument("--format", choices=("text", "json", "sarif", "github"), default="text",
+    check.add_argument("--format", choices=("text", "json", "sarif", "github", "junit"), default="text",
                        help="report format (default: text)")
     check.add_argument("--max-cycle-time", type=float, metavar="SECONDS",
                        help="fail a program whose planned cycle time is longer")
-    check.add_argument("--fail-on", choices=("error", "warning"), default="error",
+    check.add_argument("--fail-on", choices=("error", "warning"), default=None,
                        help="fail on errors only (default) or on warnings too")
     check.add_argument("--max-seconds", type=float, metavar="SECONDS",
                        help="fail a program whose interpretation takes longer (INT082; 0 = no limit; default: "
@@ -84,6 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--brief", action="store_true", help="text: one line per diagnostic, no source excerpt")
     check.add_argument("-q", "--quiet", action="store_true", help="text: diagnostics and verdicts only")
     check.add_argument("-v", "--verbose", action="store_true", help="also report informational notes")
+    ci_options.add_arguments(check)
     check.set_defaults(func=check_command.command)
     plot = sub.add_parser("plot", help="draw the planned tool path into a PNG, SVG or PDF (needs matplotlib)")
     plot.add_argument("file", metavar="FILE", help="part program file")

@@ -145,6 +145,12 @@ CODES: dict[str, str] = {
     "CFG003": "auxiliary function the back-end has no output for",
     "CFG002": "parameter file (parameter_file) cannot be read",
     "CFG004": "a planned move the back-end cannot send (checked before a real run)",
+    # the user's tools (fagorcnc diff, expand, check's CI configuration): CLI001-CLI049
+    "CLI001": "fagorcnc diff: the two paths cannot be compared (a rotary axis moves, no motion)",
+    "CLI002": "fagorcnc expand --golden: the expansion differs from the golden file",
+    "CLI010": "suppression comment naming a code fagorcnc does not have",
+    "CLI011": "invalid [tool.fagorcnc] configuration or --select/--ignore code",
+    "CLI012": "an error cannot be suppressed or ignored: the control stops there",
 }
 
 

@@ -318,7 +318,7 @@ def command(args: argparse.Namespace) -> int:
     try:
         report = diff_programs(args.a, args.b, args.machine, tolerance=args.tolerance, block_skip=args.block_skip)
     except (DiffError, MachineError) as exc:
-        print(f"fagorcnc: {exc}", file=sys.stderr)
+        print(f"fagorcnc: CLI001 {exc}" if isinstance(exc, DiffError) else f"fagorcnc: {exc}", file=sys.stderr)
         return 2
     for p in (report.a, report.b):
         for d in p.diagnostics:

@@ -500,7 +500,7 @@ def _golden_command(args: argparse.Namespace, machine: Machine) -> int:
             print(f"{file}: matches {outcome.golden}")
         else:
             status = 1
-            print(f"{file}: differs from {outcome.golden} at line {outcome.line}:")
+            print(f"{file}: CLI002 differs from {outcome.golden} at line {outcome.line}:")
             print(f"  golden: {outcome.expected if outcome.expected is not None else '(the golden file ends here)'}")
             print(f"  now:    {outcome.actual if outcome.actual is not None else '(the expansion ends here)'}")
     return status
