@@ -15,7 +15,9 @@ Each record gives (JSON Lines keys; the CSV columns and the text format carry th
 * ``start``/``end`` per axis, in the frame asked (``--frame part``: the tool tip in part
   coordinates, the default; ``--frame machine``: the controlled point in machine coordinates);
   arcs add ``center`` (their plane's two axes), ``dir`` (``cw``/``ccw``), ``radius`` and ``turns``;
-  a dwell its ``seconds``; an auxiliary function ``fn`` and ``value`` (``M`` 3, ``T`` 1 ...);
+  a dwell its ``seconds``; an auxiliary function ``fn`` and ``value`` (``M`` 3, ``T`` 1 ...); the
+  part position of a dwell or an auxiliary function is in the frame of the last move (none before
+  the first move);
 * ``feed`` (mm/min, ``null`` at rapid) and ``feed_mode`` (``G94``/``G95``/``G93``), ``S`` the first
   spindle's speed and ``M`` its state (3, 4 or 5), ``T``/``D`` the tool in the spindle (loaded by
   the last M06) and the active offset, ``offset`` the machine-minus-part translation per axis (the
@@ -143,8 +145,10 @@ class Expansion:
         if kind in ("aux", "dwell"):
             if kind == "aux":
                 self._track(rec)
-            start = end = rec.position if self.frame == "machine" else \
-                {a: v - self._offset.get(a, 0.0) for a, v in rec.position.items()}
+            if self.frame == "machine":
+                start = end = rec.position
+            else:   # in the frame of the last move; before the first move no part position is known
+                start = end = {a: v - self._offset[a] for a, v in rec.position.items() if a in self._offset}
             offset = self._offset
         else:
             # part = machine minus a translation per axis (ChannelState.part_pos): the record's own
@@ -311,7 +315,7 @@ class Writer:
         rec = row.record
         kind = rec.kind
         where = f"{row.n:>6} {self._src(rec):<18} {kind:<6}"
-        end = " ".join(f"{a}{fixed(row.end[a])}" for a in self.axes if a in row.end)
+        end = " ".join(f"{a}{fixed(row.end[a])}" for a in self.axes if a in row.end) or "-"
         if kind == "aux":
             what = f"{rec.function}{fixed(rec.value)} at {end}"
         elif kind == "dwell":
