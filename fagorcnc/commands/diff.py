@@ -268,8 +268,10 @@ class DiffReport:
         at = self.at()
         where = " ".join(f"{x}{v:.4f}" for x, v in at["point"].items())
         verdict = "within" if self.bound <= self.tolerance else "BEYOND"
+        place = f" at {where}, line {at['a_line']} of A / line {at['b_line']} of B" if self.deviation > self.eps \
+            else ": the same path"
         lines = [f"{self.a.file} vs {self.b.file}: max deviation {self.deviation:.4f} mm ({verdict} the tolerance "
-                 f"{self.tolerance:g} mm) at {where or '-'}, line {at['a_line']} of A / line {at['b_line']} of B",
+                 f"{self.tolerance:g} mm){place}",
                  f"  A to B {self.a_to_b.maximum:.4f} mm, B to A {self.b_to_a.maximum:.4f} mm; "
                  f"{len(self.a.lines)} and {len(self.b.lines)} path segments (tool tip, part coordinates)"]
         for r in self.regions():
