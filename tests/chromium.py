@@ -7,6 +7,7 @@ fresh profile, ``browser.open(url)`` returns a :class:`Page` (``evaluate``, ``cl
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import json
 import os
@@ -69,10 +70,8 @@ class Chromium:
         return self
 
     def __exit__(self, *exc) -> None:
-        try:
+        with contextlib.suppress(BrowserError, OSError):
             self.call("Browser.close")
-        except (BrowserError, OSError):
-            pass
         try:
             self.process.wait(timeout=10)
         except subprocess.TimeoutExpired:

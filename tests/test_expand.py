@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 import shutil
 from pathlib import Path
@@ -68,7 +69,7 @@ def test_tool_spindle_and_times_come_from_the_record_stream():
     assert t1["start"] == {} and t1["offset"] == {}   # no part position before the first move
     moves = [r for r in rows if r["kind"] in ("rapid", "linear", "arc", "dwell")]
     assert all(r["S"] == 2000.0 and r["M"] == 3 for r in moves[:-1])
-    for before, after in zip(moves, moves[1:], strict=False):   # the planned times follow each other
+    for before, after in itertools.pairwise(moves):   # the planned times follow each other
         assert after["t0"] == pytest.approx(before["t0"] + before["duration"], abs=2e-4)
     dwell = next(r for r in rows if r["kind"] == "dwell")
     assert dwell["seconds"] == 0.5 and dwell["duration"] == 0.5

@@ -6,11 +6,10 @@ import re
 from pathlib import Path
 
 import pytest
+from chromium import Chromium
 
 from fagorcnc.cli import main
 from fagorcnc.commands.view import view_data, write_view
-
-from chromium import Chromium
 
 DEMO = Path(__file__).resolve().parents[1] / "programs" / "demo.nc"
 BAD = "G0 X0 Y0 Z0\nG1 X10 F100\nG1 Y20\nG1 X2000\nM30\n"
