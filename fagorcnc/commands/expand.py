@@ -472,6 +472,9 @@ def command(args: argparse.Namespace) -> int:
             return 2
     if args.golden:
         return _golden_command(args, machine)
+    if args.update:
+        print("fagorcnc: --update goes with --golden DIR", file=sys.stderr)
+        return 2
     if len(args.files) != 1:
         print("fagorcnc: expand writes one program at a time (several with --golden DIR)", file=sys.stderr)
         return 2
