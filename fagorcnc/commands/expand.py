@@ -126,6 +126,7 @@ class Expansion:
         self.source, self.machine, self.frame, self.block_skip = source, machine, frame, block_skip
         self.result = None
         self._pending: deque[Row] = deque()
+        self._waiting: dict[int, object] = {}   # id -> record of the rows in _pending
         self._ready: deque[Row] = deque()
         self._clock = 0.0
         self._count = 0
@@ -162,6 +163,7 @@ class Expansion:
                 end = dict(rec.end_part)
                 if kind == "arc":
                     center = {a: rec.center[a] - offset.get(a, 0.0) for a in rec.plane[:2]}
+        self._waiting[id(rec)] = rec   # (the record is kept alive while it waits: its id is its own)
         self._pending.append(Row(self._count, rec, start, end, center, (self._speed, self._rotation), self._tool,
                                  self._d, offset, _modes(rec)))
 
@@ -183,10 +185,9 @@ class Expansion:
     def _on_segment(self, seg) -> None:
         pending = self._pending
         rec = seg.record
-        while pending and pending[0].record is not rec:
-            if not any(r.record is rec for r in pending):   # a segment of a record already written
-                break
-            self._flush_one()
+        if id(rec) in self._waiting:   # the rows before its record are complete: written
+            while pending[0].record is not rec:
+                self._flush_one()
         if pending and pending[0].record is rec:
             row = pending[0]
             if row.t0 is None:
@@ -196,6 +197,7 @@ class Expansion:
 
     def _flush_one(self) -> None:
         row = self._pending.popleft()
+        self._waiting.pop(id(row.record), None)
         if row.t0 is None:
             row.t0 = self._clock
         self._ready.append(row)
