@@ -69,7 +69,7 @@
     box();
     let tool = null;
     for (const s of segs) {
-      if (s.t0 > now) break;
+      if (s.t0 > now || (s.t0 === now && s.duration > 0 && now < data.cycle_time)) break;   // not reached yet
       const pts = s.points;
       const frac = s.duration > 0 ? Math.min(1, (now - s.t0) / s.duration) : 1;
       const last = Math.max(1, Math.ceil(frac * (pts.length - 1)));
