@@ -3,10 +3,11 @@ Hausdorff distance between two polylines that :mod:`fagorcnc.commands.diff` is b
 
 The segments of the target polyline are cut into pieces no longer than ``c`` (about the median
 segment length).  With scipy installed (the optional extra ``fagorcnc[diff]``: its k-d tree is
-compiled code, about ten times faster), the k nearest piece midpoints of a point are asked, k growing
-until the k-th midpoint is farther than the best distance found plus half a piece: no other piece can
-then be closer.  Without scipy a uniform grid of cell ``c`` (numpy only) files each piece under the
-cell of its midpoint.  A query looks in its cell and the 26 around it: every
+compiled code, about ten times faster), the 8 nearest piece midpoints of a point are asked: when the
+8th is farther than the best distance found plus half a piece no other piece can be closer; else
+(a path passing over itself) every piece whose midpoint lies within that radius is examined.
+Without scipy a uniform grid of cell ``c`` (numpy only) files each piece under the cell of its
+midpoint.  A query looks in its cell and the 26 around it: every
 piece whose midpoint lies within ``c`` of the point is seen, so a found distance ``d <= c/2`` is exact
 (a closer piece would have its midpoint within ``d + c/2 <= c``).  Points farther away are asked again
 on grids four times coarser until the same argument holds.  All the work is vectorised, in chunks
@@ -22,6 +23,7 @@ limited by a sampling step.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -159,30 +161,47 @@ class SegmentIndex:
 
 
     def _nearest_tree(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        # the k nearest piece midpoints; the answer is exact once the k-th midpoint is farther than
-        # the best distance plus half a piece (a closer piece has its midpoint within that)
+        # the 8 nearest piece midpoints first: the answer is exact when the 8th is farther than the
+        # best distance plus half a piece (a closer piece has its midpoint within that); for the
+        # other points (paths that pass over themselves: many pieces about as near) every piece
+        # whose midpoint lies within that radius is examined
         m = len(points)
-        best = np.full(m, np.inf)
-        arg = np.zeros(m, dtype=np.int64)
-        todo = np.arange(m)
+        best = np.empty(m)
+        arg = np.empty(m, dtype=np.int64)
         half = self.cell / 2
-        pieces = len(self._mid)
-        k = 8
-        while len(todo):
-            kk = min(k, pieces)
-            dist, idx = self._tree.query(points[todo], k=kk)
-            dist, idx = dist.reshape(len(todo), kk), idx.reshape(len(todo), kk)
+        tree = self._tree
+        k = min(8, len(self._mid))
+        unresolved = []
+        for s in range(0, m, 100_000):
+            p = points[s:s + 100_000]
+            dist, idx = tree.query(p, k=k)
+            dist, idx = dist.reshape(len(p), k), idx.reshape(len(p), k)
             seg = self.parent[idx]
-            d = point_segment_distance(np.repeat(points[todo], kk, axis=0), self.a[seg.ravel()],
-                                       self.b[seg.ravel()]).reshape(len(todo), kk)
+            d = point_segment_distance(np.repeat(p, k, axis=0), self.a[seg.ravel()],
+                                       self.b[seg.ravel()]).reshape(len(p), k)
             col = np.argmin(d, axis=1)
-            rows = np.arange(len(todo))
-            best[todo] = d[rows, col]
-            arg[todo] = seg[rows, col]
-            if kk == pieces:
-                break
-            todo = todo[dist[:, -1] < best[todo] + half]
-            k *= 4
+            rows = np.arange(len(p))
+            best[s:s + len(p)] = d[rows, col]
+            arg[s:s + len(p)] = seg[rows, col]
+            if k < len(self._mid):
+                unresolved.append(s + np.flatnonzero(dist[:, -1] < best[s:s + len(p)] + half))
+        todo = np.concatenate(unresolved) if unresolved else np.empty(0, dtype=np.int64)
+        for s in range(0, len(todo), 20_000):
+            ids = todo[s:s + 20_000]
+            lists = tree.query_ball_point(points[ids], r=best[ids] + half, return_sorted=False)
+            counts = np.fromiter((len(x) for x in lists), dtype=np.int64, count=len(lists))
+            flat = np.fromiter(itertools.chain.from_iterable(lists), dtype=np.int64, count=int(counts.sum()))
+            pidx = np.repeat(np.arange(len(ids)), counts)
+            seg = self.parent[flat]
+            d = point_segment_distance(points[ids][pidx], self.a[seg], self.b[seg])
+            local = np.full(len(ids), np.inf)
+            np.minimum.at(local, pidx, d)
+            hit = d <= local[pidx]
+            where = np.zeros(len(ids), dtype=np.int64)
+            where[pidx[hit]] = seg[hit]
+            better = local < best[ids]
+            best[ids[better]] = local[better]
+            arg[ids[better]] = where[better]
         return best, arg
 
 
