@@ -3,8 +3,8 @@ Hausdorff distance between two polylines that :mod:`fagorcnc.commands.diff` is b
 
 The segments of the target polyline are cut into pieces no longer than ``c`` (about the median
 segment length).  With scipy installed (the optional extra ``fagorcnc[diff]``: its k-d tree is
-compiled code, about ten times faster), the 8 nearest piece midpoints of a point are asked: when the
-8th is farther than the best distance found plus half a piece no other piece can be closer; else
+compiled code, about ten times faster), the 4 nearest piece midpoints of a point are asked: when the
+4th is farther than the best distance found plus half a piece no other piece can be closer; else
 (a path passing over itself) every piece whose midpoint lies within that radius is examined.
 Without scipy a uniform grid of cell ``c`` (numpy only) files each piece under the cell of its
 midpoint.  A query looks in its cell and the 26 around it: every
@@ -161,7 +161,7 @@ class SegmentIndex:
 
 
     def _nearest_tree(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        # the 8 nearest piece midpoints first: the answer is exact when the 8th is farther than the
+        # the 4 nearest piece midpoints first: the answer is exact when the 4th is farther than the
         # best distance plus half a piece (a closer piece has its midpoint within that); for the
         # other points (paths that pass over themselves: many pieces about as near) every piece
         # whose midpoint lies within that radius is examined
@@ -170,7 +170,7 @@ class SegmentIndex:
         arg = np.empty(m, dtype=np.int64)
         half = self.cell / 2
         tree = self._tree
-        k = min(8, len(self._mid))
+        k = min(4, len(self._mid))
         unresolved = []
         for s in range(0, m, 100_000):
             p = points[s:s + 100_000]
