@@ -19,10 +19,15 @@ import sys
 from collections.abc import Sequence
 
 from .commands import check as check_command
+from .commands import ci as ci_options
+from .commands import diff as diff_command
 from .commands import emulate as emulate_command
+from .commands import expand as expand_command
+from .commands import init as init_command
 from .commands import parse as parse_command
 from .commands import plot as plot_command
 from .commands import run as run_command
+from .commands import view as view_command
 from .commands._shared import configure_logging, duration
 from .program_files import PROGRAM_EXTENSIONS
 from .runtime import keep_freed_memory
@@ -71,19 +76,19 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
     run.set_defaults(func=run_command.command)
     check = sub.add_parser("check", help="verify programs offline for CI: diagnostics, limits, tools, cycle time")
-    check.add_argument("files", nargs="+", metavar="FILE",
+    check.add_argument("files", nargs="*", metavar="FILE",
                        help="part program files, or directories (their program files, recursively); '-': "
-                            "standard input")
+                            "standard input (default: [tool.fagorcnc] paths of pyproject.toml)")
     check.add_argument("--extensions", metavar="EXT,...", default=None,
                        help="program extensions looked for in a directory (default: "
                             + ",".join(e.lstrip(".") for e in PROGRAM_EXTENSIONS) + ")")
     check.add_argument("--machine", metavar="M", help="machine configuration (TOML or LinuxCNC INI)")
-    check.add_argument("--format", choices=("text", "json", "sarif", "github"), default="text",
+    check.add_argument("--format", choices=("text", "json", "sarif", "github", "junit"), default="text",
                        help="report format (default: text)")
     check.add_argument("--max-cycle-time", type=duration, metavar="DURATION",
                        help="fail a program whose planned cycle time is longer: seconds (90), m:ss (1:30) or "
                             "h:mm:ss")
-    check.add_argument("--fail-on", choices=("error", "warning"), default="error",
+    check.add_argument("--fail-on", choices=("error", "warning"), default=None,
                        help="fail on errors only (default) or on warnings too")
     check.add_argument("--max-seconds", type=duration, metavar="SECONDS",
                        help="fail a program whose interpretation takes longer, in CPU seconds (INT082; 0 = no "
@@ -99,6 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--brief", action="store_true", help="text: one line per diagnostic, no source excerpt")
     check.add_argument("-q", "--quiet", action="store_true", help="text: diagnostics and verdicts only")
     check.add_argument("-v", "--verbose", action="store_true", help="also report informational notes")
+    ci_options.add_arguments(check)
     check.set_defaults(func=check_command.command)
     plot = sub.add_parser("plot", help="draw the planned tool path into a PNG, SVG or PDF (needs matplotlib)")
     plot.add_argument("file", metavar="FILE", help="part program file")
@@ -111,6 +117,10 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("--limits", action="store_true", help="draw the soft limits (2D view)")
     plot.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
     plot.set_defaults(func=plot_command.command)
+    expand_command.add_parser(sub)
+    diff_command.add_parser(sub)
+    view_command.add_parser(sub)
+    init_command.add_parser(sub)
     sub.add_parser("emulate", help="serve an emulated InterpCNC card (Modbus TCP) for tests and dry runs; "
                    "see fagorcnc emulate --help")
     return parser

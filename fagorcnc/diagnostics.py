@@ -237,6 +237,12 @@ CODES: dict[str, str] = {
     "KIN060": "#CAX: spindle without a C axis in the machine file, or another axis name",
     "KIN061": "C axis of a spindle programmed without #CAX",
     "KIN062": "speed programmed for a spindle working as C axis",
+    # the user's tools (fagorcnc diff, expand, check's CI configuration): CLI001-CLI049
+    "CLI001": "fagorcnc diff: the two paths cannot be compared (a rotary axis moves, no motion)",
+    "CLI002": "fagorcnc expand --golden: the expansion differs from the golden file",
+    "CLI010": "suppression comment naming a code fagorcnc does not have",
+    "CLI011": "invalid [tool.fagorcnc] configuration or --select/--ignore code",
+    "CLI012": "an error cannot be suppressed or ignored: the control stops there",
 }
 
 

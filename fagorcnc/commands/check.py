@@ -674,6 +674,10 @@ def dumps(document: dict) -> str:
 
 def command(args: argparse.Namespace) -> int:
     """Handler of ``fagorcnc check``: the exit status of :func:`exit_status`, 2 on bad usage."""
+    from . import ci
+
+    if ci.prepare(args) is not None:   # [tool.fagorcnc], --select/--ignore (commands/ci.py)
+        return 2
     if args.jobs is not None and args.jobs < 1:
         print("fagorcnc: --jobs must be 1 or more", file=sys.stderr)
         return 2
@@ -738,6 +742,8 @@ def _shown_as(report: FileReport, name: str) -> FileReport:
 
 
 def _check_report(args: argparse.Namespace, machine, out, files: list[tuple[str, str]]) -> int:
+    from . import ci
+
     reports = []
     names = [shown for shown, _ in files]
     for shown, report in zip(names, check_files(
@@ -745,18 +751,28 @@ def _check_report(args: argparse.Namespace, machine, out, files: list[tuple[str,
             max_cycle_time=args.max_cycle_time, max_seconds=args.max_seconds,
             max_per_code=MAX_PER_CODE if args.max_per_code is None else args.max_per_code), strict=True):
         report = _shown_as(report, shown)
+        ci.apply(report, args.selection)   # selection and suppression comments (commands/ci.py)
         reports.append(report)
         if report.usage_error:
             print(f"{report.file}: {report.failure}", file=sys.stderr)
+        if args.statistics:
+            continue
         if args.format == "text":
             print(text_report(report, fail_on=args.fail_on, brief=args.brief, verbose=args.verbose,
                               quiet=args.quiet), file=out, flush=True)
+            if getattr(report, "suppressed", 0) and not args.quiet:
+                print(f"  {report.suppressed} diagnostics not reported (select/ignore, suppression comments)",
+                      file=out, flush=True)
         elif args.format == "github":
             print(github_report(report, fail_on=args.fail_on, verbose=args.verbose), file=out, flush=True)
     if args.format == "json":
         print(dumps(json_report(reports, fail_on=args.fail_on, machine=args.machine)), file=out)
     elif args.format == "sarif":
         print(dumps(sarif_report(reports, fail_on=args.fail_on)), file=out)
+    elif args.format == "junit":
+        print(ci.junit_report(reports, fail_on=args.fail_on, verbose=args.verbose), file=out)
+    elif args.statistics:
+        print(ci.statistics(reports, verbose=args.verbose) or "no diagnostics", file=out)
     elif len(reports) > 1 and not args.quiet:
         passed = sum(r.verdict(args.fail_on) == "pass" for r in reports)
         print(f"checked {len(reports)} files: {passed} passed, {len(reports) - passed} failed", file=out)

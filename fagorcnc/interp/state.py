@@ -147,6 +147,10 @@ class ChannelState:
         plane = self.modes["plane"]
         if plane == 20 and self.g20_plane is not None:
             return self.g20_plane
+        if len(self.axes) == 2:
+            # seed 002 L3013-L3016, L3043: a lathe with a "plane" axis configuration (two axes) always
+            # works in G18, formed by the second axis (abscissa) and the first (X, Z: the plane ZX)
+            return a[1], a[0], None
         if plane == 18:
             return a[2], a[0], a[1]
         if plane == 19:

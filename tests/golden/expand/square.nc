@@ -1,0 +1,15 @@
+%SQUARE
+; golden expansion test: G54 = X100 Y50 Z-200 (tests/golden/expand/machine.toml), T1 D1 length 100
+G71 G90 G17 G54
+T1 D1 M06
+S2000 M03
+G00 X0 Y0 Z10
+G01 Z-1 F300
+G01 X20 F600
+G02 X30 Y10 R10
+G03 X20 Y20 I-10 J0
+G91 G01 X-20
+G04 K0.5
+G90 G00 Z10
+M05
+M30
