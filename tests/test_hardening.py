@@ -107,3 +107,33 @@ def test_wrong_types_in_toml_name_the_key_and_the_file(tmp_path, capsys, body, k
     out = capsys.readouterr()
     assert "Traceback" not in out.out + out.err and "CRASHED" not in out.out + out.err
     assert key in out.out + out.err
+
+
+# ---------------------------------------------------------------- item 3: expressions nested too deeply
+DEEP = {
+    "sum": "P1 = 1" + "+1" * 988,
+    "sin": "P1 = " + "SIN[" * 988 + "1" + "]" * 988,
+    "param-index": "P1 = " + "P[" * 495 + "1" + "]" * 495,
+    "minus": "P1 = " + "-[" * 600 + "P2" + "]" * 600,   # -[-[1]] is folded into a number, -[P2] is not
+    "bracket-list": "#HSC ON [" + "1,[" * 400 + "]" * 400 + "]",
+}
+
+
+@pytest.mark.parametrize("line", list(DEEP.values()), ids=list(DEEP))
+def test_deep_expressions_are_syn040_from_parse_and_simulate(line):
+    text = line + "\nM30\n"
+    program = fagorcnc.parse_text(text)
+    assert [d.code for d in program.diagnostics] == ["SYN040"] and program.diagnostics[0].line == 1
+    for result in (fagorcnc.simulate(text), fagorcnc.dry_run(text)):
+        assert codes(result) == ["SYN040"]
+
+
+def test_expressions_up_to_the_depth_limit_are_computed():
+    from fagorcnc.syntax.parser import MAX_EXPRESSION_DEPTH
+
+    n = MAX_EXPRESSION_DEPTH
+    # 1 + 1 + ... (n additions) = n + 1; P[P[...P[1]...]] with P1 = 1 is 1 at any depth
+    assert fagorcnc.simulate("P1 = 1" + "+1" * n + "\nM30\n").state.param(1) == n + 1
+    nested = "P1 = 1\nP2 = " + "P[" * (n - 1) + "1" + "]" * (n - 1) + "\nM30\n"
+    assert fagorcnc.dry_run(nested).ok and fagorcnc.simulate(nested).state.param(2) == 1
+    assert codes(fagorcnc.simulate("P1 = 1" + "+1" * (n + 1) + "\nM30\n")) == ["SYN040"]
