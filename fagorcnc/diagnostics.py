@@ -42,6 +42,7 @@ CODES: dict[str, str] = {
     "SYN023": "not a program text file (NUL bytes: binary, or UTF-16 without a byte-order mark)",
     # hardening (issue 30): limits of what a block or a file may hold
     "SYN040": "expression nested too deeply",
+    "SYN041": "line longer than fagorcnc reads (16384 characters)",
     "STR001": "local subroutines defined but no program header %name",
     "STR002": "local subroutine defined after the program body",
     "STR003": "subroutine does not end with M17, M29 or #RET",

@@ -137,3 +137,52 @@ def test_expressions_up_to_the_depth_limit_are_computed():
     nested = "P1 = 1\nP2 = " + "P[" * (n - 1) + "1" + "]" * (n - 1) + "\nM30\n"
     assert fagorcnc.dry_run(nested).ok and fagorcnc.simulate(nested).state.param(2) == 1
     assert codes(fagorcnc.simulate("P1 = 1" + "+1" * (n + 1) + "\nM30\n")) == ["SYN040"]
+
+
+# ---------------------------------------------------------------- item 8: a line of unbounded length
+def _long_line_file(path, megabytes: int, newline_after: bool = True):
+    with open(path, "w") as f:
+        f.write("G1 X1 F100\n")
+        chunk = "X" * (1 << 20)
+        for _ in range(megabytes):
+            f.write(chunk)
+        if newline_after:
+            f.write("\nG1 X[1\nM30\n")   # line 3: another syntax error, found after the resynchronisation
+    return path
+
+
+def test_overlong_line_is_syn041_in_constant_memory(tmp_path, capsys):
+    import tracemalloc
+
+    from fagorcnc.syntax.reader import MAX_LINE_LENGTH
+
+    program = _long_line_file(tmp_path / "long.nc", 24)   # 24 MiB in one line
+    tracemalloc.start()
+    try:
+        result = fagorcnc.dry_run(program)
+        _, peak = tracemalloc.get_traced_memory()
+        assert [(d.code, d.line) for d in result.diagnostics if d.is_error] == [("SYN041", 2), ("SYN003", 3)]
+        assert str(24 << 20) in result.diagnostics[0].message and str(MAX_LINE_LENGTH) in result.diagnostics[0].message
+        tracemalloc.reset_peak()
+        assert main(["check", str(program)]) == 1
+        _, peak_check = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 8e6 and peak_check < 8e6, (peak, peak_check)   # the line alone is 24 MiB (50 MB as str)
+    assert "SYN041" in capsys.readouterr().out
+    assert codes(fagorcnc.simulate(program))[:1] == ["SYN041"]
+
+
+def test_file_without_any_newline(tmp_path):
+    program = tmp_path / "one.nc"
+    program.write_text("G1 X1 " * 5000)   # 30 000 characters, no line end
+    assert codes(fagorcnc.dry_run(program)) == ["SYN041"]
+
+
+@pytest.mark.parametrize("length", [16384, 16385])
+def test_line_length_limit_is_exact(length):
+    # "G0 X1" + a comment filling the line up to `length` characters
+    line = "G0 X1 ;" + "c" * (length - 7)
+    assert len(line) == length
+    result = fagorcnc.dry_run(line + "\nM30\n")
+    assert codes(result) == ([] if length <= 16384 else ["SYN041"])

@@ -332,10 +332,11 @@ def _interpreter(program, machine: Machine, block_skip: bool):
 
 def _recover(path: Path, machine: Machine, block_skip: bool, first: list[Diagnostic]) -> list[Diagnostic]:
     """Errors beyond the first: blank the failing lines and run again (interpreter only)."""
-    from ..syntax import parse_text, read_source
+    from ..syntax import parse_text, source_encoding
+    from ..syntax.reader import bounded_lines
 
-    text = read_source(path).replace("\r\n", "\n").replace("\r", "\n")
-    lines = text.split("\n")
+    with open(path, encoding=source_encoding(path), errors="replace") as f:
+        lines = [str(line) for line in bounded_lines(f)]   # an over-long line (SYN041) only by its start
     name = str(path)
     seen = {(d.file, d.line, d.code, d.message) for d in first}
     blanked = {d.line for d in first if d.is_error and d.file == name}
