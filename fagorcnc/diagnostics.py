@@ -142,6 +142,7 @@ CODES: dict[str, str] = {
     "INT116": "local subroutine called by its number with an L in front (#CALL L100)",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
+    "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",
     "PLN001": "motion cannot be planned within the machine limits",
     # fagorcnc check: verification of the planned motion
     "PLN100": "planned path (arc or corner blend) beyond a software limit",

@@ -3,6 +3,8 @@ bounded error, never a traceback, a hang or a silently wrong result.  One test (
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 import fagorcnc
@@ -186,3 +188,138 @@ def test_line_length_limit_is_exact(length):
     assert len(line) == length
     result = fagorcnc.dry_run(line + "\nM30\n")
     assert codes(result) == ([] if length <= 16384 else ["SYN041"])
+
+
+# ---------------------------------------------------------------- items 5, 6, 7, 11: the subroutine file lookup
+@pytest.fixture
+def dirs(tmp_path):
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    (subs / "OK.nc").write_text("P100 = 1\nM17\n")
+    prog = tmp_path / "prog"
+    (prog / "deep").mkdir(parents=True)
+    (prog / "deep" / "NEST.nc").write_text("P100 = 2\nM17\n")
+    (subs / "deep").mkdir()
+    (subs / "deep" / "INSUBS.nc").write_text("P100 = 3\nM17\n")
+    return {"subroutine_paths": [str(subs)]}, subs, prog
+
+
+def run_in(prog, machine, text: str):
+    main_file = prog / "main.nc"
+    main_file.write_text("P100 = 0\n" + text)
+    return fagorcnc.simulate(main_file, machine), fagorcnc.dry_run(main_file, machine)
+
+
+def test_item5_subroutine_name_too_long_is_int151(dirs):
+    machine, _subs, prog = dirs
+    for r in run_in(prog, machine, "L " + "A" * 300 + ".nc\nM30\n"):
+        assert codes(r) == ["INT151"] and "too long" in r.diagnostics[0].message
+
+
+def test_item5_path_sentence_too_long_is_int151(dirs):
+    machine, _subs, prog = dirs
+    for r in run_in(prog, machine, '#PATH ["' + "a" * 10000 + '"]\nL OK.nc\nM30\n'):   # under the line limit
+        assert codes(r) == ["INT151"]
+    for r in run_in(prog, machine, '#PATH ["' + "a" * 200000 + '"]\nL OK.nc\nM30\n'):  # 200 kB: over it
+        assert codes(r) == ["SYN041"]
+
+
+@pytest.mark.skipif(not hasattr(os, "symlink"), reason="no symbolic links on this system")
+def test_item6_symlink_loop_is_int151(dirs):
+    machine, subs, prog = dirs
+    (subs / "L1.nc").symlink_to(subs / "L2.nc")
+    (subs / "L2.nc").symlink_to(subs / "L1.nc")
+    for r in run_in(prog, machine, "L L1.nc\nM30\n"):
+        assert codes(r) == ["INT151"] and "loop of symbolic links" in r.diagnostics[0].message
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
+def test_a_fifo_or_device_is_not_opened(dirs):
+    machine, subs, prog = dirs
+    os.mkfifo(subs / "PIPE.nc")   # opening it would block for ever
+    for r in run_in(prog, machine, "L PIPE.nc\nM30\n"):
+        assert codes(r) == ["INT151"] and "not a regular file" in r.diagnostics[0].message
+
+
+@pytest.mark.parametrize("size", ["small", "large"])
+def test_item7_unreadable_subroutine_is_int151(dirs, monkeypatch, size):
+    """Always runs (the sandbox is root, for whom mode 000 is readable): open() of the file raises
+    PermissionError as it would for a non-root user; both the parsed and the streamed reading."""
+    import builtins
+
+    machine, subs, prog = dirs
+    body = "P100 = 3\n" + ("G0 X1\n" * 60000 if size == "large" else "") + "M17\n"
+    (subs / "SECRET.nc").write_text(body)
+    real_open = builtins.open
+
+    def guarded(file, *args, **kwargs):
+        if str(file).endswith("SECRET.nc"):
+            raise PermissionError(13, "Permission denied", str(file))
+        return real_open(file, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", guarded)
+    for r in run_in(prog, machine, "L SECRET.nc\nM30\n"):
+        assert codes(r) == ["INT151"] and "permission denied" in r.diagnostics[0].message
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root reads a mode-000 file")
+def test_item7_mode_000_as_a_user(dirs):
+    machine, subs, prog = dirs
+    (subs / "LOCKED.nc").write_text("P100 = 3\nM17\n")
+    (subs / "LOCKED.nc").chmod(0)
+    for r in run_in(prog, machine, "L LOCKED.nc\nM30\n"):
+        assert codes(r) == ["INT151"]
+
+
+def test_item11_relative_directory_resolves_in_the_search_directories(dirs, monkeypatch, tmp_path):
+    machine, _subs, prog = dirs
+    elsewhere = tmp_path / "cwd"
+    (elsewhere / "deep").mkdir(parents=True)
+    (elsewhere / "deep" / "NEST.nc").write_text("P100 = 666\nM17\n")
+    monkeypatch.chdir(elsewhere)   # the working directory must play no part
+    simulated, dry = run_in(prog, machine, "L deep/NEST.nc\nM30\n")
+    assert simulated.ok and dry.ok and simulated.state.param(100) == 2   # the program's own directory
+    simulated, dry = run_in(prog, machine, "L deep/INSUBS.nc\nM30\n")
+    assert simulated.ok and dry.ok and simulated.state.param(100) == 3   # a subroutine_paths directory
+    simulated, _ = run_in(prog, machine, '#PATH ["deep"]\nL NEST.nc\nM30\n')   # a relative #PATH, the same way
+    assert simulated.ok and simulated.state.param(100) == 2
+
+
+def test_lookup_order_is_path_then_program_directory_then_subpath(dirs):
+    # seed 002 L10327-L10333: 1 #PATH, 2 the program's directory, 3 SUBPATH
+    machine, subs, prog = dirs
+    (prog / "TWICE.nc").write_text("P100 = 20\nM17\n")
+    (subs / "TWICE.nc").write_text("P100 = 30\nM17\n")
+    (subs / "deep" / "TWICE.nc").write_text("P100 = 40\nM17\n")
+    assert run_in(prog, machine, "L TWICE.nc\nM30\n")[0].state.param(100) == 20
+    assert run_in(prog, machine, f'#PATH ["{subs / "deep"}"]\nL TWICE.nc\nM30\n')[0].state.param(100) == 40
+
+
+# ---------------------------------------------------------------- item 9: large subroutine files stream
+def test_item9_large_subroutine_file_is_streamed(dirs, monkeypatch):
+    from fagorcnc.interp import files
+    from fagorcnc.interp.files import PARSE_WHOLE_BYTES
+
+    streamed = []
+
+    def stream_program(lines, file):
+        program, source = real_stream_program(lines, file)
+        streamed.append(source)
+        return program, source
+
+    real_stream_program = files.stream_program
+    monkeypatch.setattr(files, "stream_program", stream_program)
+    machine, subs, prog = dirs
+    lines = ["P100 = P100 + 1", "P101 = 0"] + ["P101 = P101 + 1 ; a block of the subroutine"] * 9000
+    lines += ["G1 X[P100 * 10] F1000", "M17"]
+    (subs / "BIG.nc").write_text("\n".join(lines) + "\n")
+    assert (subs / "BIG.nc").stat().st_size > PARSE_WHOLE_BYTES
+    main_file = prog / "main.nc"
+    main_file.write_text("P100 = 0\nL BIG.nc\nL BIG.nc\nM30\n")
+    run = fagorcnc.interpret(main_file, machine)
+    moves = [r.end["X"] for r in run if r.kind == "linear"]
+    assert run.ok and moves == [10.0, 20.0] and run.state.param(101) == 9000   # called twice
+    assert len(streamed) == 2 and all(s.released > 4000 for s in streamed)   # read twice, blocks dropped
+    assert not run.interpreter.files._parsed and not run.interpreter.files._open   # nothing kept, files closed
+    dry = fagorcnc.dry_run(main_file, machine)
+    assert dry.ok and dry.moves == 2
