@@ -323,3 +323,34 @@ def test_item9_large_subroutine_file_is_streamed(dirs, monkeypatch):
     assert not run.interpreter.files._parsed and not run.interpreter.files._open   # nothing kept, files closed
     dry = fagorcnc.dry_run(main_file, machine)
     assert dry.ok and dry.moves == 2
+
+
+# ---------------------------------------------------------------- item 10: the parameter file
+@pytest.mark.parametrize("name", ["/dev/zero", "directory", "fifo"])
+def test_item10_parameter_file_that_is_not_a_regular_file_is_cfg002(tmp_path, name):
+    if name == "directory":
+        name = str(tmp_path)
+    elif name == "fifo":
+        if not hasattr(os, "mkfifo"):
+            pytest.skip("no FIFOs on this system")
+        os.mkfifo(tmp_path / "params.var")   # opening it would block for ever
+        name = str(tmp_path / "params.var")
+    elif not os.path.exists(name):
+        pytest.skip("no /dev/zero on this system")
+    machine = {"parameter_file": name}
+    for r in (fagorcnc.simulate("G0 X1\nM30\n", machine), fagorcnc.dry_run("G0 X1\nM30\n", machine)):
+        assert codes(r) == ["CFG002"] and "not a regular file" in r.diagnostics[0].message
+
+
+def test_item10_parameter_file_too_large_is_cfg002(tmp_path):
+    from fagorcnc.config.parameter_file import MAX_PARAMETER_FILE_BYTES
+
+    big = tmp_path / "params.var"
+    with open(big, "w") as f:
+        f.write("; padding\n" * (MAX_PARAMETER_FILE_BYTES // 10 + 1))   # a comment is 10 bytes: one over the cap
+    assert big.stat().st_size > MAX_PARAMETER_FILE_BYTES
+    r = fagorcnc.simulate("G0 X1\nM30\n", {"parameter_file": str(big)})
+    assert codes(r) == ["CFG002"] and str(MAX_PARAMETER_FILE_BYTES) in r.diagnostics[0].message
+    big.write_text("100\t2.5\n")   # a normal one is still read
+    r = fagorcnc.simulate("P1 = P100\nM30\n", {"parameter_file": str(big)})
+    assert r.ok and r.state.param(1) == 2.5
