@@ -354,3 +354,15 @@ def test_item10_parameter_file_too_large_is_cfg002(tmp_path):
     big.write_text("100\t2.5\n")   # a normal one is still read
     r = fagorcnc.simulate("P1 = P100\nM30\n", {"parameter_file": str(big)})
     assert r.ok and r.state.param(1) == 2.5
+
+
+# ---------------------------------------------------------------- item 12: HSC, a one-block G60 corner, G50, HSC again
+def test_item12_hsc_g60_g50_hsc_plans():
+    text = ("G90 G17 G71 G94 G01 X0 Y0 F2000\n#HSC ON [CONTERROR 0.01, CORNER 150]\nX40\nG60 X45 Y1\nG50\n"
+            "#HSC ON [FAST, CORNER 130]\nG01 Y40\nM30\n")
+    r = fagorcnc.simulate(text)
+    assert r.ok and r.cycle_time > 0
+    # G60 stops at the end of its own block (seed 002 L8018): the tool is at rest at X45 Y1
+    line4 = [s for s in r.segments() if s.line == 4]
+    assert line4 and line4[-1].v1 == 0.0
+    assert fagorcnc.dry_run(text).cycle_time == pytest.approx(r.cycle_time, rel=1e-12)

@@ -514,7 +514,9 @@ class Planner:
         (:func:`~fagorcnc.plan.geometry.blends`); each assumes the previous one is taken (its end
         curvature is the next one's start), which a stop at a sharp corner undoes."""
         chain = [prev, nxt]
-        ahead = self._ahead
+        # the chain goes on only through HSC lines: nxt may be the end of the HSC run (a G60 block, a
+        # G50 after it), whose own corner is no spline, however HSC the lines after it are (issue 30)
+        ahead = self._ahead if _spline_line(nxt) else ()
         for j, x in enumerate(ahead):
             if not (isinstance(x, Span) and isinstance(x.piece, LinePiece) and _spline_line(x)):
                 break
