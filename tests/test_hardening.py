@@ -366,3 +366,29 @@ def test_item12_hsc_g60_g50_hsc_plans():
     line4 = [s for s in r.segments() if s.line == 4]
     assert line4 and line4[-1].v1 == 0.0
     assert fagorcnc.dry_run(text).cycle_time == pytest.approx(r.cycle_time, rel=1e-12)
+
+
+# ---------------------------------------------------------------- item 15: the rapid override
+def test_item15_rapid_override_0_is_an_error_like_the_feed_override():
+    # seed 002 L20355: whatever RAPIDOVR says, the override's 0 % position holds the axes, G00 too
+    for r in (fagorcnc.simulate("G0 X100\nM30\n", {"planner": {"rapid_override": 0}}),
+              fagorcnc.dry_run("G0 X100\nM30\n", {"planner": {"rapid_override": 0}})):
+        assert codes(r) == ["PLN001"] and "rapid override is 0 %" in r.diagnostics[0].message
+    assert fagorcnc.simulate("G1 X100 F1000\nM30\n", {"planner": {"rapid_override": 0}}).ok   # no rapid: runs
+
+
+def test_item15_rapid_override_scales_the_axes_rapid_on_the_default_machine():
+    def cycle(override, **extra):
+        return fagorcnc.simulate("G0 X100\nM30\n", {"planner": {"rapid_override": override}, **extra}).cycle_time
+
+    full = cycle(100)
+    # X's max_velocity 10000 mm/min; 1 % of it is 100 mm/min = 1.6667 mm/s: 100 mm take 60 s, plus the
+    # ramps (a = 1000 mm/s², j = 20000 mm/s³ reach 1.67 mm/s in about 0.02 s)
+    assert 60.0 < cycle(1) < 60.1
+    # 50 %: 83.33 mm/s, 100 mm in 1.2 s at speed, plus the ramps; strictly slower than 100 %
+    assert full < cycle(50) < full + 1.2 and cycle(50) > 1.2
+    # with a channel rapid of 5000 mm/min, 50 % is 2500 mm/min = 41.67 mm/s: 2.4 s at speed, plus the ramps
+    assert 2.4 < cycle(50, rapid_feed=5000.0) < 2.6
+    # a diagonal: u = (0.6, 0.8), Y reaches 166.67 mm/s first at 208.3 mm/s; 10 % is 20.83 mm/s: 100 mm in 4.8 s
+    diagonal = fagorcnc.simulate("G0 X60 Y80\nM30\n", {"planner": {"rapid_override": 10}}).cycle_time
+    assert 4.8 < diagonal < 4.9
