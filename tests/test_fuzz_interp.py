@@ -550,7 +550,8 @@ def deep_expressions(draw) -> tuple[str, int, int]:
     return expr, levels, folded
 
 
-@settings(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(max_examples=max(30, settings.default.max_examples // 3),
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(deep_expressions(), st.sampled_from(["P2 = {}", "G1 X{} F100", "$IF {} == 1", "#MSG [\"%D\", {}]"]))
 def test_deep_expressions(case, template) -> None:
     from fagorcnc.syntax.parser import MAX_EXPRESSION_DEPTH

@@ -149,7 +149,8 @@ ISSUE_30_ITEM_12 = ("G90 G17 G71 G94 G01 X0 Y0 F2000\n#HSC ON [CONTERROR 0.01, C
                     "#HSC ON [FAST, CORNER 130]\nG01 Y40\nM30\n")
 
 
-@settings(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(max_examples=max(30, settings.default.max_examples // 3),
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(mode_change_programs())
 @example(ISSUE_30_ITEM_12)
 def test_corner_mode_changes_between_blocks_plan_within_the_limits(program):

@@ -310,7 +310,7 @@ def test_item9_large_subroutine_file_is_streamed(dirs, monkeypatch):
     real_stream_program = files.stream_program
     monkeypatch.setattr(files, "stream_program", stream_program)
     machine, subs, prog = dirs
-    lines = ["P100 = P100 + 1", "P101 = 0"] + ["P101 = P101 + 1 ; a block of the subroutine"] * 9000
+    lines = ["P100 = P100 + 1", "P101 = 0"] + ["P101 = P101 + 1 ; a block of the subroutine, padded to 64 c."] * 5500
     lines += ["G1 X[P100 * 10] F1000", "M17"]
     (subs / "BIG.nc").write_text("\n".join(lines) + "\n")
     assert (subs / "BIG.nc").stat().st_size > PARSE_WHOLE_BYTES
@@ -318,7 +318,7 @@ def test_item9_large_subroutine_file_is_streamed(dirs, monkeypatch):
     main_file.write_text("P100 = 0\nL BIG.nc\nL BIG.nc\nM30\n")
     run = fagorcnc.interpret(main_file, machine)
     moves = [r.end["X"] for r in run if r.kind == "linear"]
-    assert run.ok and moves == [10.0, 20.0] and run.state.param(101) == 9000   # called twice
+    assert run.ok and moves == [10.0, 20.0] and run.state.param(101) == 5500   # called twice
     assert len(streamed) == 2 and all(s.released > 4000 for s in streamed)   # read twice, blocks dropped
     assert not run.interpreter.files._parsed and not run.interpreter.files._open   # nothing kept, files closed
     dry = fagorcnc.dry_run(main_file, machine)
