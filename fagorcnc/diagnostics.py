@@ -56,6 +56,9 @@ CODES: dict[str, str] = {
     "SYN021": "text string not closed",
     "SYN022": "unknown $ instruction",
     "SYN023": "not a program text file (NUL bytes: binary, or UTF-16 without a byte-order mark)",
+    # hardening (issue 30): limits of what a block or a file may hold
+    "SYN040": "expression nested too deeply",
+    "SYN041": "line longer than fagorcnc reads (16384 characters)",
     "STR001": "local subroutines defined but no program header %name",
     "STR002": "local subroutine defined after the program body",
     "STR003": "subroutine does not end with M17, M29 or #RET",
@@ -180,6 +183,9 @@ CODES: dict[str, str] = {
     "CYC010": "influence-zone block that moves the longitudinal axis: run as a plain move, without the cycle",
     "CYC011": "hole cycle with the spindle stopped",
     "CYC012": "canned cycle point positioned by an arc",
+    # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
+    "INT150": "the active plane needs an axis this machine does not have",
+    "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",
     "PLN001": "motion cannot be planned within the machine limits",
     # fagorcnc check: verification of the planned motion
     "PLN100": "planned path (arc or corner blend) beyond a software limit",

@@ -527,3 +527,41 @@ def test_numbers_format_without_exponent() -> None:
         assert "e" not in s
         assert math.isclose(float(s), float(v), rel_tol=1e-9, abs_tol=1e-30)
 
+
+
+# ---------------------------------------------------------------- deep expressions (issue 30 item 3)
+# Each wrapper nests the expression one level deeper (an operator, a function, an index); "-[...]"
+# of a plain number is folded into the number by the parser, so it may add no level.
+DEEP_WRAPPERS = {   # wrapper -> the levels it adds (operators, functions, indexes)
+    "SIN[{}]": 1, "ABS[{}]": 1, "INT[{}]": 1, "P[ABS[INT[{}]] MOD 3]": 4, "-[{}]": 1, "[{} + 1]": 1, "[2 * {}]": 1,
+    "[{} == 1]": 1, "V.A.ORGT[ABS[INT[{}]] MOD 5 + 1].X": 5, "ARG[1, {}]": 1, "[{} ** 1]": 1, "EXP[{} MOD 2]": 2,
+}
+
+
+@st.composite
+def deep_expressions(draw) -> tuple[str, int, int]:
+    """(expression, levels, folded wrappers) of a random nesting of up to 300 levels."""
+    expr = draw(st.sampled_from(["1", "P1", "0.5", "V.G.FIX", "TRUE"]))
+    levels = folded = 0
+    for wrapper in draw(st.lists(st.sampled_from(sorted(DEEP_WRAPPERS)), min_size=1, max_size=300)):
+        expr = wrapper.format(expr)
+        levels += DEEP_WRAPPERS[wrapper]
+        folded += wrapper == "-[{}]"
+    return expr, levels, folded
+
+
+@settings(max_examples=max(30, settings.default.max_examples // 3),
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(deep_expressions(), st.sampled_from(["P2 = {}", "G1 X{} F100", "$IF {} == 1", "#MSG [\"%D\", {}]"]))
+def test_deep_expressions(case, template) -> None:
+    from fagorcnc.syntax.parser import MAX_EXPRESSION_DEPTH
+
+    expr, levels, folded = case
+    line = template.format(expr if not template.startswith("G1") else f"[{expr}]")
+    text = "P1 = 1\n" + line + ("\n$ENDIF" if template.startswith("$IF") else "") + "\nM30\n"
+    check(text)
+    deep = [d for d in fagorcnc.parse_text(text).diagnostics if d.code == "SYN040"]
+    if levels < MAX_EXPRESSION_DEPTH - 2:   # a few levels of the block itself (word, call) aside
+        assert not deep, (levels, text[:200])
+    if levels - folded > MAX_EXPRESSION_DEPTH:
+        assert deep, (levels, text[:200])

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -185,109 +186,193 @@ def _number(where: str, value: Any) -> float:
     return float(value)
 
 
-def _axis_table(where: str, table: Any) -> dict[str, float]:
+def _table(where: str, value: Any) -> dict:
+    """``value`` when it is a table (a dict), else a :class:`MachineError` naming ``where``."""
+    if not isinstance(value, dict):
+        raise MachineError(f"{where}: expected a table, got {value!r}")
+    return value
+
+
+def _text(where: str, value: Any) -> str:
+    if not isinstance(value, str):
+        raise MachineError(f"{where}: expected a text in quotes, got {value!r}")
+    return value
+
+
+def _flag(where: str, value: Any) -> bool:
+    """true/false (0 and 1 are taken too: INI-style files write them)."""
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, int) and value in (0, 1):
+        return bool(value)
+    raise MachineError(f"{where}: expected true or false, got {value!r}")
+
+
+def _entry(where: str, key: Any, low: int, high: int) -> int:
+    """A table key that is an entry number (``tools.5``, ``fixtures.2``): a whole number in [low, high]."""
+    text = str(key).strip()
+    if isinstance(key, bool) or not (isinstance(key, int) or text.isdigit()):
+        raise MachineError(f"{where}.{key}: the key must be a number {low}..{high}")
+    n = int(text) if len(text) <= 12 else high + 1
+    if not low <= n <= high:
+        raise MachineError(f"{where}.{key}: the number must be {low}..{high}")
+    return n
+
+
+#: Axis names of the manual: X Y Z U V W A B C, optionally followed by a digit 1-9 (seed 002 L1196-L1199).
+_AXIS_NAME = re.compile(r"[XYZUVWABC][1-9]?")
+#: Spindle names: S, S1...S9 (seed 002 L1080-L1090).
+_SPINDLE_NAME = re.compile(r"S[1-9]?")
+
+
+def _axis_table(where: str, table: Any, axes: dict | None = None) -> dict[str, float]:
     if not isinstance(table, dict):
-        raise MachineError(f"{where}: expected a table of axis values")
-    return {str(k): _number(f"{where}.{k}", v) for k, v in table.items()}
+        raise MachineError(f"{where}: expected a table of axis values, e.g. {{ X = 10.0 }}, got {table!r}")
+    out = {}
+    for k, v in table.items():
+        if axes is not None and str(k) not in axes:
+            raise MachineError(f"{where}.{k}: the machine has no axis {k} (axes: {' '.join(axes)})")
+        out[str(k)] = _number(f"{where}.{k}", v)
+    return out
+
+
+def _axis(name: Any, spec: Any) -> Axis:
+    if not isinstance(name, str) or not _AXIS_NAME.fullmatch(name):
+        raise MachineError(f"axes.{name}: an axis is named X Y Z U V W A B C, optionally followed by a digit "
+                           "1-9 (seed 002 L1196)")
+    spec = _table(f"axes.{name}", spec)
+    known = set(Axis.__dataclass_fields__) - {"name"}
+    unknown = set(spec) - known
+    if unknown:
+        raise MachineError(f"axes.{name}: unknown key(s) {', '.join(sorted(map(str, unknown)))}")
+    kwargs: dict[str, Any] = {}
+    for key, value in spec.items():
+        where = f"axes.{name}.{key}"
+        if key in ("type", "rotary_mode"):
+            kwargs[key] = _text(where, value)
+        elif key == "diameter":
+            kwargs[key] = _flag(where, value)
+        elif key == "direction":
+            kwargs[key] = 1 if _number(where, value) >= 0 else -1
+        else:
+            kwargs[key] = _number(where, value)
+    axis = Axis(name=name, **kwargs)
+    if axis.type not in ("linear", "rotary"):
+        raise MachineError(f"axes.{name}.type must be 'linear' or 'rotary', got {axis.type!r}")
+    if axis.rotary_mode not in ("linearlike", "normal", "unidirectional", "positioning"):
+        raise MachineError(f"axes.{name}.rotary_mode: unknown mode {axis.rotary_mode!r}")
+    for key in ("max_velocity", "max_acceleration", "max_jerk", "module"):
+        if not getattr(axis, key) > 0:
+            raise MachineError(f"axes.{name}.{key} must be positive, got {getattr(axis, key):g}")
+    if axis.min_limit > axis.max_limit:
+        raise MachineError(f"axes.{name}: min_limit is above max_limit")
+    return axis
+
+
+def _origin_entry(key: Any) -> int:
+    k = str(key).strip().upper()
+    if k in ("G54", "G55", "G56", "G57", "G58", "G59"):
+        return int(k[1:]) - 53
+    number = k[5:] if k.startswith("G159.") else k
+    if not number.isdigit() or len(number) > 3:
+        raise MachineError(f"origins.{key}: use G54..G59, 'G159.n' or n (n = 1..99)")
+    n = int(number)
+    if not 1 <= n <= 99:
+        raise MachineError(f"origins.{key}: entry must be 1..99")
+    return n
+
+
+def _tools(table: Any) -> dict[int, dict[int, ToolOffset]]:
+    tools: dict[int, dict[int, ToolOffset]] = {}
+    for tkey, offsets in _table("tools", table).items():
+        t = _entry("tools", tkey, 0, 4294967295)
+        for dkey, spec in _table(f"tools.{tkey}", offsets).items():
+            d = _entry(f"tools.{tkey}", dkey, 0, 4294967295)
+            spec = _table(f"tools.{tkey}.{dkey}", spec)
+            unknown = set(spec) - set(ToolOffset.__dataclass_fields__)
+            if unknown:
+                raise MachineError(f"tools.{tkey}.{dkey}: unknown key(s) {', '.join(sorted(map(str, unknown)))}")
+            fields = {k: _number(f"tools.{tkey}.{dkey}.{k}", v) for k, v in spec.items()}
+            tools.setdefault(t, {})[d] = ToolOffset(**fields)
+    return tools
+
+
+def _prange(data: dict, key: str, default: tuple[int, int], hard: tuple[int, int]) -> tuple[int, int]:
+    """A parameter range ``[low, high]`` within the manual's bounds ``hard``."""
+    value = data.get(key, default)
+    if not isinstance(value, list | tuple) or len(value) != 2:
+        raise MachineError(f"{key}: expected a range [low, high], e.g. [{default[0]}, {default[1]}], got {value!r}")
+    lo, hi = (_number(f"{key}[{i}]", v) for i, v in enumerate(value))
+    if lo != int(lo) or hi != int(hi):
+        raise MachineError(f"{key}: the range's ends must be whole numbers, got {value!r}")
+    if not (hard[0] <= lo <= hi <= hard[1]):
+        raise MachineError(f"{key}: range must lie within P{hard[0]}..P{hard[1]}")
+    return int(lo), int(hi)
+
+
+def _list(where: str, value: Any) -> list:
+    if not isinstance(value, list | tuple):
+        raise MachineError(f"{where}: expected a list, e.g. [\"...\"], got {value!r}")
+    return list(value)
+
+
+def _spindles(value: Any) -> list[str]:
+    out = []
+    for i, s in enumerate(_list("spindles", value)):
+        if not isinstance(s, str) or not _SPINDLE_NAME.fullmatch(s):
+            raise MachineError(f"spindles[{i}]: a spindle is named S or S1..S9, got {s!r}")
+        out.append(s)
+    return out
+
+
+def _paths(value: Any) -> list[Path]:
+    out = []
+    for i, p in enumerate(_list("subroutine_paths", value)):
+        if not isinstance(p, str | Path) or not str(p) or "\0" in str(p):
+            raise MachineError(f"subroutine_paths[{i}]: expected a directory name, got {p!r}")
+        out.append(Path(p))
+    return out
+
+
+def _defaults(table: Any) -> dict[str, int]:
+    defaults = {}
+    for key, value in _table("defaults", table).items():
+        if key not in DEFAULTS_SCHEMA:
+            raise MachineError(f"defaults.{key}: unknown parameter (known: {', '.join(DEFAULTS_SCHEMA)})")
+        if isinstance(value, bool) or not isinstance(value, int | float) or value not in DEFAULTS_SCHEMA[key][1]:
+            raise MachineError(f"defaults.{key} = {value!r}: {DEFAULTS_SCHEMA[key][2]}")
+        defaults[key] = int(value)
+    return defaults
 
 
 def _build(data: dict) -> Machine:
     axes = {}
-    for name, spec in data.get("axes", {}).items():
-        if not isinstance(spec, dict):
-            raise MachineError(f"axes.{name}: expected a table")
-        known = set(Axis.__dataclass_fields__) - {"name"}
-        unknown = set(spec) - known
-        if unknown:
-            raise MachineError(f"axes.{name}: unknown key(s) {', '.join(sorted(unknown))}")
-        kwargs = {}
-        for key, value in spec.items():
-            if key in ("type", "rotary_mode"):
-                kwargs[key] = str(value)
-            elif key == "diameter":
-                kwargs[key] = bool(value)
-            elif key == "direction":
-                kwargs[key] = 1 if int(value) >= 0 else -1
-            else:
-                kwargs[key] = _number(f"axes.{name}.{key}", value)
-        axis = Axis(name=str(name), **kwargs)
-        if axis.type not in ("linear", "rotary"):
-            raise MachineError(f"axes.{name}.type must be 'linear' or 'rotary'")
-        if axis.rotary_mode not in ("linearlike", "normal", "unidirectional", "positioning"):
-            raise MachineError(f"axes.{name}.rotary_mode: unknown mode {axis.rotary_mode!r}")
-        for key in ("max_velocity", "max_acceleration", "max_jerk"):
-            if not getattr(axis, key) > 0:
-                raise MachineError(f"axes.{name}.{key} must be positive, got {getattr(axis, key):g}")
-        if axis.min_limit > axis.max_limit:
-            raise MachineError(f"axes.{name}: min_limit is above max_limit")
-        axes[str(name)] = axis
+    for name, spec in _table("axes", data.get("axes", {})).items():
+        axes[name] = _axis(name, spec)
     if not axes:
         raise MachineError("axes: the machine needs at least one axis")
-
-    defaults = {}
-    for key, value in data.get("defaults", {}).items():
-        if key not in DEFAULTS_SCHEMA:
-            raise MachineError(f"defaults.{key}: unknown parameter (known: {', '.join(DEFAULTS_SCHEMA)})")
-        if value not in DEFAULTS_SCHEMA[key][1]:
-            raise MachineError(f"defaults.{key} = {value!r}: {DEFAULTS_SCHEMA[key][2]}")
-        defaults[key] = int(value)
-
-    origins = {}
-    for key, table in data.get("origins", {}).items():
-        k = str(key).upper()
-        if k in ("G54", "G55", "G56", "G57", "G58", "G59"):
-            n = int(k[1:]) - 53
-        elif k.startswith("G159."):
-            n = int(k[5:])
-        else:
-            try:
-                n = int(k)
-            except ValueError:
-                raise MachineError(f"origins.{key}: use G54..G59, 'G159.n' or n") from None
-        if not 1 <= n <= 99:
-            raise MachineError(f"origins.{key}: entry must be 1..99")
-        origins[n] = _axis_table(f"origins.{key}", table)
-
-    fixtures = {}
-    for key, table in data.get("fixtures", {}).items():
-        n = int(key)
-        if not 1 <= n <= 10:
-            raise MachineError(f"fixtures.{key}: entry must be 1..10")
-        fixtures[n] = _axis_table(f"fixtures.{key}", table)
-
-    tools: dict[int, dict[int, ToolOffset]] = {}
-    for tkey, offsets in data.get("tools", {}).items():
-        for dkey, spec in offsets.items():
-            fields = {k: _number(f"tools.{tkey}.{dkey}.{k}", v) for k, v in spec.items()}
-            unknown = set(fields) - set(ToolOffset.__dataclass_fields__)
-            if unknown:
-                raise MachineError(f"tools.{tkey}.{dkey}: unknown key(s) {', '.join(sorted(unknown))}")
-            tools.setdefault(int(tkey), {})[int(dkey)] = ToolOffset(**fields)
-
-    def prange(key: str, default: tuple[int, int], hard: tuple[int, int]) -> tuple[int, int]:
-        lo, hi = data.get(key, default)
-        if not (hard[0] <= lo <= hi <= hard[1]):
-            raise MachineError(f"{key}: range must lie within P{hard[0]}..P{hard[1]}")
-        return int(lo), int(hi)
-
+    origins = {_origin_entry(key): _axis_table(f"origins.{key}", table)
+               for key, table in _table("origins", data.get("origins", {})).items()}
+    fixtures = {_entry("fixtures", key, 1, 10): _axis_table(f"fixtures.{key}", table)
+                for key, table in _table("fixtures", data.get("fixtures", {})).items()}
     limits = _limits(data.get("limits", {}))
     planner = _planner(data.get("planner", {}), data.get("servo_period"))
     return Machine(
         axes=axes,
-        spindles=[str(s) for s in data.get("spindles", ["S"])],
-        defaults=defaults,
-        local_params=prange("local_params", (0, 25), (0, 99)),
-        global_params=prange("global_params", (100, 299), (100, 9999)),
-        common_params=prange("common_params", (10000, 10999), (10000, 19999)),
+        spindles=_spindles(data.get("spindles", ["S"])),
+        defaults=_defaults(data.get("defaults", {})),
+        local_params=_prange(data, "local_params", (0, 25), (0, 99)),
+        global_params=_prange(data, "global_params", (100, 299), (100, 9999)),
+        common_params=_prange(data, "common_params", (10000, 10999), (10000, 19999)),
         origins=origins,
         fixtures=fixtures,
-        tools=tools,
+        tools=_tools(data.get("tools", {})),
         max_feed=_number("max_feed", data.get("max_feed", 0.0)),
         rapid_feed=_number("rapid_feed", data.get("rapid_feed", 0.0)),
         servo_period=planner.servo_period,
         cirinerr=_number("cirinerr", data.get("cirinerr", 0.01)),
         cirinfact=_number("cirinfact", data.get("cirinfact", 0.1)),
-        subroutine_paths=[Path(p) for p in data.get("subroutine_paths", [])],
+        subroutine_paths=_paths(data.get("subroutine_paths", [])),
         **_oem_table(data.get("oem_subroutines", {})),
         m_functions=_m_table(data.get("m_functions", {})),
         limits=limits,
@@ -326,7 +411,7 @@ def _oem_table(table: Any) -> dict[str, dict[int, str]]:
             if n < 500:
                 raise MachineError(f"oem_subroutines.{key}: built-in behaviours are for G500..G599 only")
             builtins[n] = behaviour
-        elif isinstance(value, str) and value:
+        elif isinstance(value, str) and value and "\0" not in value:
             files[n] = value
         else:
             raise MachineError(f"oem_subroutines.{key}: expected a file name, got {value!r}")
@@ -408,13 +493,13 @@ def _planner(table: Any, servo_period: Any) -> PlannerConfig:
     return PlannerConfig(**_checked("planner", values, _PLANNER_RANGES))
 
 
-def _m_table(table: dict) -> dict[int, str]:
+def _m_table(table: Any) -> dict[int, str]:
     """The OEM M table's timing (seed 002 L5020-L5029): {m: "before" | "after"}."""
     out = {}
-    for key, value in table.items():
-        m = int(key)
-        if not 0 <= m <= 65535 or value not in ("before", "after"):
-            raise MachineError(f"m_functions.{key}: M0..M65535 = \"before\" or \"after\"")
+    for key, value in _table("m_functions", table).items():
+        m = _entry("m_functions", key, 0, 65535)
+        if value not in ("before", "after"):
+            raise MachineError(f"m_functions.{key}: M0..M65535 = \"before\" or \"after\", got {value!r}")
         out[m] = value
     return out
 
@@ -434,7 +519,7 @@ def _file_relative(path: Path, data: dict) -> dict:
 
         ini_data = load_ini(base / ini)
         axes = dict(ini_data.get("axes", {}))
-        for name, spec in data.get("axes", {}).items():   # an [axes.X] table overrides single keys of the INI's X
+        for name, spec in _table("axes", data.get("axes", {})).items():   # [axes.X] overrides keys of the INI's X
             axes[name] = {**axes.get(name, {}), **spec} if isinstance(spec, dict) else spec
         data = _merge(ini_data, data)
         data["axes"] = axes

@@ -29,6 +29,7 @@ is then never overwritten.
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from pathlib import Path
 
@@ -44,15 +45,34 @@ class ParameterFileError(ValueError):
         self.reason, self.path, self.line = reason, path, line
 
 
+#: Largest parameter file read, in bytes: the 20 000 global and common parameters take about
+#: 600 kB.  A larger file, or one that is not a regular file (``/dev/zero``, a pipe), is refused
+#: with CFG002 before it is read (issue 30).  [CONSTRUCTION]
+MAX_PARAMETER_FILE_BYTES = 4 * 1024 * 1024
+
+
 def read_parameter_file(path: str | Path) -> dict[int, float]:
     """The ``{number: value}`` pairs of a parameter file; ``{}`` when it does not exist."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode):
+            raise ParameterFileError("the parameter file is not a regular file (a device, a pipe or a directory)",
+                                     path)
+        if info.st_size > MAX_PARAMETER_FILE_BYTES:
+            raise ParameterFileError(f"the parameter file is {info.st_size} bytes, more than the "
+                                     f"{MAX_PARAMETER_FILE_BYTES} a parameter file may hold", path)
+        with open(path, "rb") as f:
+            data = f.read(MAX_PARAMETER_FILE_BYTES + 1)   # it may have grown since
+        if len(data) > MAX_PARAMETER_FILE_BYTES:
+            raise ParameterFileError(f"the parameter file holds more than {MAX_PARAMETER_FILE_BYTES} bytes", path)
+        text = data.decode("utf-8", errors="replace")
     except FileNotFoundError:
         return {}
     except OSError as exc:
         raise ParameterFileError(f"cannot read the parameter file ({exc.strerror or exc})", path) from None
+    if "\r" in text:
+        text = text.replace("\r\n", "\n").replace("\r", "\n")   # as read_text did (universal newlines)
     values: dict[int, float] = {}
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.strip()

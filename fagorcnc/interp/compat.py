@@ -93,9 +93,11 @@ def oem_target(interp, n: int, col: int) -> tuple[str, str | None]:
     if n in m.oem_subroutines:
         return "file", m.oem_subroutines[n]
     try:
-        interp._find_file(f"G{n}", col)
+        interp.files.find(f"G{n}", interp.state.path, col)
         return "file", f"G{n}"
     except InterpError as exc:
+        if exc.code != "INT093":   # found but unusable (INT151): said as it is
+            raise
         where = exc.message.split(" not found in ", 1)[-1]
     if n in SMOOTHING:
         return "builtin", SMOOTHING[n]
@@ -179,8 +181,10 @@ def glued_call(interp, word: Word, text: str) -> tuple | None:
         return None
     name, col = m.group(1), word.col
     try:
-        interp._find_file(name, col)
+        interp.files.find(name, interp.state.path, col)
     except InterpError as exc:
+        if exc.code != "INT093":   # found but unusable (INT151): said as it is
+            raise
         where = exc.message.split(" not found in ", 1)[-1]
         where = "with no directory configured" if where.startswith("no directory") else f"in {where}"
         mfunc = re.fullmatch(r"M0*([0-9]{1,4})", name)

@@ -10,7 +10,7 @@ on its block and stops the run (nothing is sent to a machine after an error).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from time import process_time as cpu_time
@@ -22,12 +22,12 @@ from ..kinematics.tangential import follow
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
 from ..syntax import hints
-from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Routine, Sentence, SubroutineCall, Word
+from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
-from ..syntax.reader import parse_file
 from . import compat
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
+from .files import SubroutineFiles, is_stream
 from .iso import IsoExecutor
 from .laser import Laser
 from .macros import expanded_blocks
@@ -65,6 +65,7 @@ class Frame:
     modal: bool = False       # running the modal subroutine (#MCALL)
     repeat: list | None = None  # #RPT: [start, end, remaining, return pc]
     outer_repeats: list = field(default_factory=list)   # the #RPT ranges the running one is nested in
+    close: Callable[[], None] | None = None   # a streamed subroutine file: closed when the frame ends
 
 
 @dataclass
@@ -110,7 +111,7 @@ class Interpreter:
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
         self.search_paths = [p.resolve() for p in (search_paths or machine.subroutine_paths)]
         self.program_dir = base
-        self._files: dict[Path, Program] = {}
+        self.files = SubroutineFiles(self.search_paths, base, machine.compat)
         self._messages = 0   # warnings and notes reported so far (limits.max_messages)
         self.clock = _Clock(machine.limits.max_seconds)
 
@@ -143,6 +144,8 @@ class Interpreter:
                 self.diagnostics.append(Diagnostic(src.file, src.line, 1, exc.code, "error", str(exc), src.text))
         except _Stop:
             pass
+        finally:
+            self.files.close()
 
     def _guarded(self) -> Iterator:
         """The block loop; an error or the end of the program ends it normally so that
@@ -175,12 +178,12 @@ class Interpreter:
                 self._repeat_next(frame)
                 continue
             block = frame.source.get(frame.pc)
-            if frame.source is stream:
-                if not self.recover and any(d.is_error for d in stream.diagnostics):
+            if is_stream(frame.source):   # the main program, or a large subroutine file, read lazily
+                if frame.source is stream and not self.recover and any(d.is_error for d in stream.diagnostics):
                     raise _Stop  # a syntax error ahead: nothing more is executed
                 if frame.pc & 1023 == 0:
                     keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
-                    stream.release(frame.pc, min(keep) if keep else None)
+                    frame.source.release(frame.pc, min(keep) if keep else None)
             if block is None:
                 self._end_of_routine(frame)
                 continue
@@ -583,8 +586,9 @@ class Interpreter:
         return True
 
     # ------------------------------------------------------------------ subroutines
-    def _lookup(self, target: str, kind: str, col: int) -> tuple[Routine, Program, bool]:
-        """(routine, program, is_global) for a call (seed 002 L10322-L10333, L10435)."""
+    def _lookup(self, target: str, kind: str, col: int) -> tuple:
+        """(source of the blocks, program, what closes a streamed file) for a call (seed 002 L10322-L10333,
+        L10435; the files: :mod:`fagorcnc.interp.files`)."""
         program = self.frames[-1].program
         has_path = any(c in target for c in "/\\:")
         if kind in ("LL", "CALL", "PCALL", "MCALL") and not has_path:
@@ -610,41 +614,11 @@ class Interpreter:
                     if order.index(routine.name.upper()) >= order.index(caller.name.upper()):
                         raise InterpError("INT090", f"local subroutine {caller.name} may only call subroutines "
                                           f"defined before it; {routine.name} is not (L10203)", col)
-                return routine, program, False
+                return RoutineSource(routine), program, None
             if kind == "LL":
                 raise InterpError("INT091", f"local subroutine {target} is not defined in this file", col)
-        path = self._find_file(target, col)
-        if path not in self._files:
-            self._files[path] = parse_file(path, self.machine.compat)
-            sub = self._files[path]
-            for d in sub.diagnostics:
-                self.diagnostics.append(d)
-            if not sub.ok:
-                raise InterpError("INT092", f"subroutine file {path.name} has errors", col)
-        sub = self._files[path]
-        return sub.main, sub, True
-
-    def _find_file(self, target: str, col: int) -> Path:
-        name = target.replace("\\", "/")
-        candidates: list[Path] = []
-        roots = list(self.search_paths)
-        if self.program_dir is not None:
-            roots.append(self.program_dir)
-        if "/" in name or ":" in name:
-            candidates.append(Path(name.split(":", 1)[-1] if ":" in name and len(name.split(":")[0]) == 1 else name))
-        else:
-            if self.state.path:
-                candidates.append(Path(self.state.path.replace("\\", "/")) / name)
-            candidates += [r / name for r in roots]
-        for c in candidates:
-            try:
-                resolved = c.resolve()
-            except OSError:
-                continue
-            if resolved.is_file() and any(_within(resolved, r) for r in roots):
-                return resolved
-        where = ", ".join(str(r) for r in roots) or "no directory configured (machine subroutine_paths)"
-        raise InterpError("INT093", f"global subroutine {target} not found in {where}", col)
+        path = self.files.find(target, self.state.path, col)
+        return self.files.load(path, col, self.diagnostics)
 
     def _call(self, node: SubroutineCall) -> None:
         kind = node.kind
@@ -679,13 +653,13 @@ class Interpreter:
         if len(self.frames) > self.machine.limits.max_call_depth:
             raise InterpError("INT095", f"more than {self.machine.limits.max_call_depth} nested subroutine calls "
                               "(L10207)", col)
-        routine, program, _ = self._lookup(target, kind, col)
+        source, program, close = self._lookup(target, kind, col)
         opened = kind in ("CALL", "PCALL", "MCALL", "OEM")   # L10503: these open a parameter level
         if opened:
             self.params.push(args, col)
             # V.C.PCALLP_A..Z: which letters the call passed (seed 002 L40409)
             self.state.call_letters.append(frozenset(chr(ord("A") + n) for n in args if 0 <= n <= 25))
-        self.frames.append(Frame(RoutineSource(routine), program, opened_level=opened, modal=modal))
+        self.frames.append(Frame(source, program, opened_level=opened, modal=modal, close=close))
 
     def _oem_call(self, call: tuple, src: Source) -> None:
         n, modal, col, words = call
@@ -709,6 +683,8 @@ class Interpreter:
         if len(self.frames) == 1:
             raise InterpError("INT097", "M17/M29/#RET outside a subroutine", col)
         frame = self.frames.pop()
+        if frame.close is not None:
+            frame.close()
         if frame.opened_level:
             self.params.pop()
             if len(self.state.call_letters) > 1:
@@ -823,14 +799,6 @@ class _Links:
             # a streamed program whose structure is unbalanced: the parser has
             # reported it (STR005/STR006) and nothing more is executed
             raise _Stop from None
-
-
-def _within(path: Path, root: Path) -> bool:
-    try:
-        path.relative_to(root)
-        return True
-    except ValueError:
-        return False
 
 
 __all__ = ["Dwell", "Interpreter"]

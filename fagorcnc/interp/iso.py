@@ -223,6 +223,19 @@ class IsoExecutor:
                 seen[g.group] = n
 
     # ------------------------------------------------------------ units
+    def plane(self, what: str, col: int) -> tuple[str, str, str | None]:
+        """(abscissa, ordinate, longitudinal) of the active plane, for ``what`` (an arc, a polar move,
+        G41...) that needs both plane axes; INT150 when the machine lacks one: a lathe (X Z) in G17, a
+        rotary-only machine.  The planes are made of the first three channel axes (seed 002 L2961-L2966)."""
+        st = self.state
+        a, o, n = st.plane_axes()
+        if a is None or o is None:
+            plane = st.modes["plane"]
+            raise InterpError("INT150", f"{what} needs the two axes of the plane G{plane}, made of the first three "
+                              f"axes of the channel, and this machine has only {' '.join(st.axes)} (seed 002 L2961)",
+                              col)
+        return a, o, n
+
     def length(self, value: float, axis: str | None = None, diameter_ok: bool = True) -> float:
         """A programmed length in mm (G70 inch, G151 diameter axes)."""
         st = self.state
@@ -551,7 +564,7 @@ class IsoExecutor:
         """G73 Q [I J]: incremental rotation of the coordinate system (seed 002 L8906-L8980)."""
         st = self.state
         tr = st.transform
-        a, o, _ = st.plane_axes()
+        a, o, _ = self.plane("G73 (rotation)", col) if "Q" in bw.params else st.plane_axes()
         p = bw.params
         if bw.axes:
             raise InterpError("INT025", "G73 takes only Q and the centre I J in its block", col)
@@ -701,7 +714,7 @@ class IsoExecutor:
             raise InterpError("INT017", f"G{aids[0]} needs its size I (no earlier G36-G39 gave one)", col)
         kind = {36: "round", 37: "entry", 38: "exit", 39: "chamfer"}[aids[0]]
         feed = st.feed if bw.feed is not None and st.modes["feed"] == 94 else None
-        a, o, _ = st.plane_axes()
+        a, o, _ = self.plane(f"G{aids[0]}", col)
         return Aid("aid", kind, st.aid_size * st.transform.scale, feed, (a, o), src)
 
     def _home(self, col: int, bw: BlockWords, src: Source):
@@ -737,7 +750,7 @@ class IsoExecutor:
     def _polar_preset(self, col: int, bw: BlockWords) -> None:
         """G30 [I J]: polar origin (seed 002 L3945-L3967)."""
         st = self.state
-        a, o, _ = st.plane_axes()
+        a, o, _ = self.plane("G30 (polar origin)", col)
         has_i, has_j = "I" in bw.params, "J" in bw.params
         others = [g for g, *_ in bw.g if g != 30] + list(bw.axes) + [k for k in bw.params if k not in "IJ"]
         if others or bw.feed or bw.speeds or bw.tool or bw.offset or bw.m or bw.h or bw.nr:
@@ -783,8 +796,9 @@ class IsoExecutor:
         end = st.to_machine(end_part)
         self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
         st.machine_pos = dict(end)
-        st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
-            or st.tangent
+        if a is not None and o is not None:   # a lathe in G17 or a rotary-only machine has no plane to track
+            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
+                or st.tangent
         comp = self._compensation()
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics())
@@ -811,7 +825,7 @@ class IsoExecutor:
         mode = st.modes["compensation"]
         if mode not in (41, 42):
             return None
-        a, o, _ = st.plane_axes()
+        a, o, _ = self.plane(f"G{mode} (radius compensation)", 1)
         side = 1 if mode == 41 else -1
         if st.transform.flips(a, o):
             side = -side
@@ -870,7 +884,8 @@ class IsoExecutor:
         ``origin`` replaces the polar origin for one block (G31: the arc centre).
         """
         st = self.state
-        a, o, _ = st.plane_axes()
+        word = bw.params.get("Q") or bw.params.get("R")
+        a, o, _ = self.plane("a move in polar coordinates (R, Q)", word[1] if word else 1)
         pa, po = st.polar_origin if origin is None else origin
         dx, dy = cur_part[a] - pa, cur_part[o] - po
         r_cur = math.hypot(dx, dy)
@@ -900,9 +915,9 @@ class IsoExecutor:
         is the arc radius.
         """
         st = self.state
-        a, o, n = st.plane_axes()
         p = bw.params
         col = next(iter(bw.axes.values()))[1] if bw.axes else next(iter(p.values()), (0, 1))[1]
+        a, o, n = self.plane(f"G0{mode} (an arc)", col)
         # centre words of the plane (G17 I J, G18 K I, G19 J K; G20 I J) and the helix pitch letter
         ci, cj, ck = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}.get(
             st.modes["plane"], ("I", "J", "K"))
@@ -1075,7 +1090,7 @@ class IsoExecutor:
         the centre from the plane's centre words (from the start point, or absolute with G06/G261) or
         from R, as :meth:`_arc` does in part coordinates."""
         st = self.state
-        a, o, _ = st.plane_axes()
+        a, o, _ = self.plane("G02/G03 (an arc)", 1)
         p = bw.params
         ccw = st.modes["motion"] == 3
         ci, cj = {17: ("I", "J"), 18: ("K", "I"), 19: ("J", "K")}.get(st.modes["plane"], ("I", "J"))

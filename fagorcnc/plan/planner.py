@@ -184,7 +184,13 @@ class Planner:
         if rapid:   # the channel's rapid is a linear speed: a move of rotary axes alone is not held to it
             linear = self.machine.rapid_feed > 0 and (piece.curved or any(piece.ul[i] for i in self._linear))
             feed = self.machine.rapid_feed / 60.0 if linear else math.inf
-            feed *= min(cfg.rapid_override, 100.0) / 100.0 if cfg.rapid_override > 0 else 1.0
+            override = min(cfg.rapid_override, 100.0)
+            if override <= 0:   # seed 002 L20355: the 0 % position always holds the axes, G00 included
+                raise PlanningError("the rapid override is 0 %: the rapid move never ends", rec.src.line, rec)
+            if override < 100.0:
+                # the override scales the rapid as the axes run it: without a channel rapid that is the
+                # speed at which the first axis reaches its maximum (seed 002 L5969), not an infinite feed
+                feed = min(feed, self._rapid_speed(piece, rec)) * (override / 100.0)
         else:
             feed = rec.feed / 60.0 if rec.feed else math.inf
             if not (dyn is not None and dyn.override_locked):
@@ -195,6 +201,15 @@ class Planner:
         # _corners; positional, as keywords cost a little on every block)
         return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn,
                     cfg.max_path_acceleration, cfg.max_path_jerk, False, piece.curved)
+
+    def _rapid_speed(self, piece: Piece, rec) -> float:
+        """Path speed (mm/s) of a rapid at which its fastest axis reaches its max_velocity: on a line
+        ``min(v_i / |u_i|)``; on an arc (at rapid before a G00) the slower of its plane's axes."""
+        axes = self.machine.axes
+        if piece.curved:
+            return min(axes[a].max_velocity for a in rec.plane[:2]) / 60.0
+        return min((axes[a].max_velocity / 60.0 / abs(u) for a, u in zip(self.axes, piece.ul, strict=True) if u),
+                   default=math.inf)
 
     def _spans(self, records: Iterable) -> Iterator[Span | Event]:
         for rec in _read_ahead(records):
@@ -520,7 +535,9 @@ class Planner:
         (:func:`~fagorcnc.plan.geometry.blends`); each assumes the previous one is taken (its end
         curvature is the next one's start), which a stop at a sharp corner undoes."""
         chain = [prev, nxt]
-        ahead = self._ahead
+        # the chain goes on only through HSC lines: nxt may be the end of the HSC run (a G60 block, a
+        # G50 after it), whose own corner is no spline, however HSC the lines after it are (issue 30)
+        ahead = self._ahead if _spline_line(nxt) else ()
         for j, x in enumerate(ahead):
             if not (isinstance(x, Span) and isinstance(x.piece, LinePiece) and _spline_line(x)):
                 break

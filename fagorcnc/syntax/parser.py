@@ -24,10 +24,17 @@ from lark import Lark
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 from ..diagnostics import Diagnostic, error
-from .ast import Block, ProgramHeader, SubroutineHeader
+from .ast import Binary, Block, Call, ItemList, Param, ProgramHeader, SubroutineHeader, Unary, Var
 from .builder import AstBuilder, split_words
 from .hints import hint
 from .macros import macro_block
+
+#: Levels of operators, functions, parameter and variable indexes and bracket lists one inside the
+#: other in a block, at most.  The manual gives no limit; the interpreter evaluates expressions
+#: recursively, so a deeper one (``P1 = 1+1+1...`` with 1000 terms, 1000 nested ``SIN[``) is
+#: refused here, by the parser, with SYN040 rather than failing later (issue 30).  [CONSTRUCTION]
+MAX_EXPRESSION_DEPTH = 250
+_NESTING = (Binary, Unary, Call, Param, Var, ItemList)
 
 
 def grammar_path() -> Path:
@@ -170,6 +177,12 @@ class LineParser:
             return None, (error(file, line, 1, "SYN002", f"cannot read this block ({exc.orig_exc})", text),)
         diags = tuple(Diagnostic(file, line, col, code, "warning" if code[:3] == "CAM" else "error", msg, text)
                       for col, code, msg in builder.problems)
+        if len(text) > MAX_EXPRESSION_DEPTH // 2:   # each level takes at least a character or two
+            col = _too_deep(result)
+            if col is not None:
+                return None, (*diags, error(file, line, col, "SYN040", f"this expression is nested more than "
+                                            f"{MAX_EXPRESSION_DEPTH} levels deep (operators, functions, indexes, "
+                                            "bracket lists): split it over several parameters", text))
         if any(d.is_error for d in diags) and (macro := self._macro_block(text, line)) is not None:
             return macro   # X["NAME"]: a string as a value
         kind = result[0]
@@ -254,3 +267,17 @@ class LineParser:
         shown = _TOKEN_WORDS.get(ttype, repr(tok.value))
         return error(file, line, col, "SYN002", f"unexpected {shown} '{tok.value}'"
                      if shown[0] != "'" else f"unexpected {shown}", text)
+
+
+def _too_deep(tree) -> int | None:
+    """The column of an expression nested deeper than :data:`MAX_EXPRESSION_DEPTH`, or None
+    (walked with an explicit stack: no recursion however deep the tree)."""
+    stack = [(tree, 0)]
+    while stack:
+        node, depth = stack.pop()
+        if isinstance(node, _NESTING):
+            depth += 1
+            if depth > MAX_EXPRESSION_DEPTH:
+                return max(int(getattr(node, "col", 1) or 1), 1)
+        stack.extend((child, depth) for child in node if isinstance(child, tuple))
+    return None

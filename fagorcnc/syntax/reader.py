@@ -50,6 +50,53 @@ def line_parser() -> LineParser:
 BOM = "\ufeff"
 
 
+#: Longest line read, in characters.  The manual gives no block length; a line longer than this
+#: is not held in memory: it is one SYN041 error and reading resumes at the next line (a file of
+#: gigabytes without a line end is read in constant memory).  [CONSTRUCTION]
+MAX_LINE_LENGTH = 16384
+
+
+class _Overlong(str):
+    """The start of a line longer than :data:`MAX_LINE_LENGTH`; ``length`` is its full length."""
+
+    length: int
+
+
+def _overlong(start: str, length: int) -> _Overlong:
+    line = _Overlong(start[:80])
+    line.length = length
+    return line
+
+
+def bounded_lines(file) -> Iterator[str]:
+    """The lines of an open text file without their line ends, each read with at most
+    :data:`MAX_LINE_LENGTH` characters in memory; a longer one comes as an :class:`_Overlong`
+    (its start and length) and the rest of it is skipped, read in chunks."""
+    limit = MAX_LINE_LENGTH
+    readline = file.readline
+    while True:
+        line = readline(limit + 1)
+        if not line:
+            return
+        if len(line) > limit and not line.endswith(("\n", "\r")):
+            length, start = len(line), line
+            while True:
+                rest = readline(1 << 16)
+                if not rest:
+                    break
+                length += len(rest.rstrip("\r\n"))
+                if rest.endswith(("\n", "\r")):
+                    break
+            yield _overlong(start, length)
+            continue
+        yield line.rstrip("\r\n")
+
+
+def _capped(lines: Iterable[str]) -> Iterator[str]:
+    for line in lines:
+        yield line if len(line) <= MAX_LINE_LENGTH else _overlong(line, len(line))
+
+
 def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
     if isinstance(source, str):
         if source.startswith(BOM):
@@ -63,8 +110,10 @@ def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
             source = source[:-1]
         elif not source:
             return iter(())
-        return iter(source.split("\n"))
-    return (s.rstrip("\r\n") for s in source)
+        return _capped(source.split("\n"))
+    if hasattr(source, "readline"):   # an open file: never a whole line of unbounded length in memory
+        return bounded_lines(source)
+    return _capped(s.rstrip("\r\n") for s in source)
 
 
 def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None
@@ -83,6 +132,12 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
     comment_start = None  # (line, text) of an open #COMMENT BEGIN
     first = True
     for lineno, text in enumerate(_lines(source), 1):
+        if type(text) is _Overlong:
+            yield None, (error(file, lineno, MAX_LINE_LENGTH + 1, "SYN041",
+                               f"this line is {text.length} characters long, more than the {MAX_LINE_LENGTH} "
+                               "fagorcnc reads in a block: it is not read (reading goes on at the next line)",
+                               str(text)),)
+            continue
         if "\x00" in text:   # no program text holds a NUL: a binary file, or UTF-16 without its mark
             yield None, (error(file, lineno, text.index("\x00") + 1, "SYN023",
                                "this is not a program text file (it holds NUL bytes: a binary file, or text "
@@ -161,5 +216,14 @@ def source_encoding(path: Union[str, Path]) -> str:
 
 
 def parse_file(path: Union[str, Path], compat: Compat | None = None) -> Program:
-    """Parse a program file into a :class:`Program`; ``compat`` as for :func:`iter_lines`."""
-    return parse_text(read_source(path), str(path), compat)
+    """Parse a program file into a :class:`Program`, read line by line (:func:`bounded_lines`:
+    the text is never held whole, and a line longer than :data:`MAX_LINE_LENGTH` is SYN041);
+    ``compat`` as for :func:`iter_lines`."""
+    enabled = gc.isenabled()
+    gc.disable()   # as in parse_text
+    try:
+        with open(path, encoding=source_encoding(path), errors="replace") as f:
+            return assemble(iter_lines(f, str(path), compat), str(path))
+    finally:
+        if enabled:
+            gc.enable()
