@@ -67,6 +67,9 @@ class ToolOffset:
     radius: float = 0.0
     length_wear: float = 0.0
     radius_wear: float = 0.0
+    #: False for the default machine's zero-size placeholder of an offset the machine's own tool table
+    #: leaves out: radius or length compensation with it is an error (the control has no such offset)
+    declared: bool = field(default=True, compare=False)
 
 
 @dataclass
@@ -159,6 +162,24 @@ DEFAULT_MACHINE: dict[str, Any] = {
 }
 
 
+#: The default machine's offset of a tool a machine file's own tool table leaves out (see ToolOffset.declared).
+_PLACEHOLDER = {"length": 0.0, "radius": 0.0}
+
+
+def _over_default(user: dict) -> dict:
+    """``user`` merged over the default machine; with a tool table of its own, the default's tools it
+    does not list stay selectable but are marked as placeholders."""
+    data = _merge(DEFAULT_MACHINE, user)
+    own = user.get("tools")
+    if isinstance(own, dict):
+        listed = {(str(t), str(d)) for t, offs in own.items() if isinstance(offs, dict) for d in offs}
+        for t, offs in data["tools"].items():
+            for d in offs:
+                if (str(t), str(d)) not in listed:
+                    offs[d] = _PLACEHOLDER
+    return data
+
+
 def _merge(base: dict, over: dict) -> dict:
     out = copy.deepcopy(base)
     for key, value in over.items():
@@ -248,11 +269,12 @@ def _build(data: dict) -> Machine:
     tools: dict[int, dict[int, ToolOffset]] = {}
     for tkey, offsets in data.get("tools", {}).items():
         for dkey, spec in offsets.items():
+            declared = spec is not _PLACEHOLDER
             fields = {k: _number(f"tools.{tkey}.{dkey}.{k}", v) for k, v in spec.items()}
-            unknown = set(fields) - set(ToolOffset.__dataclass_fields__)
+            unknown = set(fields) - (set(ToolOffset.__dataclass_fields__) - {"declared"})
             if unknown:
                 raise MachineError(f"tools.{tkey}.{dkey}: unknown key(s) {', '.join(sorted(unknown))}")
-            tools.setdefault(int(tkey), {})[int(dkey)] = ToolOffset(**fields)
+            tools.setdefault(int(tkey), {})[int(dkey)] = ToolOffset(**fields, declared=declared)
 
     def prange(key: str, default: tuple[int, int], hard: tuple[int, int]) -> tuple[int, int]:
         lo, hi = data.get(key, default)
@@ -406,7 +428,7 @@ def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
             from .linuxcnc import load_ini
 
             try:
-                return _build(_merge(DEFAULT_MACHINE, load_ini(path)))
+                return _build(_over_default(load_ini(path)))
             except MachineError as exc:
                 raise MachineError(_in_file(path, exc)) from None
         try:
@@ -416,9 +438,9 @@ def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
         except tomllib.TOMLDecodeError as exc:
             raise MachineError(f"{path}: {exc}") from None
         try:
-            return _build(_merge(DEFAULT_MACHINE, _file_relative(path, data)))
+            return _build(_over_default(_file_relative(path, data)))
         except MachineError as exc:
             raise MachineError(_in_file(path, exc)) from None
     if isinstance(machine, dict):
-        return _build(_merge(DEFAULT_MACHINE, machine))
+        return _build(_over_default(machine))
     raise MachineError(f"machine: expected a path, a dict or a Machine, not {type(machine).__name__}")

@@ -41,6 +41,7 @@ class Line:
     src: Source
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
+    joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
 
     @property
     def line(self) -> int:
@@ -83,6 +84,7 @@ class Arc:
     src: Source
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
+    joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
 
     @property
     def line(self) -> int:
