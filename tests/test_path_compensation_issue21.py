@@ -7,6 +7,7 @@ offset missing from the tool table is an error.  Expected points are worked by h
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -36,7 +37,7 @@ def close(p, q, tol=1e-5):
 
 
 def continuous(path, a="X", o="Y"):
-    return all(math.dist((p.end[a], p.end[o]), (q.start[a], q.start[o])) < 1e-6 for p, q in zip(path, path[1:]))
+    return all(math.dist((p.end[a], p.end[o]), (q.start[a], q.start[o])) < 1e-6 for p, q in itertools.pairwise(path))
 
 
 # ------------------------------------------------------------------ 1. modal join / start types

@@ -240,9 +240,10 @@ def _rejoin(prev: _Move, nxt_rec, a, o, s, r, cancel: bool):
             return [], x
         return None
     p1, p2 = _pts(rec, a, o)[1], _pts(nxt_rec, a, o)[0]
-    x = _meet(g1, g2, ((p1[0] + p2[0]) / 2, (p1[1] + p2[1]) / 2))
-    if x is None:
-        return None
+    mid = ((p1[0] + p2[0]) / 2, (p1[1] + p2[1]) / 2)
+    x = _meet(g1, g2, mid)
+    if x is None or math.dist(x, mid) > math.dist(p1, p2) + 2 * r:
+        return None   # no meeting point, or one far beyond the gap (nearly parallel offsets)
     prev.end = x
     return [], x
 
@@ -294,24 +295,10 @@ def _element(rec, a, o, start: Point | None = None, end: Point | None = None) ->
     return (rec.kind, start or p, end or q, centre, rec.direction == "ccw" if centre else True)
 
 
-def _check_neck(rec, profile: tuple, path: tuple, history: list, r: float) -> None:
-    """A compensated move against the programmed move two blocks before it, and that one's
-    compensated path against this programmed move: nearer than R is a neck narrower than the
-    tool.  The corner trims only see neighbours; the CNC looks further ahead for such
-    problems (seed 002 L9455-L9459, spec 04 §16.2), and like a step it is refused here."""
-    if len(history) < 2:
-        return
-    back_profile, back_path = history[-2]
-    near = min(nearest(path, back_profile), nearest(back_path, profile))
-    if near < r - GOUGE_TOLERANCE:
-        raise CompensationError(rec, f"the tool does not fit here: its path comes {r - near:.4f} mm into the "
-                                f"profile two blocks back (a gap narrower than the tool diameter {2 * r:g})")
-
-
-def _record(rec, a, o, start: Point | None, end: Point | None):
+def _record(rec, a, o, start: Point | None, end: Point | None, activation: bool = False):
     probe = _Move(rec, start)
     probe.end = end
-    if _reversed(probe, a, o):   # the stage drops such moves first: never hand one on
+    if not activation and _reversed(probe, a, o):   # the stage drops such moves first: never hand one on
         raise CompensationError(rec, "this move is too short for the tool radius: its compensated path "
                                 "would run backwards (a step in the profile)")
     moved = _moved(rec, (a, o), start, end)
@@ -368,7 +355,7 @@ def _held_at(held: list, point: Point | None, a, o, first_from: Point | None = N
 
 def _emit(move: _Move, a, o) -> Iterator:
     """A move whose end is fixed: its record, the records held after it, its join elements."""
-    yield _record(move.rec, a, o, None if move.activation else move.start, move.end)
+    yield _record(move.rec, a, o, None if move.activation else move.start, move.end, move.activation)
     yield from _held_at(move.held, move.end, a, o)
     yield from _inserted(move.rec, a, o, move.inserted, move.feed)
 
@@ -389,7 +376,6 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
     held: list = []                # records after pending (off-plane moves, aux)
     dropped: list = []             # programmed elements dropped after pending
     comp = None
-    history: list = []             # (programmed, compensated) elements of the last two kept moves
 
     def drop(rec, code: str, message: str) -> None:
         if warn is None or _off_plane(rec, a, o):
@@ -401,7 +387,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
     def attach(rec, cancel: bool, transition: int, start_mode: int) -> Point | None:
         """Join pending with ``rec`` (dropping what the tool cannot machine); pending joins the look-ahead.
         Returns where ``rec``'s offset starts, or None when ``rec`` itself was dropped."""
-        nonlocal pending, held, history
+        nonlocal pending, held
         while True:
             adjacent = not dropped and math.dist(_pts(pending.rec, a, o)[1], _pts(rec, a, o)[0]) <= 1e-9
             if adjacent:
@@ -416,6 +402,9 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
                          f"(a gap narrower than the tool diameter {2 * r:g})")
                     return None
                 inserted, start = joined
+            if pending.activation and not adjacent and _reversed(pending, a, o):
+                raise CompensationError(rec, "the activation move would run backwards to meet this move after "
+                                        "the blocks that are not executed")
             if not pending.activation and _reversed(pending, a, o):
                 if not ready:
                     raise CompensationError(pending.rec, "this move is too short for the tool radius (a step "
@@ -425,16 +414,12 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
                 before = ready.pop()
                 held = before.held + held
                 before.held, before.inserted, before.end = [], [], None
-                pending, history = before, []
+                pending = before
                 continue
             if dropped:
                 _check_dropped(pending, rec, start, cancel, dropped, a, o, s, r)
-                dropped.clear()
-            if not pending.activation:   # a contour move: its path against the profile two blocks back
-                profile = _element(pending.rec, a, o)
-                path = _element(pending.rec, a, o, pending.start, pending.end)
-                _check_neck(pending.rec, profile, path, history, r)
-                history = [*history[-1:], (profile, path)]
+            _check_local(pending, ready[-2:], rec, inserted, cancel, dropped, a, o, r)
+            dropped.clear()
             pending.held, held = held, []
             pending.inserted, pending.feed = inserted, rec.feed if rec.kind != "rapid" else None
             ready.append(pending)
@@ -487,7 +472,6 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
             yield from flush()
             comp = rc
             pending = _Move(rec, next_start)
-            history = []
             continue
         if waiting:
             if rc is None:   # G40 before any plane move: nothing was compensated
@@ -539,7 +523,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
         if cancel:
             yield from flush()
             yield _record(rec, a, o, next_start, None)
-            pending, comp, history = None, None, []
+            pending, comp = None, None
         else:
             pending = _Move(rec, next_start)
     if pending is not None:
@@ -552,6 +536,35 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
         yield from flush()
     else:
         yield from held
+
+
+def _pieces(move: _Move, inserted: list, a, o) -> list:
+    """The compensated elements of a move: its stretch (not for the activation) and its joins."""
+    out = [] if move.activation else [_element(move.rec, a, o, move.start, move.end)]
+    return out + [item for item in inserted if math.dist(item[1], item[2]) > 1e-9]
+
+
+def _check_local(move: _Move, before: list, nxt_rec, inserted: list, cancel: bool, dropped: list,
+                 a, o, r: float) -> None:
+    """The stretch of a move and the joins after it keep R from the programmed moves around it: the two before,
+    its own, the next and any dropped between; the paths of the two before keep R from its own.  Only curvature
+    and the G137 prolongations can break this (an arc curling back into a corner's join, a join reaching back
+    to a move two blocks away): the tool does not fit there, and fagorcnc refuses it."""
+    profiles = [*dropped, *(_element(m.rec, a, o) for m in before if not m.activation)]
+    if not move.activation:
+        profiles.append(_element(move.rec, a, o))
+    if not cancel:
+        profiles.append(_element(nxt_rec, a, o))
+    pairs = [(piece, profile) for piece in _pieces(move, inserted, a, o) for profile in profiles]
+    if not move.activation:
+        own = _element(move.rec, a, o)
+        pairs += [(piece, own) for m in before for piece in _pieces(m, m.inserted, a, o)]
+    for piece, profile in pairs:
+        near = nearest(piece, profile)
+        if near < r - GOUGE_TOLERANCE:
+            raise CompensationError(move.rec, f"the tool does not fit here: its path would come {r - near:.4f} "
+                                    f"mm into the profile (a gap or a curve narrower than the tool diameter "
+                                    f"{2 * r:g})")
 
 
 def _check_dropped(prev: _Move, nxt_rec, start: Point, cancel: bool, dropped: list, a, o, s, r) -> None:

@@ -7,27 +7,13 @@ from __future__ import annotations
 
 import math
 
-from .aids import _cross
+from .aids import _circle_circle, _cross, _line_circle
 from .arcs import sweep
 
 Point = tuple[float, float]
 
-#: Samples along an arc when measuring how close a compensated path comes to the profile.
-ARC_SAMPLES = 48
 #: A compensated path nearer to the profile than R minus this (mm) gouges it.
 GOUGE_TOLERANCE = 1e-6
-
-
-def points_along(kind: str, p: Point, q: Point, centre: Point | None, ccw: bool) -> list[Point]:
-    """Points along a line (its two ends: distances to a segment or an arc are checked exactly
-    or densely on the other side) or along an arc (``ARC_SAMPLES`` and its ends)."""
-    if kind != "arc" or centre is None:
-        return [p, q]
-    a0 = math.atan2(p[1] - centre[1], p[0] - centre[0])
-    rho = math.dist(p, centre)
-    total = math.radians(sweep(p, q, centre, ccw))   # sweep() is in degrees
-    return [(centre[0] + rho * math.cos(a0 + total * i / ARC_SAMPLES),
-             centre[1] + rho * math.sin(a0 + total * i / ARC_SAMPLES)) for i in range(ARC_SAMPLES + 1)]
 
 
 def to_segment(x: Point, p: Point, q: Point) -> float:
@@ -54,17 +40,66 @@ def segments_distance(p1: Point, q1: Point, p2: Point, q2: Point) -> float:
     return min(to_segment(p1, p2, q2), to_segment(q1, p2, q2), to_segment(p2, p1, q1), to_segment(q2, p1, q1))
 
 
+def _on_arc(x: Point, p: Point, q: Point, centre: Point, ccw: bool) -> bool:
+    """``x`` (on the arc's circle) lies within its angular span."""
+    if math.dist(x, p) <= 1e-12 or math.dist(x, q) <= 1e-12:
+        return True
+    return abs(sweep(p, x, centre, ccw)) <= abs(sweep(p, q, centre, ccw))
+
+
+def _arc_segment(arc: tuple, s1: Point, s2: Point) -> float:
+    _k, p, q, c, ccw = arc
+    rho = math.dist(p, c)
+    best = min(to_arc(s1, p, q, c, ccw), to_arc(s2, p, q, c, ccw), to_segment(p, s1, s2), to_segment(q, s1, s2))
+    length = math.dist(s1, s2)
+    if length <= 1e-12:
+        return best
+    d = ((s2[0] - s1[0]) / length, (s2[1] - s1[1]) / length)
+    k = (c[0] - s1[0]) * d[0] + (c[1] - s1[1]) * d[1]
+    foot = (s1[0] + k * d[0], s1[1] + k * d[1])
+    for x in _line_circle(s1, d, c, rho):   # crossings
+        along = (x[0] - s1[0]) * d[0] + (x[1] - s1[1]) * d[1]
+        if -1e-12 <= along <= length + 1e-12 and _on_arc(x, p, q, c, ccw):
+            return 0.0
+    h = math.dist(foot, c)
+    if 0.0 <= k <= length and h > 1e-12:
+        x = (c[0] + rho * (foot[0] - c[0]) / h, c[1] + rho * (foot[1] - c[1]) / h)
+        if _on_arc(x, p, q, c, ccw):
+            best = min(best, abs(h - rho))
+    return best
+
+
+def _arc_arc(a1: tuple, a2: tuple) -> float:
+    _k, p1, q1, c1, ccw1 = a1
+    _k, p2, q2, c2, ccw2 = a2
+    r1, r2 = math.dist(p1, c1), math.dist(p2, c2)
+    best = min(to_arc(p1, p2, q2, c2, ccw2), to_arc(q1, p2, q2, c2, ccw2),
+               to_arc(p2, p1, q1, c1, ccw1), to_arc(q2, p1, q1, c1, ccw1))
+    for x in _circle_circle(c1, r1, c2, r2):   # crossings
+        if _on_arc(x, p1, q1, c1, ccw1) and _on_arc(x, p2, q2, c2, ccw2):
+            return 0.0
+    d = math.dist(c1, c2)
+    if d > 1e-12:   # the other critical points lie on the line of the centres
+        u = ((c2[0] - c1[0]) / d, (c2[1] - c1[1]) / d)
+        for sgn in (1.0, -1.0):
+            x1 = (c1[0] + sgn * r1 * u[0], c1[1] + sgn * r1 * u[1])
+            if _on_arc(x1, p1, q1, c1, ccw1):
+                best = min(best, to_arc(x1, p2, q2, c2, ccw2))
+            x2 = (c2[0] + sgn * r2 * u[0], c2[1] + sgn * r2 * u[1])
+            if _on_arc(x2, p2, q2, c2, ccw2):
+                best = min(best, to_arc(x2, p1, q1, c1, ccw1))
+    return best
+
+
 def nearest(path: tuple, profile: tuple) -> float:
-    """Least distance from a compensated element to a programmed one (exact between two lines,
-    from dense samples with an arc)."""
-    kind, p, q, centre, ccw = path
-    pkind, pp, pq, pcentre, pccw = profile
+    """Least distance between two elements (a compensated one and a programmed one): exact, from the end
+    points, the crossings and the critical points of lines and circles."""
+    kind, p, q, _centre, _ccw = path
+    pkind, pp, pq, _pcentre, _pccw = profile
     if kind != "arc" and pkind != "arc":
         return segments_distance(p, q, pp, pq)
     if pkind != "arc":
-        return min(to_segment(x, pp, pq) for x in points_along(kind, p, q, centre, ccw))
-    points = points_along(kind, p, q, centre, ccw)
-    if kind != "arc":   # a line against an arc: the line's points densely
-        points = [(p[0] + (q[0] - p[0]) * i / ARC_SAMPLES, p[1] + (q[1] - p[1]) * i / ARC_SAMPLES)
-                  for i in range(ARC_SAMPLES + 1)]
-    return min(to_arc(x, pp, pq, pcentre, pccw) for x in points)
+        return _arc_segment(path, pp, pq)
+    if kind != "arc":
+        return _arc_segment(profile, p, q)
+    return _arc_arc(path, profile)
