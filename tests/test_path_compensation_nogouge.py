@@ -200,8 +200,8 @@ def test_no_gouge_bounded(data):
 
 
 @pytest.mark.slow
-@settings(max_examples=max(1000, settings.default.max_examples), deadline=None, suppress_health_check=[HealthCheck.filter_too_much,
-                                                                     HealthCheck.too_slow])
+@settings(max_examples=max(1000, settings.default.max_examples), deadline=None,
+          suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
 @given(drawn())
 def test_no_gouge_long(data):
     _property(*data)

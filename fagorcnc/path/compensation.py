@@ -30,11 +30,13 @@ elements: a move whose offset the trims reverse or eliminate (a *step*,
 INT120), an arc the tool cannot follow (offset radius 0 or less, INT121), and a
 move whose offset does not meet the offset of the move before the dropped ones
 (a *gap* narrower than the tool, INT122) are dropped and their neighbours
-re-joined at the intersection of their offsets.  What cannot be resolved that
-way is an error (INT086), never an approximated path: a dropped move that also
-moves an axis off the plane, a re-joined path that would come nearer than R to
-a dropped move, a move two blocks back nearer than R (a neck the corner trims
-do not see), arcs as activation or cancellation moves.
+re-joined at the intersection of their offsets.  Every kept move, with its
+joins, is checked (exactly) to keep R from the two moves before it, its own,
+the next and the dropped ones.  What cannot be resolved is an error (INT086),
+never an approximated path: a dropped move that also moves an axis off the
+plane, a path that would come nearer than R to those moves (an arc tighter than
+the tool curling back into a corner, a neck a few blocks wide), arcs as
+activation or cancellation moves.
 
 Moves off the plane (a Z plunge) between compensated moves are kept at the
 joint.  A change of side (G41 <-> G42) or of radius without G40 joins the two
@@ -388,6 +390,21 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
         """Join pending with ``rec`` (dropping what the tool cannot machine); pending joins the look-ahead.
         Returns where ``rec``'s offset starts, or None when ``rec`` itself was dropped."""
         nonlocal pending, held
+
+        def back_off(code: str, message: str) -> bool:
+            """Drop pending and reopen the move before it; False if there is none to reopen."""
+            nonlocal pending, held
+            if pending.activation or not ready:
+                return False
+            drop(pending.rec, code, message)
+            before = ready.pop()
+            held = before.held + held
+            before.held, before.inserted, before.end = [], [], None
+            pending = before
+            return True
+
+        gap = f"the tool does not fit between the moves around this one (a gap narrower than the tool diameter " \
+              f"{2 * r:g})"
         while True:
             adjacent = not dropped and math.dist(_pts(pending.rec, a, o)[1], _pts(rec, a, o)[0]) <= 1e-9
             if adjacent:
@@ -395,30 +412,36 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
             else:
                 joined = _rejoin(pending, rec, a, o, s, r, cancel)
                 if joined is None:
-                    if cancel:
-                        raise CompensationError(rec, "the compensated moves do not meet after the blocks "
-                                                "that were not executed")
-                    drop(rec, "INT122", "the tool does not fit between the moves before and after this one "
-                         f"(a gap narrower than the tool diameter {2 * r:g})")
-                    return None
+                    # the neighbours of the dropped moves do not meet: drop this move if the one before it
+                    # would meet the next one clear of everything dropped (a wall facing a narrow mouth),
+                    # else the next one (the far wall of a narrow slot); the cancellation stays
+                    if (cancel or _off_plane(rec, a, o) or _clear(ready[-1] if ready else None, pending, rec,
+                                                                  cancel, dropped, a, o, s, r)) \
+                            and back_off("INT122", gap):
+                        continue
+                    if not cancel and not _off_plane(rec, a, o):
+                        drop(rec, "INT122", gap)
+                        return None
+                    raise CompensationError(rec, "the compensated moves do not meet after the blocks that were "
+                                            "not executed")
                 inserted, start = joined
             if pending.activation and not adjacent and _reversed(pending, a, o):
                 raise CompensationError(rec, "the activation move would run backwards to meet this move after "
                                         "the blocks that are not executed")
             if not pending.activation and _reversed(pending, a, o):
-                if not ready:
-                    raise CompensationError(pending.rec, "this move is too short for the tool radius (a step "
-                                            "in the profile) and the move before it is already executed")
-                drop(pending.rec, "INT120", "this move is too short for the tool radius at its corners "
-                     "(a step in the profile)")
-                before = ready.pop()
-                held = before.held + held
-                before.held, before.inserted, before.end = [], [], None
-                pending = before
+                if back_off("INT120", "this move is too short for the tool radius at its corners (a step in the "
+                            "profile)"):
+                    continue
+                raise CompensationError(pending.rec, "this move is too short for the tool radius (a step in the "
+                                        "profile) and the move before it is already executed")
+            try:
+                if dropped:
+                    _check_dropped(pending, rec, start, cancel, dropped, a, o, s, r)
+                _check_local(pending, ready[-2:], rec, inserted, cancel, dropped, a, o, r)
+            except CompensationError as exc:   # the tool does not fit: drop back while the look-ahead allows
+                if _off_plane(pending.rec, a, o) or warn is None or not back_off("INT122", gap):
+                    raise exc from None
                 continue
-            if dropped:
-                _check_dropped(pending, rec, start, cancel, dropped, a, o, s, r)
-            _check_local(pending, ready[-2:], rec, inserted, cancel, dropped, a, o, r)
             dropped.clear()
             pending.held, held = held, []
             pending.inserted, pending.feed = inserted, rec.feed if rec.kind != "rapid" else None
@@ -565,6 +588,20 @@ def _check_local(move: _Move, before: list, nxt_rec, inserted: list, cancel: boo
             raise CompensationError(move.rec, f"the tool does not fit here: its path would come {r - near:.4f} "
                                     f"mm into the profile (a gap or a curve narrower than the tool diameter "
                                     f"{2 * r:g})")
+
+
+def _clear(before: _Move | None, move: _Move, nxt_rec, cancel: bool, dropped: list, a, o, s, r) -> bool:
+    """Whether ``before`` and ``nxt_rec`` would meet with the next move's offset clear of the dropped moves and
+    of ``move`` dropped too (a guess of which way to drop: what is kept is checked in full afterwards)."""
+    if before is None or move.activation:
+        return False
+    trial = _Move(before.rec, before.start, before.activation)
+    joined = _rejoin(trial, nxt_rec, a, o, s, r, cancel)
+    if joined is None:
+        return False
+    end = _pts(nxt_rec, a, o)[1] if cancel else _offset_point(nxt_rec, a, o, s, r, True)
+    piece = _element(nxt_rec, a, o, joined[1], end)
+    return all(nearest(piece, el) >= r - GOUGE_TOLERANCE for el in [*dropped, _element(move.rec, a, o)])
 
 
 def _check_dropped(prev: _Move, nxt_rec, start: Point, cancel: bool, dropped: list, a, o, s, r) -> None:
