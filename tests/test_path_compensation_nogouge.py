@@ -13,6 +13,7 @@ middle of their first element.  Bounded in the default suite; `-m slow` runs man
 from __future__ import annotations
 
 import math
+from collections import Counter
 
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
@@ -142,7 +143,9 @@ def separated(els, radius: float) -> bool:
     return True
 
 
-def check(els, texts, side, transition, radius, closed):
+def check(els, texts, side, transition, radius, closed) -> str:
+    """Run the contour; no gouge on what ran.  Returns the outcome: ok, dropped (blocks not executed) or
+    refused (INT086)."""
     text, first_line = program(els, texts, side, transition, closed)
     r = fagorcnc.simulate(text, {"tools": {"1": {"1": {"radius": radius}}}})
     errors = [d for d in r.errors]
@@ -174,17 +177,20 @@ def check(els, texts, side, transition, radius, closed):
             d = min(distance(x, e) for e in els)
             assert d >= radius - EPS, (f"gouge {radius - d:.6f} at ({x[0]:.5f},{x[1]:.5f}) on line {m.line}\n"
                                        + text + "\n".join(map(str, r.diagnostics)))
+    return "refused" if errors else "dropped" if r.diagnostics else "ok"
 
 
 CASES = st.tuples(st.sampled_from([41, 42]), st.sampled_from([136, 137]), st.floats(0.2, 5.0),
                   st.booleans())
 
 
-def _property(walk, case):
+def _property(walk, case, stats: Counter | None = None):
     side, transition, radius, closed = case
     els, texts = walk
     assume(separated(els, radius))
-    check(els, texts, side, transition, radius, closed)
+    outcome = check(els, texts, side, transition, radius, closed)
+    if stats is not None:
+        stats[outcome] += 1
 
 
 @st.composite
@@ -193,10 +199,18 @@ def drawn(draw):
     return draw(walks(case[3])), case
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
-@given(drawn())
-def test_no_gouge_bounded(data):
-    _property(*data)
+def test_no_gouge_bounded():
+    stats: Counter = Counter()
+
+    @settings(max_examples=60, deadline=None,
+              suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
+    @given(drawn())
+    def prop(data):
+        _property(*data, stats=stats)
+
+    prop()
+    # not vacuous: most contours run (about 3 in 4 without a dropped block, 1 in 10 with; 1 in 6 refused)
+    assert stats["ok"] + stats["dropped"] >= sum(stats.values()) / 2, stats
 
 
 @pytest.mark.slow

@@ -59,6 +59,8 @@ Point = tuple[float, float]
 #: Plane elements held back at most (spec 04 §16.2 asks for 3 or more): a dropped block is re-joined with
 #: neighbours still held; needing one already handed on is an error.
 LOOKAHEAD = 6
+#: Consecutive blocks dropped at most before the problem is refused instead (the profile would change too much).
+MAX_DROPS = 3
 
 
 class CompensationError(ValueError):
@@ -380,8 +382,9 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
     comp = None
 
     def drop(rec, code: str, message: str) -> None:
-        if warn is None or _off_plane(rec, a, o):
-            why = " (it also moves an axis off the plane)" if warn is not None else ""
+        if warn is None or _off_plane(rec, a, o) or len(dropped) >= MAX_DROPS:
+            why = "" if warn is None else " (it also moves an axis off the plane)" if _off_plane(rec, a, o) else \
+                f" ({MAX_DROPS} blocks in a row are not executed already: fagorcnc does not drop more)"
             raise CompensationError(rec, message + why)
         warn(rec, code, message + ": the block is not executed, the programmed profile is modified")
         dropped.append(_element(rec, a, o))
