@@ -119,6 +119,11 @@ CODES: dict[str, str] = {
     "INT083": "too many warnings and notes: the rest are not reported",
     "INT085": "corner aid G36-G39 impossible here",
     "INT086": "radius compensation impossible or not supported here",
+    # radius compensation: profile modified (seed 002 L9455-L9459) and missing tool offsets (issue 21)
+    "INT120": "radius compensation: a block too short for the tool is not executed (profile modified)",
+    "INT121": "radius compensation: an arc the tool cannot follow is not executed (profile modified)",
+    "INT122": "radius compensation: a gap narrower than the tool is not machined (profile modified)",
+    "INT123": "tool offset not in the tool table",
     "INT090": "local subroutine calls one defined after it",
     "INT091": "local subroutine not defined",
     "INT092": "global subroutine file has errors",
@@ -137,11 +142,6 @@ CODES: dict[str, str] = {
     "INT114": "G193 needs linear acceleration",
     "INT115": "corner rounding type not modelled",
     "INT116": "local subroutine called by its number with an L in front (#CALL L100)",
-    # radius compensation: profile modified (seed 002 L9455-L9459) and missing tool offsets (issue 21)
-    "INT120": "radius compensation: a block too short for the tool is not executed (profile modified)",
-    "INT121": "radius compensation: an arc the tool cannot follow is not executed (profile modified)",
-    "INT122": "radius compensation: a gap narrower than the tool is not machined (profile modified)",
-    "INT123": "tool offset not in the tool table",
     "PLN001": "motion cannot be planned within the machine limits",
     # fagorcnc check: verification of the planned motion
     "PLN100": "planned path (arc or corner blend) beyond a software limit",
