@@ -153,7 +153,8 @@ def test_a_gap_narrower_than_the_tool_two_blocks_apart_is_bridged():
     where its offset meets the cancellation's x = 17."""
     r = fagorcnc.simulate(NECK.format(w=-2.9, e=2.9), TOOL)
     assert r.ok, [str(d) for d in r.diagnostics]
-    assert sorted((d.code, d.line) for d in r.diagnostics) == [("INT120", 5), ("INT122", 6), ("INT122", 7)]
+    assert sorted((d.code, d.line) for d in r.diagnostics if d.code.startswith("INT")) == [
+        ("INT120", 5), ("INT122", 6), ("INT122", 7)]
     assert all("narrower than the tool diameter 6" in d.message for d in r.diagnostics if d.code == "INT122")
     lines = [(m.line, round(m.start["X"], 4), round(m.start["Y"], 4), round(m.end["X"], 4), round(m.end["Y"], 4))
              for m in r.moves if m.kind == "linear" and m.line in (4, 8)]

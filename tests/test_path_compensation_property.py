@@ -811,7 +811,8 @@ def test_regression_step_before_an_outside_corner():
     text = "G90 G17 G00 X0 Y-10\nT1 D1 M6\nG01 G41 X0 Y0 F500\nX50\nX40 Y2\nX40 Y30\nG40 X60 Y30\nM30\n"
     r = fagorcnc.simulate(text, machine(3.0))
     # not executed, with the warning "profile modified" (seed 002 L9455-L9459)
-    assert r.ok and [(d.code, d.line) for d in r.diagnostics] == [("INT120", 5)], [str(d) for d in r.diagnostics]
+    assert r.ok and [(d.code, d.line) for d in r.diagnostics if d.code.startswith("INT")] == [("INT120", 5)], \
+        [str(d) for d in r.diagnostics]
 
 
 # B. A concave arc whose radius is not larger than the tool radius (spec 04 §16.2, §23.1: offset radius
