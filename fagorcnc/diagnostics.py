@@ -138,6 +138,11 @@ CODES: dict[str, str] = {
     "INT083": "too many warnings and notes: the rest are not reported",
     "INT085": "corner aid G36-G39 impossible here",
     "INT086": "radius compensation impossible or not supported here",
+    # radius compensation: profile modified (seed 002 L9455-L9459) and missing tool offsets (issue 21)
+    "INT120": "radius compensation: a block too short for the tool is not executed (profile modified)",
+    "INT121": "radius compensation: an arc the tool cannot follow is not executed (profile modified)",
+    "INT122": "radius compensation: a gap narrower than the tool is not machined (profile modified)",
+    "INT123": "tool offset not in the tool table",
     "INT090": "local subroutine calls one defined after it",
     "INT091": "local subroutine not defined",
     "INT092": "global subroutine file has errors",

@@ -141,16 +141,25 @@ NECK = ("G00 X-20 Y5\nT1 D1 M6\nG41 G01 X-20 Y0 F500\nG01 X{w} Y0\nG01 X-4 Y-40\
         "G01 X{e} Y0\nG01 X20 Y0\nG40 G01 X20 Y5\nM30\n")
 
 
-def test_a_gap_narrower_than_the_tool_two_blocks_apart_is_refused():
+def test_a_gap_narrower_than_the_tool_two_blocks_apart_is_bridged():
     """A channel 8 mm wide at the bottom, 5.8 mm at its mouth, tool radius 3: the corner trims alone
     see nothing wrong (the bottom is wide enough), but the tool cannot pass the mouth.  The left wall's
     offset starts at its perpendicular point (-2.9, 0) + 3 n, n = (0.999622, -0.027488) the wall's left
     normal: (0.098866, -0.082464); the right wall runs at 2.9 + 1.1 * (-y / 40) = 2.902268 there, so the
-    tool's edge crosses it by 3 - (2.902268 - 0.098866) * 0.999622 = 0.1977 mm (seed 002 L9455-L9459)."""
+    tool's edge would cross it by 3 - (2.902268 - 0.098866) * 0.999622 = 0.1977 mm.  The CNC does not execute
+    such blocks (seed 002 L9455-L9459): the right wall (line 7) and the bottom (line 6) are gaps (INT122); the
+    left wall re-joined with line 8 (offset y = 3) would run back up: a step (INT120).  Lines 4 and 8 share the
+    offset y = 3: the tool passes over the channel, 3 above its mouth; line 8 ends at (20 - 3, 3) = (17, 3),
+    where its offset meets the cancellation's x = 17."""
     r = fagorcnc.simulate(NECK.format(w=-2.9, e=2.9), TOOL)
-    assert [d.code for d in r.errors] == ["INT086"]
-    err = r.errors[0]
-    assert err.line == 7 and "0.1977 mm" in err.message and "narrower than the tool diameter 6" in err.message
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert sorted((d.code, d.line) for d in r.diagnostics if d.code.startswith("INT")) == [
+        ("INT120", 5), ("INT122", 6), ("INT122", 7)]
+    assert all("narrower than the tool diameter 6" in d.message for d in r.diagnostics if d.code == "INT122")
+    lines = [(m.line, round(m.start["X"], 4), round(m.start["Y"], 4), round(m.end["X"], 4), round(m.end["Y"], 4))
+             for m in r.moves if m.kind == "linear" and m.line in (4, 8)]
+    assert lines == [(4, -17.0, 3.0, -2.9, 3.0), (8, -2.9, 3.0, 17.0, 3.0)]
+
 
 
 def test_a_gap_wider_than_the_tool_is_compensated():

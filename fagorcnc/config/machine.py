@@ -70,6 +70,9 @@ class ToolOffset:
     radius: float = 0.0
     length_wear: float = 0.0
     radius_wear: float = 0.0
+    #: False for the default machine's zero-size placeholder of an offset the machine's own tool table
+    #: leaves out: radius or length compensation with it is an error (the control has no such offset)
+    declared: bool = field(default=True, compare=False)
 
 
 @dataclass
@@ -168,6 +171,26 @@ DEFAULT_MACHINE: dict[str, Any] = {
     "spindles": ["S"],
     "tools": {str(t): {"1": {"length": 0.0, "radius": 0.0}} for t in range(0, 100)},
 }
+
+
+#: The default machine's offset of a tool a machine file's own tool table leaves out (see ToolOffset.declared).
+_PLACEHOLDER = {"length": 0.0, "radius": 0.0}
+
+
+def _over_default(user: dict) -> dict:
+    """``user`` merged over the default machine; with a tool table of its own, the default's tools it
+    does not list stay selectable but are marked as placeholders."""
+    data = _merge(DEFAULT_MACHINE, user)
+    own = user.get("tools")
+    if isinstance(own, dict):
+        listed = {(str(t), str(d)) for t, offs in own.items() if isinstance(offs, dict) for d in offs}
+        for t, offs in data["tools"].items():
+            if not isinstance(offs, dict):   # a wrong type: _tools says so, naming the key
+                continue
+            for d in offs:
+                if (str(t), str(d)) not in listed:
+                    offs[d] = _PLACEHOLDER
+    return data
 
 
 def _merge(base: dict, over: dict) -> dict:
@@ -288,12 +311,13 @@ def _tools(table: Any) -> dict[int, dict[int, ToolOffset]]:
         t = _entry("tools", tkey, 0, 4294967295)
         for dkey, spec in _table(f"tools.{tkey}", offsets).items():
             d = _entry(f"tools.{tkey}", dkey, 0, 4294967295)
+            declared = spec is not _PLACEHOLDER   # see ToolOffset.declared
             spec = _table(f"tools.{tkey}.{dkey}", spec)
-            unknown = set(spec) - set(ToolOffset.__dataclass_fields__)
+            unknown = set(spec) - (set(ToolOffset.__dataclass_fields__) - {"declared"})
             if unknown:
                 raise MachineError(f"tools.{tkey}.{dkey}: unknown key(s) {', '.join(sorted(map(str, unknown)))}")
             fields = {k: _number(f"tools.{tkey}.{dkey}.{k}", v) for k, v in spec.items()}
-            tools.setdefault(t, {})[d] = ToolOffset(**fields)
+            tools.setdefault(t, {})[d] = ToolOffset(**fields, declared=declared)
     return tools
 
 
@@ -550,7 +574,7 @@ def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
             from .linuxcnc import load_ini
 
             try:
-                return _build(_merge(DEFAULT_MACHINE, load_ini(path)))
+                return _build(_over_default(load_ini(path)))
             except MachineError as exc:
                 raise MachineError(_in_file(path, exc)) from None
         try:
@@ -560,9 +584,9 @@ def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
         except tomllib.TOMLDecodeError as exc:
             raise MachineError(f"{path}: {exc}") from None
         try:
-            return _build(_merge(DEFAULT_MACHINE, _file_relative(path, data)))
+            return _build(_over_default(_file_relative(path, data)))
         except MachineError as exc:
             raise MachineError(_in_file(path, exc)) from None
     if isinstance(machine, dict):
-        return _build(_merge(DEFAULT_MACHINE, machine))
+        return _build(_over_default(machine))
     raise MachineError(f"machine: expected a path, a dict or a Machine, not {type(machine).__name__}")

@@ -128,7 +128,8 @@ class Interpreter:
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
-            records = compensate(apply_aids(with_frames(follow(self._guarded(), self), self.state), self._aid_error))
+            records = compensate(apply_aids(with_frames(follow(self._guarded(), self), self.state), self._aid_error),
+                                 self._path_warning)
             for record in joint_space(records, self):
                 self.cycle_time += record_time(machine, record)
                 handed = cpu_time()
@@ -275,6 +276,16 @@ class Interpreter:
                              "are not reported (limits.max_messages)", 1)
             return
         self._report(code, severity, message, col)
+
+    def _path_warning(self, record, code: str, message: str) -> None:
+        """A warning of a path stage on the block of ``record`` (the stage runs behind the block loop)."""
+        cap = self.machine.limits.max_messages
+        if cap and self._messages >= cap:
+            self.message(code, "warning", message)   # counted; says once that the rest are left out
+            return
+        self._messages += 1
+        src = record.src
+        self.diagnostics.append(Diagnostic(src.file, src.line, 1, code, "warning", message, src.text))
 
     def _report(self, code: str, severity: str, message: str, col: int) -> None:
         block = self._current_block

@@ -523,7 +523,7 @@ class IsoExecutor:
         axis, direction = st.longitudinal()
         if axis is None or axis not in bw.axes:
             return
-        off = st.tools.get(st.tool, {}).get(st.offset) if st.offset else None
+        off = self._tool_offset("length compensation")
         length = (off.length + off.length_wear) if off is not None else 0.0
         st.length_offset = {axis: -direction * length} if length else {}
 
@@ -801,10 +801,10 @@ class IsoExecutor:
                 or st.tangent
         comp = self._compensation()
         if mode == 0:
-            return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics())
+            return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics(), joins=self._joins(comp))
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
         return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
-                    comp, st.dynamics())
+                    comp, st.dynamics(), joins=self._joins(comp))
 
     def _null_move(self, bw: BlockWords, cur_part: dict) -> bool:
         """A G02/G03 block with no centre, radius or polar word whose target is where the tool stands:
@@ -829,9 +829,31 @@ class IsoExecutor:
         side = 1 if mode == 41 else -1
         if st.transform.flips(a, o):
             side = -side
-        off = st.tools.get(st.tool, {}).get(st.offset) if st.offset else None
+        off = self._tool_offset(f"radius compensation G{mode}")
         radius = (off.radius + off.radius_wear) if off is not None else 0.0
         return (side, radius, st.modes["transition"], st.modes["comp_start"], (a, o))
+
+    def _tool_offset(self, use: str):
+        """The active tool offset D for a compensation, None with D0 or no tool.  An offset the
+        machine's tool table does not hold (a placeholder of the default machine) is an error: the
+        control has no such offset, and running with radius or length 0 would cut the wrong part."""
+        st = self.state
+        if not st.offset or not st.tool:
+            return None
+        off = st.tools.get(st.tool, {}).get(st.offset)
+        if off is None or not off.declared:
+            raise InterpError("INT123", f"{use} needs the offset D{st.offset} of tool T{st.tool}, which the "
+                              "machine's tool table does not hold", 1)
+        return off
+
+    def _joins(self, comp: tuple | None) -> tuple | None:
+        """G136/G137 and G138/G139 in force on a move without radius compensation: they may be programmed
+        while compensation is active (seed 002 L9554, L9597), so a G138 written before the G40 block makes a
+        direct cancellation; a compensated move carries them in ``comp``."""
+        if comp is not None:
+            return None
+        modes = self.state.modes
+        return (modes["transition"], modes["comp_start"])
 
     def _active_feed(self, length: float, start: dict) -> float:
         """Feed along the path in mm/min (seed 002 L4127-L4192).
@@ -986,9 +1008,10 @@ class IsoExecutor:
         planar = abs(math.radians(delta)) * r0 * scale
         other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
+        comp = self._compensation()
         return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
                    (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src,
-                   self._compensation(), st.dynamics())
+                   comp, st.dynamics(), joins=self._joins(comp))
 
     def _radius_check(self, s, e, c, col: int):
         """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""

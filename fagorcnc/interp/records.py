@@ -46,6 +46,7 @@ class Line:
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
     frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
+    joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
 
     @property
     def line(self) -> int:
@@ -89,6 +90,7 @@ class Arc:
     comp: tuple | None = None   # radius compensation (side, R, G136/G137, G138/G139, plane)
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
     frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
+    joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
 
     @property
     def line(self) -> int:

@@ -221,7 +221,9 @@ class Variables:
             return getattr(offset_of(index), fld) / self._unit()
 
         def put(index: tuple, value: float) -> None:
-            setattr(offset_of(index), fld, value * self._unit())
+            off = offset_of(index)
+            setattr(off, fld, value * self._unit())
+            off.declared = True   # written by the program: the offset now exists
 
         return get, put
 

@@ -1,41 +1,66 @@
 """Tool radius compensation G40/G41/G42 with G136/G137 and G138/G139 (seed 002 L9427-L10071).
 
 A streaming stage over the interpreter's records.  Each compensated move
-carries ``comp = (side, radius, transition, start)``: side +1 for G41 (tool on
-the left of the path), -1 for G42; ``transition`` 136 (circular joins) or 137
-(linear joins) at outside corners; ``start`` 138 (direct) or 139 (indirect)
-activation and cancellation.  The stage holds one programmed element until
-the next one shows the corner (spec 04 §18):
+carries ``comp = (side, radius, transition, start, plane)``: side +1 for G41
+(tool on the left of the path), -1 for G42; ``transition`` 136 (circular
+joins) or 137 (linear joins) at outside corners; ``start`` 138 (direct) or 139
+(indirect) activation and cancellation.  A move without compensation carries
+``joins = (transition, start)``: both may be programmed while compensation is
+active (L9554, L9597), so each corner takes them from the block after it, the
+activation from its own block and the cancellation from the G40 move (spec 04
+§18-§20):
 
-* inside corners (the path turns toward the tool): both offsets are trimmed
-  to their intersection;
+* inside corners: both offsets are trimmed to their intersection;
 * outside corners: G136 inserts an arc of radius R about the programmed
   corner; G137 prolongs the offsets in straight lines (one point for a
   corner up to 90 degrees, two beyond);
-* the activation block (the first compensated move, a straight one) and the
-  cancellation block (the first move after G40, straight) follow the tables
-  of spec 04 §19-§20.
+* whether a corner is inside or outside comes from the turn of the tangents,
+  except where arcs make the answer geometric: near a tangent reversal (a
+  cusp) the offsets of an arc and of the next element may cross although the
+  tangents turn away from the tool (then it is an inside corner, trimmed where
+  they cross), or miss each other although the tangents turn toward it (then
+  the tool goes round the corner);
+* an arc corrected by G264 runs on the circle of its start radius (L6996), and
+  so does its offset.
+
+The CNC looks ahead for compensation problems and does not execute the blocks
+that cause them, with a warning that the programmed profile was modified
+(L9455-L9459).  So does this stage, holding up to :data:`LOOKAHEAD` plane
+elements: a move whose offset the trims reverse or eliminate (a *step*,
+INT120), an arc the tool cannot follow (offset radius 0 or less, INT121), and a
+move whose offset does not meet the offset of the move before the dropped ones
+(a *gap* narrower than the tool, INT122) are dropped and their neighbours
+re-joined at the intersection of their offsets.  Every kept move, with its
+joins, is checked (exactly) to keep R from the two moves before it, its own,
+the next and the dropped ones.  What cannot be resolved is an error (INT086),
+never an approximated path: a dropped move that also moves an axis off the
+plane, a path that would come nearer than R to those moves (an arc tighter than
+the tool curling back into a corner, a neck a few blocks wide), arcs as
+activation or cancellation moves.
 
 Moves off the plane (a Z plunge) between compensated moves are kept at the
 joint.  A change of side (G41 <-> G42) or of radius without G40 joins the two
 offsets at their intersection near the corner, else by a connecting segment
-(spec 04 §22).  Reported as errors rather than handled: an inside corner whose
-trim would reverse a move (a "step", which the CNC removes with a warning), a
-move whose compensated path comes nearer than R to the profile two blocks back
-or whose profile the path two blocks back comes that near (a gap narrower than
-the tool, which the corner trims alone do not see; the CNC's look-ahead finds
-such problems, L9455-L9459), arcs as activation or cancellation moves.
+(spec 04 §22).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import replace
 
 from .aids import _arc_record, _circle_circle, _cross, _left, _line_circle, _line_record, _moved, _unit
+from .arcs import sweep
+from .proximity import GOUGE_TOLERANCE, nearest
 
 Point = tuple[float, float]
+
+#: Plane elements held back at most (spec 04 §16.2 asks for 3 or more): a dropped block is re-joined with
+#: neighbours still held; needing one already handed on is an error.
+LOOKAHEAD = 6
+#: Consecutive blocks dropped at most before the problem is refused instead (the profile would change too much).
+MAX_DROPS = 3
 
 
 class CompensationError(ValueError):
@@ -64,90 +89,126 @@ def _tangent(rec, a, o, at_end: bool) -> Point:
     return t if rec.direction == "ccw" else (-t[0], -t[1])
 
 
+def _offset_radius(rec, a, o, s: float, r: float) -> float:
+    """Radius of an arc's offset: its start radius (an arc corrected by G264 runs with the radius of its start
+    point about the programmed centre, seed 002 L6996) minus R with the tool inside, plus R outside."""
+    p, _q = _pts(rec, a, o)
+    delta = 1.0 if rec.direction == "ccw" else -1.0
+    return math.dist(p, (rec.center[a], rec.center[o])) - s * delta * r
+
+
+def _followable(rec, a, o, s: float, r: float) -> bool:
+    """Not an arc whose offset has a radius of zero or less (a concave arc smaller than the tool)."""
+    return rec.kind != "arc" or _offset_radius(rec, a, o, s, r) > 1e-9
+
+
 def _geometry(rec, a, o, s: float, r: float):
-    """The offset of a move: ("line", point, direction) or ("circle", centre, radius)."""
+    """The offset of a move: ("line", point, direction) or ("circle", centre, radius, ccw)."""
     p, q = _pts(rec, a, o)
     if rec.kind != "arc":
         t = _unit((q[0] - p[0], q[1] - p[1]))
         n = _left(t)
         return ("line", (p[0] + s * r * n[0], p[1] + s * r * n[1]), t)
-    c = (rec.center[a], rec.center[o])
-    rho = math.dist(p, c)
-    delta = 1.0 if rec.direction == "ccw" else -1.0
-    rr = rho - s * delta * r
-    if rr <= 1e-9:
-        raise CompensationError(rec, f"the tool radius {r:g} is not smaller than the concave arc radius "
-                                f"{rho:g}: the arc cannot be followed")
-    return ("circle", c, rr)
+    return ("circle", (rec.center[a], rec.center[o]), _offset_radius(rec, a, o, s, r), rec.direction == "ccw")
 
 
-def _meet(g1, g2, near: Point) -> Point | None:
+def _hits(g1, g2) -> list[Point]:
+    """The intersections of two offsets (lines taken as infinite, arcs as full circles)."""
     if g1[0] == "line" and g2[0] == "line":
         den = _cross(g1[2], g2[2])
         if abs(den) < 1e-12:
-            return None
+            return []
         d = (g2[1][0] - g1[1][0], g2[1][1] - g1[1][1])
         k = _cross(d, g2[2]) / den
-        hits = [(g1[1][0] + k * g1[2][0], g1[1][1] + k * g1[2][1])]
-    elif g1[0] == "line":
-        hits = _line_circle(g1[1], g1[2], g2[1], g2[2])
-    elif g2[0] == "line":
-        hits = _line_circle(g2[1], g2[2], g1[1], g1[2])
-    else:
-        hits = _circle_circle(g1[1], g1[2], g2[1], g2[2])
+        return [(g1[1][0] + k * g1[2][0], g1[1][1] + k * g1[2][1])]
+    if g1[0] == "line":
+        return _line_circle(g1[1], g1[2], g2[1], g2[2])
+    if g2[0] == "line":
+        return _line_circle(g2[1], g2[2], g1[1], g1[2])
+    return _circle_circle(g1[1], g1[2], g2[1], g2[2])
+
+
+def _meet(g1, g2, near: Point) -> Point | None:
+    hits = _hits(g1, g2)
     return min(hits, key=lambda x: math.dist(x, near)) if hits else None
 
 
+def _within(g, p: Point, q: Point, x: Point, eps: float = 1e-9) -> bool:
+    """``x`` (on the offset ``g``) lies on its stretch from ``p`` to ``q``."""
+    if g[0] == "line":
+        d = (q[0] - p[0], q[1] - p[1])
+        k = (x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1]
+        return -eps <= k <= d[0] * d[0] + d[1] * d[1] + eps
+    if math.dist(x, p) <= eps or math.dist(x, q) <= eps:
+        return True
+    return abs(sweep(p, x, g[1], g[3])) <= abs(sweep(p, q, g[1], g[3]))
+
+
 def _offset_point(rec, a, o, s, r, at_end: bool) -> Point:
-    """The perpendicular point of the offset at the start or the end of a move."""
+    """The perpendicular point of the offset at the start or the end of a move (of an arc: on its offset
+    circle, which with G264 is the one of the start radius)."""
     p, q = _pts(rec, a, o)
     x = q if at_end else p
+    if rec.kind == "arc":
+        c = (rec.center[a], rec.center[o])
+        u = _unit((x[0] - c[0], x[1] - c[1]))
+        rr = _offset_radius(rec, a, o, s, r)
+        return (c[0] + rr * u[0], c[1] + rr * u[1])
     n = _left(_tangent(rec, a, o, at_end))
     return (x[0] + s * r * n[0], x[1] + s * r * n[1])
 
 
 class _Move:
-    """A move being compensated: its record and the plane points fixed so far.
+    """A compensated move: its record, the plane points fixed so far, and (once its end is fixed) the
+    records held after it, executed at its end, and the join elements inserted after them."""
 
-    A compensated arc is checked at once: the tool must fit inside a concave arc.
-    """
+    __slots__ = ("activation", "end", "feed", "held", "inserted", "rec", "start")
 
-    __slots__ = ("end", "rec", "start")
-
-    def __init__(self, rec, start: Point | None) -> None:
-        self.rec, self.start, self.end = rec, start, None
-        comp = getattr(rec, "comp", None)
-        if rec.kind == "arc" and comp is not None:
-            _geometry(rec, comp[4][0], comp[4][1], comp[0], comp[1])
+    def __init__(self, rec, start: Point | None, activation: bool = False) -> None:
+        self.rec, self.start, self.end, self.activation = rec, start, None, activation
+        self.held: list = []
+        self.inserted: list = []
+        self.feed = None
 
 
-def _join(prev: _Move, nxt_rec, a, o, s, r, transition, start_mode, activation: bool, cancel: bool):
-    """Close the corner between ``prev`` and ``nxt_rec``.
+def _join(prev: _Move, nxt_rec, a, o, s, r, transition: int, start_mode: int, cancel: bool):
+    """Close the corner between ``prev`` and ``nxt_rec`` (spec 04 §18-§20).
 
     Returns (points inserted between them as a list of ("line"|"arc", p, q, centre, ccw),
     the start point of the next move).  Sets ``prev.end``.
     """
     rec = prev.rec
+    activation = prev.activation
     _, corner = _pts(rec, a, o)
     t1 = _tangent(rec, a, o, True)
     t2 = _tangent(nxt_rec, a, o, False)
-    n1, n2 = _left(t1), _left(t2)
-    pa = (corner[0] + s * r * n1[0], corner[1] + s * r * n1[1])
-    pb = (corner[0] + s * r * n2[0], corner[1] + s * r * n2[1])
+    pa = _offset_point(rec, a, o, s, r, True)
+    pb = _offset_point(nxt_rec, a, o, s, r, False)
     cross = _cross(t1, t2)
     dot = t1[0] * t2[0] + t1[1] * t2[1]
     if dot > 0 and (abs(cross) < 1e-9 or math.dist(pa, pb) < 1e-6):
-        # tangent (or as good as): the offsets meet at A = B; a join arc of a few nanometres
-        # would read as a full circle
+        # tangent (or as good as): the offsets meet at A = B (a G264 arc ends on its start radius: the next
+        # move starts there); a join arc of a few nanometres would read as a full circle
         prev.end = pa
-        return [], pb
-    if s * cross > 1e-9:                  # inside corner: trim both offsets to their intersection
-        g1 = (("line", pa, t1) if activation else _geometry(rec, a, o, s, r))
-        g2 = (("line", pb, t2) if cancel else _geometry(nxt_rec, a, o, s, r))
+        return [], pa
+    g1 = ("line", pa, t1) if activation else _geometry(rec, a, o, s, r)
+    g2 = ("line", pb, t2) if cancel else _geometry(nxt_rec, a, o, s, r)
+    if s * cross > 1e-9:
+        # the tangents turn toward the tool: an inside corner, trimmed where the offsets meet; arcs whose
+        # offsets miss each other (near a reversal) leave the tool to go round the corner
         x = _meet(g1, g2, corner)
-        if x is None or math.dist(x, corner) > 100 * max(r, 1e-9):
-            raise CompensationError(nxt_rec, "the compensated moves do not meet at this inside corner")
-        _check_step(prev, rec, a, o, x, t1)
+    elif g1[0] == "circle" or g2[0] == "circle":
+        # the tangents turn away from the tool, but the offset of an arc may still cross the other offset
+        # near the corner (a cusp: the arc ends heading against the next move): an inside corner where they
+        # cross, else the path would cut into the arc
+        p1 = prev.start if prev.start is not None and not activation else pa
+        q2 = _pts(nxt_rec, a, o)[1] if cancel else _offset_point(nxt_rec, a, o, s, r, True)
+        crossing = [x for x in _hits(g1, g2) if _within(g1, p1, pa, x) and _within(g2, pb, q2, x)
+                    and math.dist(x, pa) > 1e-9 and math.dist(x, pb) > 1e-9]
+        x = min(crossing, key=lambda x: math.dist(x, corner)) if crossing else None
+    else:
+        x = None
+    if x is not None:
         prev.end = x
         return [], x
     # outside corner (or a reversal)
@@ -157,7 +218,7 @@ def _join(prev: _Move, nxt_rec, a, o, s, r, transition, start_mode, activation: 
     prev.end = pa
     if transition == 136:
         return [("arc", pa, pb, corner, s < 0)], pb
-    psi = math.acos(max(-1.0, min(1.0, dot)))
+    psi = math.atan2(abs(cross), dot)
     if psi <= math.pi / 2 + 1e-12:
         k = r * math.tan(psi / 2)
         q = (pa[0] + k * t1[0], pa[1] + k * t1[1])
@@ -165,6 +226,48 @@ def _join(prev: _Move, nxt_rec, a, o, s, r, transition, start_mode, activation: 
     a2 = (pa[0] + r * t1[0], pa[1] + r * t1[1])
     b2 = (pb[0] - r * t2[0], pb[1] - r * t2[1])
     return [("line", pa, a2, None, True), ("line", a2, b2, None, True), ("line", b2, pb, None, True)], pb
+
+
+def _rejoin(prev: _Move, nxt_rec, a, o, s, r, cancel: bool):
+    """After dropped blocks: ``prev`` and ``nxt_rec`` are joined where their offsets meet, nearest to the
+    gap between them; two offsets on one straight line continue along it.  None if they do not meet."""
+    rec = prev.rec
+    g1 = ("line", _offset_point(rec, a, o, s, r, True), _tangent(rec, a, o, True)) if prev.activation \
+        else _geometry(rec, a, o, s, r)
+    pb = _offset_point(nxt_rec, a, o, s, r, False)
+    g2 = ("line", pb, _tangent(nxt_rec, a, o, False)) if cancel else _geometry(nxt_rec, a, o, s, r)
+    if g1[0] == g2[0] == "line" and abs(_cross(g1[2], g2[2])) < 1e-12:
+        if g1[2][0] * g2[2][0] + g1[2][1] * g2[2][1] > 0 and abs(_cross(g1[2], (pb[0] - g1[1][0],
+                                                                               pb[1] - g1[1][1]))) < 1e-9:
+            x = _offset_point(rec, a, o, s, r, True)
+            prev.end = x
+            return [], x
+        return None
+    p1, p2 = _pts(rec, a, o)[1], _pts(nxt_rec, a, o)[0]
+    mid = ((p1[0] + p2[0]) / 2, (p1[1] + p2[1]) / 2)
+    x = _meet(g1, g2, mid)
+    if x is None or math.dist(x, mid) > math.dist(p1, p2) + 2 * r:
+        return None   # no meeting point, or one far beyond the gap (nearly parallel offsets)
+    prev.end = x
+    return [], x
+
+
+def _reversed(move: _Move, a, o) -> bool:
+    """The offset stretch of a move runs backwards or vanishes: the trims of its corners took it all (a step,
+    seed 002 L9455)."""
+    rec = move.rec
+    p, q = _pts(rec, a, o)
+    ns, ne = move.start or p, move.end or q
+    if rec.kind != "arc":
+        return (ne[0] - ns[0]) * (q[0] - p[0]) + (ne[1] - ns[1]) * (q[1] - p[1]) < -1e-9
+    if math.dist(ns, ne) <= 1e-9:
+        return rec.turns == 0 and math.dist(p, q) > 1e-9
+    c = (rec.center[a], rec.center[o])
+    ccw = rec.direction == "ccw"
+    # trimmed past each other, the stretch wraps round (its sweep nears 360 degrees); a hair longer than the
+    # programmed sweep is a trim a hair past the end (a G264 arc ends on its start radius): not a step
+    programmed = abs(sweep(p, q, c, ccw))
+    return abs(sweep(ns, ne, c, ccw)) > programmed + min(1.0, (360.0 - programmed) / 2)
 
 
 def _side_change(prev: _Move, nxt_rec, a, o, old, new, activation: bool):
@@ -188,73 +291,6 @@ def _side_change(prev: _Move, nxt_rec, a, o, old, new, activation: bool):
     return [("line", pa, pb, None, True)], pb
 
 
-def _check_step(prev: _Move, rec, a, o, x: Point, t1: Point) -> None:
-    if prev.start is None:
-        return
-    if rec.kind == "arc":
-        # the offset arc, from its (trimmed) start to the trim point, must not sweep further
-        # than the programmed arc: a longer sweep means the trim went past its start (a step)
-        from .arcs import sweep
-
-        c = (rec.center[a], rec.center[o])
-        p, q = _pts(rec, a, o)
-        ccw = rec.direction == "ccw"
-        if abs(sweep(prev.start, x, c, ccw)) > abs(sweep(p, q, c, ccw)) + 1e-6:
-            raise CompensationError(rec, "this arc is too short for the tool radius at the inside corner "
-                                    "(a step in the profile); fagorcnc does not remove such moves yet")
-        return
-    along = (x[0] - prev.start[0]) * t1[0] + (x[1] - prev.start[1]) * t1[1]
-    if along < -1e-9:
-        raise CompensationError(rec, "this move is too short for the tool radius at the inside corner "
-                                "(a step in the profile); fagorcnc does not remove such moves yet")
-
-
-#: Samples along an arc when measuring how close a compensated path comes to the profile.
-ARC_SAMPLES = 48
-#: A compensated path nearer to the profile than R minus this (mm) gouges it.
-GOUGE_TOLERANCE = 1e-6
-
-
-def _points_along(kind: str, p: Point, q: Point, centre: Point | None, ccw: bool) -> list[Point]:
-    """Points along a line (its two ends: distances to a segment or an arc are checked exactly
-    or densely on the other side) or along an arc (``ARC_SAMPLES`` and its ends)."""
-    if kind != "arc" or centre is None:
-        return [p, q]
-    from .arcs import sweep
-
-    a0 = math.atan2(p[1] - centre[1], p[0] - centre[0])
-    rho = math.dist(p, centre)
-    total = math.radians(sweep(p, q, centre, ccw))   # sweep() is in degrees
-    return [(centre[0] + rho * math.cos(a0 + total * i / ARC_SAMPLES),
-             centre[1] + rho * math.sin(a0 + total * i / ARC_SAMPLES)) for i in range(ARC_SAMPLES + 1)]
-
-
-def _to_segment(x: Point, p: Point, q: Point) -> float:
-    d = (q[0] - p[0], q[1] - p[1])
-    den = d[0] * d[0] + d[1] * d[1]
-    t = 0.0 if den == 0.0 else max(0.0, min(1.0, ((x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1]) / den))
-    return math.dist(x, (p[0] + t * d[0], p[1] + t * d[1]))
-
-
-def _to_arc(x: Point, p: Point, q: Point, centre: Point, ccw: bool) -> float:
-    """Distance from ``x`` to the arc from p to q about ``centre``."""
-    from .arcs import sweep
-
-    rho = math.dist(p, centre)
-    if math.dist(x, centre) > 1e-12 and abs(sweep(p, x, centre, ccw)) <= abs(sweep(p, q, centre, ccw)):
-        return abs(math.dist(x, centre) - rho)   # x lies within the arc's angular span
-    return min(math.dist(x, p), math.dist(x, q))
-
-
-def _segments_distance(p1: Point, q1: Point, p2: Point, q2: Point) -> float:
-    """Least distance between two segments (0 when they cross)."""
-    def side(a: Point, b: Point, c: Point) -> float:
-        return _cross((b[0] - a[0], b[1] - a[1]), (c[0] - a[0], c[1] - a[1]))
-    if side(p1, q1, p2) * side(p1, q1, q2) < 0 and side(p2, q2, p1) * side(p2, q2, q1) < 0:
-        return 0.0
-    return min(_to_segment(p1, p2, q2), _to_segment(q1, p2, q2), _to_segment(p2, p1, q1), _to_segment(q2, p1, q1))
-
-
 def _element(rec, a, o, start: Point | None = None, end: Point | None = None) -> tuple:
     """A plane element (kind, p, q, centre, ccw): the programmed move, or its compensated
     stretch from ``start`` to ``end``."""
@@ -263,51 +299,12 @@ def _element(rec, a, o, start: Point | None = None, end: Point | None = None) ->
     return (rec.kind, start or p, end or q, centre, rec.direction == "ccw" if centre else True)
 
 
-def _nearest(path: tuple, profile: tuple) -> float:
-    """Least distance from a compensated element to a programmed one (exact between two lines,
-    from dense samples with an arc)."""
-    kind, p, q, centre, ccw = path
-    pkind, pp, pq, pcentre, pccw = profile
-    if kind != "arc" and pkind != "arc":
-        return _segments_distance(p, q, pp, pq)
-    if pkind != "arc":
-        return min(_to_segment(x, pp, pq) for x in _points_along(kind, p, q, centre, ccw))
-    points = _points_along(kind, p, q, centre, ccw)
-    if kind != "arc":   # a line against an arc: the line's points densely
-        points = [(p[0] + (q[0] - p[0]) * i / ARC_SAMPLES, p[1] + (q[1] - p[1]) * i / ARC_SAMPLES)
-                  for i in range(ARC_SAMPLES + 1)]
-    return min(_to_arc(x, pp, pq, pcentre, pccw) for x in points)
-
-
-def _check_neck(rec, profile: tuple, path: tuple, history: list, r: float) -> None:
-    """A compensated move against the programmed move two blocks before it, and that one's
-    compensated path against this programmed move: nearer than R is a neck narrower than the
-    tool.  The corner trims only see neighbours; the CNC looks further ahead for such
-    problems (seed 002 L9455-L9459, spec 04 §16.2), and like a step it is refused here."""
-    if len(history) < 2:
-        return
-    back_profile, back_path = history[-2]
-    near = min(_nearest(path, back_profile), _nearest(back_path, profile))
-    if near < r - GOUGE_TOLERANCE:
-        raise CompensationError(rec, f"the tool does not fit here: its path comes {r - near:.4f} mm into the "
-                                f"profile two blocks back (a gap narrower than the tool diameter {2 * r:g})")
-
-
-def _record(rec, a, o, start: Point | None, end: Point | None):
-    p, q = _pts(rec, a, o)
-    ns, ne = start or p, end or q
-    if rec.kind != "arc":
-        if (ne[0] - ns[0]) * (q[0] - p[0]) + (ne[1] - ns[1]) * (q[1] - p[1]) < -1e-9:
-            raise CompensationError(rec, "this move is too short for the tool radius: its compensated path "
-                                    "would run backwards (a step in the profile)")
-    elif math.dist(ns, ne) > 1e-9:
-        from .arcs import sweep
-
-        c = (rec.center[a], rec.center[o])
-        ccw = rec.direction == "ccw"
-        if abs(sweep(ns, ne, c, ccw)) > abs(sweep(p, q, c, ccw)) + 1e-6:
-            raise CompensationError(rec, "this arc is too short for the tool radius: its compensated path "
-                                    "would turn the wrong way (a step in the profile)")
+def _record(rec, a, o, start: Point | None, end: Point | None, activation: bool = False):
+    probe = _Move(rec, start)
+    probe.end = end
+    if not activation and _reversed(probe, a, o):   # the stage drops such moves first: never hand one on
+        raise CompensationError(rec, "this move is too short for the tool radius: its compensated path "
+                                "would run backwards (a step in the profile)")
     moved = _moved(rec, (a, o), start, end)
     if rec.kind == "arc" and (start is not None or end is not None):
         centre_radius = math.dist(end or start, (rec.center[a], rec.center[o]))
@@ -341,30 +338,122 @@ def _inserted(template, a, o, items, feed):
     return out
 
 
-def compensate(records: Iterable) -> Iterator:
+def _off_plane(rec, a, o) -> bool:
+    """The move changes an axis other than the plane's (a helix, a 3-D line)."""
+    return any(abs(rec.end[x] - rec.start[x]) > 1e-9 for x in rec.end if x not in (a, o))
+
+
+def _held_at(held: list, point: Point | None, a, o, first_from: Point | None = None) -> list:
+    """The records held at a joint, their moves off the plane placed at ``point``."""
+    out = []
+    for k, h in enumerate(held):
+        if point is not None and h.kind in ("rapid", "linear") and not _planar(h, a, o):
+            start = first_from if (first_from is not None and k == 0) else point
+            h = replace(h, start={**h.start, a: start[0], o: start[1]},
+                        end={**h.end, a: point[0], o: point[1]},
+                        end_part={**h.end_part, a: h.end_part[a] + point[0] - h.end[a],
+                                  o: h.end_part[o] + point[1] - h.end[o]})
+        out.append(h)
+    return out
+
+
+def _emit(move: _Move, a, o) -> Iterator:
+    """A move whose end is fixed: its record, the records held after it, its join elements."""
+    yield _record(move.rec, a, o, None if move.activation else move.start, move.end, move.activation)
+    yield from _held_at(move.held, move.end, a, o)
+    yield from _inserted(move.rec, a, o, move.inserted, move.feed)
+
+
+Warn = Callable[[object, str, str], None]
+
+
+def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
     """Offset the compensated moves of a record stream (see the module docstring).
 
     A compensated record carries ``comp = (side, radius, transition, start, (abscissa, ordinate))``.
+    ``warn(record, code, message)`` reports a block not executed (INT120-INT122); without it such a block
+    is an error.
     """
+    ready: list[_Move] = []        # moves with their end fixed, not handed on yet (the look-ahead)
     pending: _Move | None = None   # the last compensated move, end not fixed yet
-    activation = False             # pending is the activation move
     waiting = False                # activation without plane motion seen, waiting for the plane move
     held: list = []                # records after pending (off-plane moves, aux)
+    dropped: list = []             # programmed elements dropped after pending
     comp = None
-    history: list = []             # (programmed, compensated) elements of the last two contour moves
 
-    def flush_held(point: Point | None, a, o, first_from: Point | None = None):
-        out = []
-        for k, h in enumerate(held):
-            if point is not None and h.kind in ("rapid", "linear") and not _planar(h, a, o):
-                start = first_from if (first_from is not None and k == 0) else point
-                h = replace(h, start={**h.start, a: start[0], o: start[1]},
-                            end={**h.end, a: point[0], o: point[1]},
-                            end_part={**h.end_part, a: h.end_part[a] + point[0] - h.end[a],
-                                      o: h.end_part[o] + point[1] - h.end[o]})
-            out.append(h)
-        held.clear()
-        return out
+    def drop(rec, code: str, message: str) -> None:
+        if warn is None or _off_plane(rec, a, o) or len(dropped) >= MAX_DROPS:
+            why = "" if warn is None else " (it also moves an axis off the plane)" if _off_plane(rec, a, o) else \
+                f" ({MAX_DROPS} blocks in a row are not executed already: fagorcnc does not drop more)"
+            raise CompensationError(rec, message + why)
+        warn(rec, code, message + ": the block is not executed, the programmed profile is modified")
+        dropped.append(_element(rec, a, o))
+
+    def attach(rec, cancel: bool, transition: int, start_mode: int) -> Point | None:
+        """Join pending with ``rec`` (dropping what the tool cannot machine); pending joins the look-ahead.
+        Returns where ``rec``'s offset starts, or None when ``rec`` itself was dropped."""
+        nonlocal pending, held
+
+        def back_off(code: str, message: str) -> bool:
+            """Drop pending and reopen the move before it; False if there is none to reopen."""
+            nonlocal pending, held
+            if pending.activation or not ready:
+                return False
+            drop(pending.rec, code, message)
+            before = ready.pop()
+            held = before.held + held
+            before.held, before.inserted, before.end = [], [], None
+            pending = before
+            return True
+
+        gap = f"the tool does not fit between the moves around this one (a gap narrower than the tool diameter " \
+              f"{2 * r:g})"
+        while True:
+            adjacent = not dropped and math.dist(_pts(pending.rec, a, o)[1], _pts(rec, a, o)[0]) <= 1e-9
+            if adjacent:
+                inserted, start = _join(pending, rec, a, o, s, r, transition, start_mode, cancel)
+            else:
+                joined = _rejoin(pending, rec, a, o, s, r, cancel)
+                if joined is None:
+                    # the neighbours of the dropped moves do not meet: drop this move if the one before it
+                    # would meet the next one clear of everything dropped (a wall facing a narrow mouth),
+                    # else the next one (the far wall of a narrow slot); the cancellation stays
+                    if (cancel or _off_plane(rec, a, o) or _clear(ready[-1] if ready else None, pending, rec,
+                                                                  cancel, dropped, a, o, s, r)) \
+                            and back_off("INT122", gap):
+                        continue
+                    if not cancel and not _off_plane(rec, a, o):
+                        drop(rec, "INT122", gap)
+                        return None
+                    raise CompensationError(rec, "the compensated moves do not meet after the blocks that were "
+                                            "not executed")
+                inserted, start = joined
+            if pending.activation and not adjacent and _reversed(pending, a, o):
+                raise CompensationError(rec, "the activation move would run backwards to meet this move after "
+                                        "the blocks that are not executed")
+            if not pending.activation and _reversed(pending, a, o):
+                if back_off("INT120", "this move is too short for the tool radius at its corners (a step in the "
+                            "profile)"):
+                    continue
+                raise CompensationError(pending.rec, "this move is too short for the tool radius (a step in the "
+                                        "profile) and the move before it is already executed")
+            try:
+                if dropped:
+                    _check_dropped(pending, rec, start, cancel, dropped, a, o, s, r)
+                _check_local(pending, ready[-2:], rec, inserted, cancel, dropped, a, o, r)
+            except CompensationError as exc:   # the tool does not fit: drop back while the look-ahead allows
+                if _off_plane(pending.rec, a, o) or warn is None or not back_off("INT122", gap):
+                    raise exc from None
+                continue
+            dropped.clear()
+            pending.held, held = held, []
+            pending.inserted, pending.feed = inserted, rec.feed if rec.kind != "rapid" else None
+            ready.append(pending)
+            return start
+
+    def flush() -> Iterator:
+        while ready:
+            yield from _emit(ready.pop(0), a, o)
 
     for rec in records:
         kind = rec.kind
@@ -388,9 +477,9 @@ def compensate(records: Iterable) -> Iterator:
             if rec.kind == "arc":
                 raise CompensationError(rec, "radius compensation starts with a straight move (G00/G01), "
                                         "not an arc (L9659)")
-            pending, activation = _Move(rec, _pts(rec, a, o)[0]), True
+            pending = _Move(rec, _pts(rec, a, o)[0], activation=True)
             continue
-        s, r, transition, start_mode, (a, o) = comp
+        s, r, _t, _m, (a, o) = comp
         if rc is not None and not _planar(rec, a, o):
             held.append(rec)          # a move off the plane: executed at the joint
             continue
@@ -399,61 +488,134 @@ def compensate(records: Iterable) -> Iterator:
                                     "with G40 first")
         if rc is not None and (rc[0] != s or abs(rc[1] - r) > 1e-12) and not waiting:
             # G41 <-> G42 (or a new radius) without G40 (seed 002 L9867-L9966)
-            inserted, next_start = _side_change(pending, rec, a, o, comp, rc, activation)
-            yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
-            yield from flush_held(pending.end, a, o)
-            yield from _inserted(pending.rec, a, o, inserted, rec.feed if rec.kind != "rapid" else None)
-            activation = False
+            if dropped:
+                raise CompensationError(rec, "the side or the radius changes right after a block that is not "
+                                        "executed: fagorcnc cannot join the two sides there")
+            inserted, next_start = _side_change(pending, rec, a, o, comp, rc, pending.activation)
+            pending.held, held = held, []
+            pending.inserted, pending.feed = inserted, rec.feed if rec.kind != "rapid" else None
+            ready.append(pending)
+            yield from flush()
             comp = rc
             pending = _Move(rec, next_start)
-            history = []
             continue
         if waiting:
             if rc is None:   # G40 before any plane move: nothing was compensated
                 waiting = False
-                yield from flush_held(None, a, o)
+                yield from _held_at(held, None, a, o)
+                held = []
                 yield rec
                 continue
             # the zero-motion block moves to the offset start of this first plane move
             b = _offset_point(rec, a, o, s, r, False)
             here = _pts(rec, a, o)[0]
-            yield from flush_held(b, a, o, first_from=here)
+            yield from _held_at(held, b, a, o, first_from=here)
+            held = []
             waiting = False
-            pending, activation = _Move(rec, b), False
+            pending = _Move(rec, b)
+            if not _followable(rec, a, o, s, r):
+                raise CompensationError(rec, f"the tool radius {r:g} is not smaller than the concave arc radius: "
+                                        "the arc cannot be followed")
             continue
         cancel = rc is None
+        joins = rc[2:4] if rc is not None else (rec.joins or comp[2:4])
+        transition = joins[0]
+        start_mode = pending.rec.comp[3] if pending.activation else joins[1]
         if cancel and rec.kind == "arc":
             raise CompensationError(rec, "radius compensation is cancelled with a straight move (G00/G01), "
                                     "not an arc (L9971)")
         if cancel and not _planar(rec, a, o):
             # cancellation without plane motion (L9994-L10029): the last move ends at its
             # perpendicular point; this block goes from there to the uncompensated end point
+            if dropped:
+                raise CompensationError(rec, "compensation is cancelled right after a block that is not "
+                                        "executed: fagorcnc cannot end the path there")
             pending.end = _offset_point(pending.rec, a, o, s, r, True)
-            yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
-            yield from flush_held(pending.end, a, o)
+            pending.held, held = held, []
+            ready.append(pending)
+            yield from flush()
             yield _record(rec, a, o, pending.end, None)
-            pending, comp, activation = None, None, False
+            pending, comp = None, None
             continue
-        inserted, next_start = _join(pending, rec, a, o, s, r, transition, start_mode, activation, cancel)
-        feed = rec.feed if rec.kind != "rapid" else None
-        if not activation:   # a contour move: its path against the profile two blocks back
-            profile = _element(pending.rec, a, o)
-            path = _element(pending.rec, a, o, pending.start, pending.end)
-            _check_neck(pending.rec, profile, path, history, r)
-            history = [*history[-1:], (profile, path)]
-        yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
-        yield from flush_held(pending.end, a, o)
-        yield from _inserted(pending.rec, a, o, inserted, feed)
-        activation = False
+        if not cancel and not _followable(rec, a, o, s, r):
+            drop(rec, "INT121", f"the tool radius {r:g} is not smaller than the radius of this concave arc: "
+                 "the arc cannot be followed")
+            continue
+        next_start = attach(rec, cancel, transition, start_mode)
+        if next_start is None:
+            continue
+        while len(ready) > LOOKAHEAD:
+            yield from _emit(ready.pop(0), a, o)
         if cancel:
+            yield from flush()
             yield _record(rec, a, o, next_start, None)
-            pending, comp, history = None, None, []
+            pending, comp = None, None
         else:
             pending = _Move(rec, next_start)
     if pending is not None:
         s, r, _t, _m, (a, o) = comp
+        if dropped:
+            raise CompensationError(pending.rec, "the program ends right after a block that is not executed")
         pending.end = _offset_point(pending.rec, a, o, s, r, True)
-        yield _record(pending.rec, a, o, None if activation else pending.start, pending.end)
-        yield from flush_held(pending.end, a, o)
+        pending.held, held = held, []
+        ready.append(pending)
+        yield from flush()
     else:
         yield from held
+
+
+def _pieces(move: _Move, inserted: list, a, o) -> list:
+    """The compensated elements of a move: its stretch (not for the activation) and its joins."""
+    out = [] if move.activation else [_element(move.rec, a, o, move.start, move.end)]
+    return out + [item for item in inserted if math.dist(item[1], item[2]) > 1e-9]
+
+
+def _check_local(move: _Move, before: list, nxt_rec, inserted: list, cancel: bool, dropped: list,
+                 a, o, r: float) -> None:
+    """The stretch of a move and the joins after it keep R from the programmed moves around it: the two before,
+    its own, the next and any dropped between; the paths of the two before keep R from its own.  Only curvature
+    and the G137 prolongations can break this (an arc curling back into a corner's join, a join reaching back
+    to a move two blocks away): the tool does not fit there, and fagorcnc refuses it."""
+    profiles = [*dropped, *(_element(m.rec, a, o) for m in before if not m.activation)]
+    if not move.activation:
+        profiles.append(_element(move.rec, a, o))
+    if not cancel:
+        profiles.append(_element(nxt_rec, a, o))
+    pairs = [(piece, profile) for piece in _pieces(move, inserted, a, o) for profile in profiles]
+    if not move.activation:
+        own = _element(move.rec, a, o)
+        pairs += [(piece, own) for m in before for piece in _pieces(m, m.inserted, a, o)]
+    for piece, profile in pairs:
+        near = nearest(piece, profile)
+        if near < r - GOUGE_TOLERANCE:
+            raise CompensationError(move.rec, f"the tool does not fit here: its path would come {r - near:.4f} "
+                                    f"mm into the profile (a gap or a curve narrower than the tool diameter "
+                                    f"{2 * r:g})")
+
+
+def _clear(before: _Move | None, move: _Move, nxt_rec, cancel: bool, dropped: list, a, o, s, r) -> bool:
+    """Whether ``before`` and ``nxt_rec`` would meet with the next move's offset clear of the dropped moves and
+    of ``move`` dropped too (a guess of which way to drop: what is kept is checked in full afterwards)."""
+    if before is None or move.activation:
+        return False
+    trial = _Move(before.rec, before.start, before.activation)
+    joined = _rejoin(trial, nxt_rec, a, o, s, r, cancel)
+    if joined is None:
+        return False
+    end = _pts(nxt_rec, a, o)[1] if cancel else _offset_point(nxt_rec, a, o, s, r, True)
+    piece = _element(nxt_rec, a, o, joined[1], end)
+    return all(nearest(piece, el) >= r - GOUGE_TOLERANCE for el in [*dropped, _element(move.rec, a, o)])
+
+
+def _check_dropped(prev: _Move, nxt_rec, start: Point, cancel: bool, dropped: list, a, o, s, r) -> None:
+    """The path re-joined over dropped blocks must keep the tool radius from them: the stretch of ``prev`` and
+    the offset of the next move up to its end (or, cancelling, the move to its end point)."""
+    pieces = [_element(prev.rec, a, o, prev.start if not prev.activation else None, prev.end)]
+    end = _pts(nxt_rec, a, o)[1] if cancel else _offset_point(nxt_rec, a, o, s, r, True)
+    pieces.append(_element(nxt_rec, a, o, start, end))
+    for piece in pieces:
+        for el in dropped:
+            near = nearest(piece, el)
+            if near < r - GOUGE_TOLERANCE:
+                raise CompensationError(nxt_rec, f"the path past the blocks that are not executed would come "
+                                        f"{r - near:.4f} mm into them: fagorcnc cannot join the moves around them")
