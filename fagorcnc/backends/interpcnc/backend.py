@@ -92,6 +92,7 @@ from ..base import BackendError, Status
 from . import protocol as proto
 from . import registers as regs
 from .link import Link, LinkError
+from .markers import Coalescer, MarkerLog, locate, path_tolerance
 from .options import Options, OutputAction, parse_options
 from .outputs import OutputTable
 from .translate import Encoder, Move, TranslationError, remaining_moves, segment_moves
@@ -103,15 +104,17 @@ class InterpCncError(BackendError):
     ``alarm``: the card's alarm code (0 for a link failure); ``line``: source
     line of the last segment known started; ``accepted``: whether the segment
     given to the failing ``send`` was kept (True: recovery will deliver it,
-    do not send it again).
+    do not send it again); ``code``: a diagnostic code when the cause has one
+    (``BCK001`` the card stopped consuming, ``BCK002`` an axis never stopped).
     """
 
     def __init__(self, message: str, status: Status | None = None, *, alarm: int = 0, line: int = 0,
-                 accepted: bool = True) -> None:
+                 accepted: bool = True, code: str = "") -> None:
         super().__init__(message, status)
         self.alarm = alarm
         self.line = line
         self.accepted = accepted
+        self.code = code
 
 
 #: How long the card waits at a shut gate before alarm 18 (the longest 1012 timeout, L1091).
@@ -145,6 +148,7 @@ class _Sent:
     segment: Segment
     moves: list[Move] = field(default_factory=list)
     transmitted: bool = False
+    head: int = 0                  # the sequence number its marker carries (its group's head; its own when it has one)
 
     end_sub: int | None = None     # the M+1 value written when it ends (a dwell); None: M = seq says it has run
 
@@ -177,7 +181,23 @@ class InterpCncBackend:
         self.link = Link(host=opt.host, port=opt.port, serial=opt.serial, baudrate=opt.baudrate, unit=opt.unit,
                          timeout=opt.timeout)
         self.warnings: list[str] = []
-        self.stats = {"polls": 0, "commands": 0, "registers": 0, "waits": 0, "low_water": 0, "resyncs": 0}
+        self.stats = {"polls": 0, "commands": 0, "registers": 0, "waits": 0, "low_water": 0, "resyncs": 0,
+                      "markers": 0, "underruns": 0, "t_encode": 0.0, "t_write": 0.0, "t_poll": 0.0, "t_wait": 0.0}
+        #: the clock and the sleep of every wait and timeout (a test may give the emulator's virtual clock)
+        self.clock = time.monotonic
+        self.sleep = time.sleep
+        #: called with the status while :meth:`finish` waits for the card (progress after the last segment sent)
+        self.on_wait = None
+        self.coalescer = Coalescer(self.options.marker_every,
+                                   2.0 * path_tolerance(self.options.resolution, self.options.chordal_tolerance),
+                                   len(self.axes))
+        #: the segments that carried a marker (see markers.MarkerLog; verify.expected_events reads it)
+        self.marker_log = MarkerLog()
+        self._dry = False                            # a poll found the card's buffers empty while streaming
+        self._stall_mark: tuple | None = None        # what the card reported when progress was last seen
+        self._stall_since = 0.0
+        self._stall_pulses: list[int] | None = None
+        self._first_sent = self._last_sent = 0.0     # clock of the first and the last segment transmitted
         self._lock = threading.Lock()
         self._status = Status(state="closed")
         self._window: deque[_Sent] = deque()        # sent, not known complete (seq order)
@@ -260,6 +280,8 @@ class InterpCncBackend:
         alarm or link loss).  A feed hold or the door safety on the card (state "pause") keeps it waiting."""
         if self._status.state == "closed":
             raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
+        moving_since = None
+        self._stall_reset()
         while True:
             if self._fault:
                 raise self._fault_error("cannot finish")
@@ -270,9 +292,20 @@ class InterpCncBackend:
             self._io(self._poll)
             # a feed hold or the door (state "pause") keeps it waiting: ending the hold is the operator's; IR 1016
             # is read only once the buffers look empty, not on every poll
-            if self._card_idle() and self._marker == self._seq and not self._io(self._axes_moving):
-                break
-            time.sleep(self.options.poll_interval)
+            if self._card_idle() and self._marker == self.marker_log.last:
+                if not self._io(self._axes_moving):
+                    break
+                moving_since = self.clock() if moving_since is None else moving_since
+                if self.clock() - moving_since > self.options.stop_timeout:
+                    raise self._stalled("BCK002", f"the axes-moving bits (input register {regs.IR_STATUS_BITS}) "
+                                        f"stayed set {self.options.stop_timeout:g} s after the card's buffers had "
+                                        "emptied")
+            else:
+                moving_since = None
+                self._io(lambda: self._watch("the end of the program"))
+            if self.on_wait is not None:
+                self.on_wait(self._snapshot())
+            self.sleep(self.options.poll_interval)
         self._set(state="idle")
         return self.status()
 
@@ -348,7 +381,7 @@ class InterpCncBackend:
     def status(self) -> Status:
         """The card's status, read again when older than ``poll_interval`` (so that calling it after every
         segment costs nothing); the last known one when the link is down.  The position needs ``resolution``."""
-        now = time.monotonic()
+        now = self.clock()
         if self._status.state != "closed" and not self.link.failed and now - self._last_status >= \
                 self.options.poll_interval:
             self._last_status = now
@@ -360,6 +393,12 @@ class InterpCncBackend:
             except (LinkError, InterpCncError):
                 pass
         return self._snapshot()
+
+    def rate(self) -> float:
+        """Segments per second sustained so far: segments sent over the time from the first to the last one
+        (0 before two were sent)."""
+        span = self._last_sent - self._first_sent
+        return (self._status.sent - 1) / span if span > 0 and self._status.sent > 1 else 0.0
 
     def close(self) -> None:
         self.link.close()
@@ -456,6 +495,11 @@ class InterpCncBackend:
         self._pending.clear()
         self._lines.clear()
         self._seq = self._marker = self._sub = self._done = self._gate = self._gated_seq = 0
+        self.coalescer.close()
+        self.marker_log.clear()
+        self._dry = False
+        self._first_sent = self._last_sent = 0.0
+        self.stats["underruns"] = 0
         self._fault = None
         self._untrusted_alarm = 0
         self._hold_seen = False
@@ -467,11 +511,13 @@ class InterpCncBackend:
         while self._pending:
             segment = self._pending[0]
             entry = _Sent(self._seq + 1, segment)
+            t0 = time.perf_counter()
             try:
                 words = self._prepare(entry)
             except TranslationError as exc:
                 self._pending.popleft()
                 raise InterpCncError(str(exc), self._snapshot(), accepted=False) from exc
+            self.stats["t_encode"] += time.perf_counter() - t0
             with self.link.lock:
                 self._pending.popleft()
                 self._seq = entry.seq
@@ -491,7 +537,13 @@ class InterpCncBackend:
             if moves is None:
                 entry.moves = moves = segment_moves(seg, self.xy, self.options.chordal_tolerance, self.rapid_feed)
             if len(entry.moves) == 1:
+                if not self.coalescer.place(moves):      # joins the open group: no marker of its own
+                    entry.head = self.marker_log.last
+                    return self.encoder.encode(moves)
+                self._headed(entry)
                 return [marker, *self.encoder.encode(moves)]
+            self.coalescer.close()
+            self._headed(entry)
             out = []
             for j, m in enumerate(moves, start=first):
                 out.append(proto.encode_register_write(reg + 1, j))
@@ -499,6 +551,8 @@ class InterpCncBackend:
                     out.append(marker)
                 out += self.encoder.encode([m])
             return out
+        self.coalescer.close()
+        self._headed(entry)
         if seg.kind == "dwell":
             dwell = proto.encode_dwell(float(getattr(seg.record, "seconds", seg.duration)))
             if not dwell:
@@ -510,6 +564,12 @@ class InterpCncBackend:
             actions = self._aux_words(seg)
             return self._gated(entry, [*actions, marker]) if actions else [marker]
         return [marker]
+
+    def _headed(self, entry: _Sent) -> None:
+        """``entry`` carries its own marker."""
+        entry.head = entry.seq
+        self.marker_log.add(entry.seq)
+        self.stats["markers"] += 1
 
     def _gated(self, entry: _Sent, body: list[proto.Words]) -> list[Command]:
         """``body`` held behind a wait until the gate opens (see the module docstring)."""
@@ -538,27 +598,38 @@ class InterpCncBackend:
                 self._room(len(words))
                 with self.link.lock:             # a poll from another thread sees the write and the count
                     self._check_stopped()
+                    t0 = time.perf_counter()
                     self.link.command(words)
+                    self.stats["t_write"] += time.perf_counter() - t0
                     self._free -= len(words)
                 self.stats["commands"] += 1
                 self.stats["registers"] += len(words)
         except LinkError as exc:
             raise self._link_lost(exc) from exc
         entry.transmitted = True
+        if self._dry:                            # the card had run dry, and the stream goes on: an underrun
+            self._dry = False
+            self.stats["underruns"] += 1
+        now = self.clock()
         with self._lock:
+            if not self._status.sent:
+                self._first_sent = now
+            self._last_sent = now
             self._status.sent += 1
             if self._status.state == "idle":
                 self._status.state = "run"
 
     def _await_done(self, seq: int) -> None:
         """Poll until segment ``seq`` has run (raises on an alarm or a stop)."""
+        self._stall_reset()
         while True:
             self._poll()
             if self._done >= seq:
                 return
             self._check_stopped()
+            self._watch(f"the card to pass the gate of segment {seq}")
             self.stats["waits"] += 1
-            time.sleep(self.options.poll_interval)
+            self._pause(self.options.poll_interval)
 
     def _check_stopped(self) -> None:
         if self._stopped:
@@ -576,28 +647,92 @@ class InterpCncBackend:
             raise InterpCncError(f"a command of {size} registers cannot fit the card's "
                                  f"{self._buffer_size}-register buffer", self._snapshot())
         batch = max(size, self._buffer_size // 4)
+        waited = False
         while True:
-            if self._free >= size and time.monotonic() - self._last_poll < opt.poll_interval:
+            if self._free >= size and self.clock() - self._last_poll < opt.poll_interval:
                 return
             self._poll()
             low = self._planner_size - self._planner_free < opt.low_water
             if self._free >= (size if low else batch):
                 return
             self._check_stopped()
+            if not waited:
+                waited = True
+                self._stall_reset()
+            self._watch(f"room for {size} registers in the card's buffer")
             self.stats["waits"] += 1
             if low:
                 self.stats["low_water"] += 1
-                time.sleep(0.001)
+                self._pause(0.001)
             else:
-                time.sleep(opt.poll_interval)
+                self._pause(opt.poll_interval)
+
+    def _pause(self, seconds: float) -> None:
+        t0 = time.perf_counter()
+        self.sleep(seconds)
+        self.stats["t_wait"] += time.perf_counter() - t0
+
+    # ------------------------------------------------------------ the watchdog (issue 30 items 13, 14)
+    def _stall_reset(self) -> None:
+        self._stall_mark, self._stall_pulses, self._stall_since = None, None, self.clock()
+
+    def _watch(self, waiting_for: str) -> None:
+        """After a poll in a wait: raise BCK001 when the card has shown no progress for ``stall_timeout`` s
+        (plus the dwell it is running) although it holds commands.
+
+        Progress is any change of the free space (IR 3000, 3002), of the marker registers or, read only once the
+        rest has stood still, of the position counters (a long slow move); a feed hold or the door (the
+        operator's, IR 3003 bits 4 and 6) is never a stall.
+        """
+        if self._card_status & regs.STATUS_HELD:
+            self._stall_reset()
+            return
+        mark = (self._free, self._planner_free, self._marker, self._sub)
+        now = self.clock()
+        if mark != self._stall_mark:
+            self._stall_mark, self._stall_pulses, self._stall_since = mark, None, now
+            return
+        if self._stall_pulses is None:          # standing still since the last poll: note where the axes are
+            self._stall_pulses = self._pulses()
+            return
+        limit = self.options.stall_timeout
+        head = self._window[0] if self._window else None
+        if head is not None and head.seq == self._marker and head.segment.kind == "dwell":
+            limit += float(head.segment.duration)
+        if now - self._stall_since <= limit:
+            return
+        pulses = self._pulses()
+        if pulses != self._stall_pulses:
+            self._stall_pulses, self._stall_since = pulses, now
+            return
+        raise self._stalled("BCK001", f"the card has consumed nothing for {limit:g} s while the back-end waited "
+                            f"for {waiting_for}: input register {regs.IR_CNC_BUFFER_FREE} (free space in the CNC "
+                            f"buffer) reads {self._free} of {self._buffer_size}, {regs.IR_PLANNER_FREE} (planner) "
+                            f"{self._planner_free} of {self._planner_size}, the sequence register "
+                            f"{self.options.marker_register} and the position counters have not changed")
+
+    def _pulses(self) -> list[int]:
+        return self.link.read_input(regs.IR_AXIS_POSITION, 12, "reading the position counters")
+
+    def _stalled(self, code: str, what: str) -> InterpCncError:
+        """Stop (1200/255, nothing more is sent) and the error: what the card reports, the last block."""
+        sent = self._lines.get(self._seq, 0)
+        message = (f"InterpCNC: {what}; stopped the card (1200/255) and the stream (timeout set by "
+                   f"{'stall_timeout' if code == 'BCK001' else 'stop_timeout'}); {self._where_text()}"
+                   f"{f', last block sent: line {sent}' if sent else ''}")
+        self.stop()
+        self._set(state="alarm", alarm_message=message)
+        return InterpCncError(message, self._snapshot(), line=self._status.line, code=code)
 
     # ------------------------------------------------------------ polling
     def _read_card(self) -> None:
         """IR 3000-3004 in one request: free registers, Grbl free, planner free, status, alarm."""
         with self.link.lock:
+            t0 = time.perf_counter()
             free, _grbl, pfree, status, alarm = self.link.read_input(regs.POLL_FIRST, regs.POLL_COUNT, "status poll")
+            self.stats["t_poll"] += time.perf_counter() - t0
             self._free, self._planner_free, self._card_status, self._alarm_code = free, pfree, status, alarm
-            self._last_poll = time.monotonic()
+            self._last_poll = self.clock()
             self.stats["polls"] += 1
 
     def _read_poll(self, *, purged: bool = False) -> None:
@@ -613,7 +748,9 @@ class InterpCncBackend:
 
     def _read_poll_locked(self, purged: bool) -> None:
         self._read_card()
+        t0 = time.perf_counter()
         raw, self._sub = self.link.read_holding(self.options.marker_register, 2, "reading the sequence registers")
+        self.stats["t_poll"] += time.perf_counter() - t0
         marker = self._marker + ((raw - self._marker) & 0xFFFF)
         if marker > self._seq:
             self._fault = "alarm"
@@ -632,10 +769,16 @@ class InterpCncBackend:
         if window and window[0].seq == marker and window[0].segment.kind == "motion":
             # the move the card is running (its marker went out first): where it goes, for a PLC
             self._set(target=dict(zip(self.axes, window[0].segment.piece.end.tolist(), strict=True)))
-        if window and window[0].seq == marker and (complete or window[0].has_run(self._sub)):
-            window.popleft()
-            self._done = marker
+        if window and window[0].seq == marker:
+            if complete and marker == self.marker_log.last:     # idle: the whole group has run
+                self._done = window[-1].seq
+                window.clear()
+            elif window[0].has_run(self._sub):
+                window.popleft()
+                self._done = marker
         self._done = max(self._done, marker - 1)
+        # buffers empty mid-stream (not after a stop or an alarm): the card ran dry - an underrun if more follows
+        self._dry = not purged and self._card_idle() and self._status.state == "run" and self._seq > 0
         line = self._lines.get(marker, self._status.line) if marker else 0
         level = max(1.0 - self._free / self._buffer_size, 1.0 - self._planner_free / self._planner_size)
         self._set(executed=self._done, line=line, buffer_level=level)
@@ -810,8 +953,15 @@ class InterpCncBackend:
         self._await_rest()
         marker = self._marker
         redo = [e for e in self._window if e.seq >= marker]
+        # the segments under the marker read: its own, and those sent without a marker of their own after it
+        group = [e for e in redo if e.head == marker] if marker else []
         plans: list[tuple[_Sent, list[Command]]] = []
         self.encoder.reset(at_start=True)   # the interrupted move resumes from the position read back
+        self.coalescer.close()              # the first segment sent again carries its own marker
+        self.marker_log.forget_after(marker)
+        if len(group) > 1:
+            plans = self._resume_group(group)
+            redo = redo[len(group):]
         for e in redo:
             fresh = _Sent(e.seq, e.segment, e.moves, end_sub=e.end_sub)
             words = self._resume_words(fresh) if e.seq == marker else self._prepare(fresh)
@@ -834,7 +984,7 @@ class InterpCncBackend:
     def _await_rest(self, read=None) -> None:
         """After a 1200/255: poll (``read``, by default the status and markers) until the card is idle with
         empty buffers and no axis moving (the position read next must be where it stopped, not mid-deceleration)."""
-        deadline = time.monotonic() + max(10.0, 20 * self.options.timeout)
+        deadline = self.clock() + max(10.0, 20 * self.options.timeout)
         while True:
             if read is None:
                 self._read_poll(purged=True)
@@ -842,9 +992,44 @@ class InterpCncBackend:
                 read()
             if self._card_idle() and not self._axes_moving():
                 return
-            if time.monotonic() > deadline:
-                raise InterpCncError("the InterpCNC did not come to rest after stop (1200/255)", self._snapshot())
-            time.sleep(self.options.poll_interval)
+            if self.clock() > deadline:
+                raise InterpCncError(f"the InterpCNC did not come to rest after stop (1200/255): input registers "
+                                     f"{regs.IR_CNC_BUFFER_FREE}-{regs.IR_CNC_STATUS} (buffers, status) or "
+                                     f"{regs.IR_STATUS_BITS} (axes moving) still report motion; "
+                                     f"{self._where_text()}", self._snapshot(), code="BCK002")
+            self.sleep(self.options.poll_interval)
+
+    def _resume_group(self, group: list[_Sent]) -> list[tuple[_Sent, list[Command]]]:
+        """The commands finishing a group of straight moves sharing one marker (see :mod:`.markers`): the move
+        under way is found from the position counters (:func:`.markers.locate`), the moves before it are complete,
+        it is finished from where the machine stands (or skipped at its end), the later ones are sent again."""
+        res = self.options.resolution
+        missing = [a for a in self.axes if a not in res]
+        first = group[0].segment.line
+        if missing:
+            raise InterpCncError(f"cannot resume line {first}: the position of axis {missing[0]} cannot be read "
+                                 "back without 'resolution' (pulses per mm)", self._snapshot())
+        pulses = proto.decode_i32_list(self.link.read_input(regs.IR_AXIS_POSITION, 12, "reading the position"))
+        counts = np.array([float(pulses[regs.CARD_AXES.index(c)]) for c in self.card_axes])
+        scale = np.array([res[a] for a in self.axes])
+        pos = counts / scale
+        tol = path_tolerance(res, self.options.chordal_tolerance)
+        moves = [e.moves[0] for e in group]
+        i = locate(moves, pos, counts, scale, tol)
+        rest = None if i is None else remaining_moves(moves[i:i + 1], pos, 0.5 / scale, tol)
+        if rest is None:
+            raise InterpCncError(f"cannot resume line {first}: the machine is not on the path of the interrupted "
+                                 "moves (was it moved?); nothing was sent", self._snapshot())
+        self._done = max(self._done, group[i].seq - 1)
+        plans: list[tuple[_Sent, list[Command]]] = []
+        if rest:                                       # the move under way, from where the machine stands
+            e = group[i]
+            fresh = _Sent(e.seq, e.segment, rest)
+            plans.append((fresh, self._prepare(fresh, rest)))
+        for e in group[i + 1:]:
+            fresh = _Sent(e.seq, e.segment, e.moves)
+            plans.append((fresh, self._prepare(fresh)))
+        return plans
 
     def _resume_words(self, entry: _Sent) -> list[Command] | None:
         """Commands finishing the segment that had started (marker = its number); None when nothing is left."""
