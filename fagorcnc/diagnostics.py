@@ -145,6 +145,10 @@ CODES: dict[str, str] = {
     "CFG003": "auxiliary function the back-end has no output for",
     "CFG002": "parameter file (parameter_file) cannot be read",
     "CFG004": "a planned move the back-end cannot send (checked before a real run)",
+    # InterpCNC streaming (issues 25, 29, 30): CFG030-CFG049, BCK001-BCK049
+    "CFG030": "a transformation the back-end cannot reproduce is active (#KIN, #RTCP, #CS ...): nothing is sent",
+    "BCK001": "the card consumed nothing for stall_timeout seconds although it holds commands",
+    "BCK002": "the card's axes-moving bits stayed set stop_timeout seconds after its buffers emptied",
 }
 
 

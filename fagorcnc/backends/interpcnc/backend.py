@@ -188,8 +188,9 @@ class InterpCncBackend:
         self.sleep = time.sleep
         #: called with the status while :meth:`finish` waits for the card (progress after the last segment sent)
         self.on_wait = None
+        # boxes widened by the resume's path tolerance each: members not consecutive stay 2 tolerances apart
         self.coalescer = Coalescer(self.options.marker_every,
-                                   2.0 * path_tolerance(self.options.resolution, self.options.chordal_tolerance),
+                                   path_tolerance(self.options.resolution, self.options.chordal_tolerance),
                                    len(self.axes))
         #: the segments that carried a marker (see markers.MarkerLog; verify.expected_events reads it)
         self.marker_log = MarkerLog()
