@@ -263,7 +263,7 @@ def test_functions_22_and_23_write_the_card_model():
 
 def test_expected_events_follow_the_marker_log():
     machine, segments = plan(spiral_program(20))
-    card, backend = stream_lock_step(machine, segments, 50.0)
+    _card, backend = stream_lock_step(machine, segments, 50.0)
     tags = sorted({e[1] for e in expected_events(segments, backend) if e[0] == "move"})
     assert len(tags) == backend.stats["markers"] - 1 < len(segments) / 3     # M30 has a marker and no move
     assert first_difference(expected_events(segments, backend), expected_events(segments, backend)) is None
