@@ -267,3 +267,41 @@ def test_expected_events_follow_the_marker_log():
     tags = sorted({e[1] for e in expected_events(segments, backend) if e[0] == "move"})
     assert len(tags) == backend.stats["markers"] - 1 < len(segments) / 3     # M30 has a marker and no move
     assert first_difference(expected_events(segments, backend), expected_events(segments, backend)) is None
+
+
+def test_a_second_link_fault_while_the_recovery_sends_again_loses_nothing():
+    # The first drop mid-stream; the recovery purges the card and sends the segments not known complete again; a
+    # second drop three commands into that resend.  The segments the recovery had not sent yet stayed in the window
+    # (before: they were forgotten, and the second recovery never sent them).
+    machine, segments = plan(spiral_program(300))
+    with Emulator(port=0, speed=2.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        backend.open()
+        emu.drop_connection(after_commands=120)
+        errors = []
+
+        def recover(err) -> None:
+            errors.append(err)
+            if len(errors) == 1:
+                emu.drop_connection(after_commands=3)      # strikes inside the resend below
+            for _ in range(3):
+                try:
+                    backend.reconnect_and_continue()
+                    return
+                except InterpCncError as again:
+                    errors.append(again)
+
+        for seg in segments:
+            try:
+                backend.send(seg)
+            except InterpCncError as err:
+                recover(err)
+        for _ in range(3):
+            try:
+                backend.finish()
+                break
+            except InterpCncError as err:
+                recover(err)
+        assert len(errors) == 2 and backend.stats["resyncs"] >= 2
+        assert_exactly_once(segments, backend, emu.executed())
+        backend.close()

@@ -89,21 +89,27 @@ MAX_UNSENDABLE = 20
 
 def run(source: str | Path, machine: Machine | dict | str | Path | None = None, *, backend: str | Backend = "sim",
         block_skip: bool = False, check_first: bool | None = None, progress: Progress | None = None,
-        keep_profiles: bool = False, **backend_options) -> RunReport:
+        keep_profiles: bool = False, before_start: Callable[[list[Diagnostic]], None] | None = None,
+        **backend_options) -> RunReport:
     """Run a program on a back-end (``"sim"`` by default, ``"interpcnc"`` for the card).
 
     ``check_first`` (default: True except on the plain simulator) plans the
     whole program before sending anything and refuses to start when it has an
     error; it also gives ``progress`` the total time for an ETA.
-    ``progress(segment, status, total_time)`` is called after each segment.
+    ``progress(segment, status, total_time)`` is called after each segment, and
+    with ``segment=None`` while the back-end waits for the machine to finish.
+    ``before_start(warnings)`` gets what the check found that does not stop
+    the run (e.g. CFG003, an M function the card has no output for) before
+    anything is sent; they are in the report's diagnostics too.
     ``backend_options`` go to the back-end (e.g. ``host``, ``port``, ``serial``).
     """
     with fewer_collections():
-        return _run(source, machine, backend, block_skip, check_first, progress, keep_profiles, backend_options)
+        return _run(source, machine, backend, block_skip, check_first, progress, keep_profiles, backend_options,
+                    before_start)
 
 
 def _run(source, machine, backend, block_skip: bool, check_first: bool | None, progress: Progress | None,
-         keep_profiles: bool, backend_options: dict) -> RunReport:
+         keep_profiles: bool, backend_options: dict, before_start=None) -> RunReport:
     try:
         mach = load_machine(machine)
     except MachineError as exc:
@@ -125,6 +131,14 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         if unmapped and getattr(getattr(be, "options", None), "strict_outputs", False):
             return RunReport(False, [*checked.diagnostics, *unmapped], be.status(), stopped_by="error",
                              message="auxiliary functions without an output mapping: nothing was sent", backend=be)
+        refusals = getattr(be, "refusals", None)          # what the path ignores and the machine would not
+        refused = refusals(checked.diagnostics) if refusals is not None else []
+        if refused:
+            return RunReport(False, [*checked.diagnostics, *refused], be.status(), stopped_by="error",
+                             message="a transformation the back-end cannot reproduce is active: nothing was sent",
+                             backend=be)
+        if before_start is not None and unmapped:
+            before_start(list(unmapped))
     else:   # the program streams from its file; one with a syntax or structure error anywhere is not started
         errors = syntax_errors(source)
         if errors:
@@ -150,6 +164,8 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
             clock = seg.t0 + seg.duration
             if progress is not None:
                 progress(seg, be.status(), total)
+        if progress is not None and hasattr(be, "on_wait"):   # the machine still runs what was sent
+            be.on_wait = lambda st: progress(None, st, total)
         status = be.finish()
     except BackendError as exc:
         stopped_by, message = "alarm", str(exc)
@@ -185,17 +201,28 @@ class _ProgressBar:
 
     def __init__(self, stream, label: str) -> None:
         import time
+        from collections import deque
 
         self.stream, self.label, self.clock = stream, label, time.monotonic
         self.last = 0.0
         self.start = self.clock()
+        self.sent: deque[tuple[int, float]] = deque()    # (segments sent, planned end) not known executed yet
+        self.count = 0
+        self.done = 0.0
 
     def __call__(self, seg, status, total) -> None:
+        # what the machine has executed, not what was sent (a card buffers seconds of motion): the planned end of
+        # the last segment the back-end reports executed (status.executed, from the card's sequence markers)
+        if seg is not None:
+            self.count += 1
+            self.sent.append((self.count, seg.t0 + seg.duration))
+        while self.sent and self.sent[0][0] <= status.executed:
+            self.done = self.sent.popleft()[1]
         now = self.clock()
         if now - self.last < 0.2:
             return
         self.last = now
-        done = seg.t0 + seg.duration
+        done = self.done
         if total:
             frac = min(1.0, done / total)
             bar = "#" * int(frac * 20)
@@ -250,6 +277,14 @@ def command(args: argparse.Namespace) -> int:
     bar = _ProgressBar(sys.stderr, Path(args.file).name) if sys.stderr.isatty() and not args.verbose else None
     backend, progress, server = args.backend, bar, None
     report = None
+    announced: set[int] = set()
+
+    def announce(warnings) -> None:
+        """The check's warnings (CFG003...) before anything moves, not after the run."""
+        for d in warnings:
+            announced.add(id(d))
+            print(d.render(), flush=True)
+
     try:
         if args.status_server is not None:
             backend, server = _start_status_server(args, machine, options)
@@ -257,7 +292,7 @@ def command(args: argparse.Namespace) -> int:
                 return 2
             options, progress = {}, server.progress_callback(bar)
         report = run(Path(args.file), machine, backend=backend, block_skip=args.block_skip, progress=progress,
-                     **options)
+                     before_start=announce, **options)
     except BackendError as exc:
         print(f"fagorcnc: {exc}", file=sys.stderr)
         return 2
@@ -268,7 +303,7 @@ def command(args: argparse.Namespace) -> int:
             server.finished(report is not None and report.ok)
             server.stop()
     for d in report.diagnostics:
-        if d.severity != "info" or args.verbose:
+        if (d.severity != "info" or args.verbose) and id(d) not in announced:
             print(d.render())
     status = report.status
     errors = sum(d.is_error for d in report.diagnostics)
@@ -277,6 +312,11 @@ def command(args: argparse.Namespace) -> int:
     print(f"{args.file}: {verdict} on {target}: {report.moves} moves, ended by {report.ended_by or 'end of file'}, "
           f"last block executed: line {status.line}, {_where(report)}cycle time "
           f"{clock(report.cycle_time)} (jerk-limited plan), {errors} errors")
+    streamed = getattr(report.backend, "rate", None)
+    if callable(streamed) and report.status.sent:
+        stats = getattr(report.backend, "stats", {})
+        print(f"{args.file}: streamed {report.status.sent} segments at {streamed():.0f} segments/s sustained, "
+              f"{stats.get('underruns', 0)} underruns seen (the card's buffers found empty mid-program)")
     if report.stopped_by == "interrupt":
         return 130
     return 0 if report.ok else 1

@@ -87,6 +87,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...config.machine import Machine
+from ...diagnostics import Diagnostic
 from ...plan import Segment
 from ..base import BackendError, Status
 from . import protocol as proto
@@ -95,6 +96,7 @@ from .link import Link, LinkError
 from .markers import Coalescer, MarkerLog, locate, path_tolerance
 from .options import Options, OutputAction, parse_options
 from .outputs import OutputTable
+from .refusals import refused_transformations
 from .translate import Encoder, Move, TranslationError, remaining_moves, segment_moves
 
 
@@ -199,6 +201,7 @@ class InterpCncBackend:
         self._stall_since = 0.0
         self._stall_pulses: list[int] | None = None
         self._first_sent = self._last_sent = 0.0     # clock of the first and the last segment transmitted
+        self._lead: float | None = None              # planned s queued behind the start wait, None: no wait shut
         self._lock = threading.Lock()
         self._status = Status(state="closed")
         self._window: deque[_Sent] = deque()        # sent, not known complete (seq order)
@@ -288,6 +291,8 @@ class InterpCncBackend:
                 raise self._fault_error("cannot finish")
             if self._pending:
                 self._flush()
+            if self._lead is not None:
+                self._io(self._start)
             if self._stopped:
                 break
             self._io(self._poll)
@@ -308,7 +313,10 @@ class InterpCncBackend:
                 self.on_wait(self._snapshot())
             self.sleep(self.options.poll_interval)
         self._set(state="idle")
-        return self.status()
+        status = self.status()
+        if self.on_wait is not None:
+            self.on_wait(status)              # the end: 100 % executed
+        return status
 
     def pause(self) -> None:
         """Feed hold (1200/130; the card also stops the spindle, buffers kept)."""
@@ -418,6 +426,11 @@ class InterpCncBackend:
                 out.append(self.outputs.unmapped_message(rec.line, rec.function, rec.value))
         return out
 
+    def refusals(self, diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
+        """Errors (CFG030) for what the check found that this card cannot reproduce (see :mod:`.refusals`):
+        :func:`fagorcnc.run` asks before anything is sent."""
+        return refused_transformations(diagnostics, self.name)
+
     def preflight(self, segment: Segment) -> str | None:
         """Why ``segment`` could not be sent to the card (None when it can): the check before a real
         run asks it of every planned segment, so that a stream never stops half-way on one."""
@@ -500,6 +513,7 @@ class InterpCncBackend:
         self.marker_log.clear()
         self._dry = False
         self._first_sent = self._last_sent = 0.0
+        self._lead = None
         self.stats["underruns"] = 0
         self._fault = None
         self._untrusted_alarm = 0
@@ -519,12 +533,38 @@ class InterpCncBackend:
                 self._pending.popleft()
                 raise InterpCncError(str(exc), self._snapshot(), accepted=False) from exc
             self.stats["t_encode"] += time.perf_counter() - t0
+            if entry.seq == 1 and self.options.start_lead > 0:
+                words = [self._start_wait(), *words]
             with self.link.lock:
                 self._pending.popleft()
                 self._seq = entry.seq
                 self._window.append(entry)
                 self._lines[entry.seq] = segment.line
             self._transmit(entry, words)
+            if self._lead is not None:
+                self._lead += float(segment.duration)
+                if self._lead >= self.options.start_lead:
+                    self._start()
+
+    def _start_wait(self) -> proto.Words:
+        """The start lead: a 1012 wait before the stream's first command until the move register M+1 is above 0,
+        so that ``start_lead`` s of planned motion are queued before the card moves and a hiccup of the PC
+        early in the stream cannot run the card dry.  M+1 is 0 (cleared by open()) and nothing of the stream
+        writes it before the wait is over; :meth:`_start` writes 1 into it.  On timeout the card goes on (no
+        alarm): the wait holds back nothing that must not run."""
+        self._lead = 0.0
+        return proto.encode_wait_value(regs.EXTENDED_HOLDING + self.options.marker_register + 1, regs.WAIT_ABOVE, 0,
+                                       GATE_TIMEOUT_MS, alarm_on_timeout=False)
+
+    def _start(self) -> None:
+        """Let the card start (see :meth:`_start_wait`): once the lead is queued, when the back-end must wait for
+        the card (room, a gate, the end), never later."""
+        if self._lead is None:
+            return
+        self._lead = None
+        with self.link.lock:
+            self._check_stopped()
+            self.link.write(self.options.marker_register + 1, [1], "starting the stream (the start lead is queued)")
 
     def _prepare(self, entry: _Sent, moves: list[Move] | None = None, first: int = 0) -> list[Command]:
         """The commands of a segment with its markers (order: see the module docstring).
@@ -623,6 +663,7 @@ class InterpCncBackend:
     def _await_done(self, seq: int) -> None:
         """Poll until segment ``seq`` has run (raises on an alarm or a stop)."""
         self._stall_reset()
+        self._start()
         while True:
             self._poll()
             if self._done >= seq:
@@ -650,8 +691,13 @@ class InterpCncBackend:
         batch = max(size, self._buffer_size // 4)
         waited = False
         while True:
-            if self._free >= size and self.clock() - self._last_poll < opt.poll_interval:
-                return
+            if self._free >= size:
+                if self.clock() - self._last_poll < opt.poll_interval:
+                    return
+                self._poll()                     # the periodic check for an alarm while the estimate has room
+                if self._free >= size:
+                    return
+            self._start()                        # the card must consume: the lead is as long as the buffer allows
             self._poll()
             low = self._planner_size - self._planner_free < opt.low_water
             if self._free >= (size if low else batch):
@@ -800,6 +846,9 @@ class InterpCncBackend:
                 self._status.state = "run" if self._window else "idle"
 
     def _poll(self) -> None:
+        """Read the card's status words and the markers (raises on an alarm).  The markers are read on every poll,
+        the periodic ones included: the line an error names (the last block started) is then at most one poll
+        interval old, which the fault campaign holds the back-end to."""
         self._read_poll()
         if self._card_alarm():
             self._fault = "alarm"
@@ -971,12 +1020,13 @@ class InterpCncBackend:
         self._fault = None
         self.stats["resyncs"] += 1
         with self.link.lock:
+            # every segment to send again is in the window before the first write: a fault half-way through
+            # leaves the rest there (not transmitted) for the next resynchronisation, nothing is forgotten
             self._window.clear()
+            self._window.extend(fresh for fresh, _ in plans)
         self._set(state="run", alarm=0, alarm_message="")
         sent = self._status.sent
         for fresh, words in plans:
-            with self.link.lock:
-                self._window.append(fresh)
             self._transmit(fresh, words)
         with self._lock:
             self._status.sent = sent        # segments sent again were counted the first time

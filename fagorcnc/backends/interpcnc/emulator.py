@@ -343,7 +343,7 @@ def report(emu: Emulator) -> dict:
         return {"log": list(card.log), "aborted": list(card.aborted), "underruns": card.underruns,
                 "overflows": card.overflows, "discarded": card.discarded, "arc_errors": card.arc_errors,
                 "outputs": list(card.outputs), "analog": list(card.analog), "time": card.time,
-                "requests": emu.requests}
+                "requests": emu.requests, "lag_events": card.lag_events}
     return emu.inspect(take)
 
 
