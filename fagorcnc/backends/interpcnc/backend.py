@@ -82,9 +82,6 @@ import threading
 import time
 from collections import deque
 from collections.abc import Iterable
-from dataclasses import dataclass, field
-
-import numpy as np
 
 from ...config.machine import Machine
 from ...diagnostics import Diagnostic
@@ -93,31 +90,15 @@ from ..base import BackendError, Status
 from . import protocol as proto
 from . import registers as regs
 from .link import Link, LinkError
-from .markers import Coalescer, MarkerLog, locate, path_tolerance
+from .markers import Coalescer, MarkerLog, path_tolerance
 from .options import Options, OutputAction, parse_options
 from .outputs import OutputTable
+from .polling import Polling
+from .records import Command, InterpCncError, InterpCncStatus, _OpenGate, _ResetGate, _Sent
+from .recovery import Recovery
 from .refusals import refused_transformations
-from .translate import Encoder, Move, TranslationError, remaining_moves, segment_moves
-
-
-class InterpCncError(BackendError):
-    """The InterpCNC back-end stopped.
-
-    ``alarm``: the card's alarm code (0 for a link failure); ``line``: source
-    line of the last segment known started; ``accepted``: whether the segment
-    given to the failing ``send`` was kept (True: recovery will deliver it,
-    do not send it again); ``code``: a diagnostic code when the cause has one
-    (``BCK001`` the card stopped consuming, ``BCK002`` an axis never stopped).
-    """
-
-    def __init__(self, message: str, status: Status | None = None, *, alarm: int = 0, line: int = 0,
-                 accepted: bool = True, code: str = "") -> None:
-        super().__init__(message, status)
-        self.alarm = alarm
-        self.line = line
-        self.accepted = accepted
-        self.code = code
-
+from .translate import Encoder, Move, TranslationError, segment_moves
+from .watchdog import Watchdog
 
 #: How long the card waits at a shut gate before alarm 18 (the longest 1012 timeout, L1091).
 GATE_TIMEOUT_MS = 0xFFFF
@@ -125,43 +106,8 @@ GATE_TIMEOUT_MS = 0xFFFF
 GATE_TOKENS = 0xFFFF
 
 
-@dataclass(frozen=True)
-class _OpenGate:
-    """Not a card command: the direct write of ``token`` into the gate register (see the module docstring)."""
 
-    token: int
-
-
-@dataclass(frozen=True)
-class _ResetGate:
-    """Not a card command: once segment ``after`` (the last one gated) has run, the gate register back to 0."""
-
-    after: int
-
-
-Command = proto.Words | _OpenGate | _ResetGate
-
-
-@dataclass
-class _Sent:
-    """A segment with its sequence number, its moves (motion) and whether all its commands went out."""
-
-    seq: int
-    segment: Segment
-    moves: list[Move] = field(default_factory=list)
-    transmitted: bool = False
-    head: int = 0                  # the sequence number its marker carries (its group's head; its own when it has one)
-
-    end_sub: int | None = None     # the M+1 value written when it ends (a dwell); None: M = seq says it has run
-
-    def has_run(self, sub: int) -> bool:
-        """Whether it has run, the card's M holding its number and M+1 holding ``sub`` (see the module docstring)."""
-        if self.segment.kind == "motion":
-            return False                 # M = seq: started; the position tells how far
-        return self.end_sub is None or sub == self.end_sub
-
-
-class InterpCncBackend:
+class InterpCncBackend(Polling, Recovery, Watchdog):
     """Back-end ``interpcnc`` (options: see :mod:`.options`)."""
 
     name = "interpcnc"
@@ -719,218 +665,6 @@ class InterpCncBackend:
         self.sleep(seconds)
         self.stats["t_wait"] += time.perf_counter() - t0
 
-    # ------------------------------------------------------------ the watchdog (issue 30 items 13, 14)
-    def _stall_reset(self) -> None:
-        self._stall_mark, self._stall_pulses, self._stall_since = None, None, self.clock()
-
-    def _watch(self, waiting_for: str) -> None:
-        """After a poll in a wait: raise BCK001 when the card has shown no progress for ``stall_timeout`` s
-        (plus the dwell it is running) although it holds commands.
-
-        Progress is any change of the free space (IR 3000, 3002), of the marker registers or, read only once the
-        rest has stood still, of the position counters (a long slow move); a feed hold or the door (the
-        operator's, IR 3003 bits 4 and 6) is never a stall.
-        """
-        if self._card_status & regs.STATUS_HELD:
-            self._stall_reset()
-            return
-        mark = (self._free, self._planner_free, self._marker, self._sub)
-        now = self.clock()
-        if mark != self._stall_mark:
-            self._stall_mark, self._stall_pulses, self._stall_since = mark, None, now
-            return
-        if self._stall_pulses is None:          # standing still since the last poll: note where the axes are
-            self._stall_pulses = self._pulses()
-            return
-        limit = self.options.stall_timeout
-        head = self._window[0] if self._window else None
-        if head is not None and head.seq == self._marker and head.segment.kind == "dwell":
-            limit += float(head.segment.duration)
-        if now - self._stall_since <= limit:
-            return
-        pulses = self._pulses()
-        if pulses != self._stall_pulses:
-            self._stall_pulses, self._stall_since = pulses, now
-            return
-        raise self._stalled("BCK001", f"the card has consumed nothing for {limit:g} s while the back-end waited "
-                            f"for {waiting_for}: input register {regs.IR_CNC_BUFFER_FREE} (free space in the CNC "
-                            f"buffer) reads {self._free} of {self._buffer_size}, {regs.IR_PLANNER_FREE} (planner) "
-                            f"{self._planner_free} of {self._planner_size}, the sequence register "
-                            f"{self.options.marker_register} and the position counters have not changed")
-
-    def _pulses(self) -> list[int]:
-        return self.link.read_input(regs.IR_AXIS_POSITION, 12, "reading the position counters")
-
-    def _stalled(self, code: str, what: str) -> InterpCncError:
-        """Stop (1200/255, nothing more is sent) and the error: what the card reports, the last block."""
-        sent = self._lines.get(self._seq, 0)
-        message = (f"InterpCNC: {what}; stopped the card (1200/255) and the stream (timeout set by "
-                   f"{'stall_timeout' if code == 'BCK001' else 'stop_timeout'}); {self._where_text()}"
-                   f"{f', last block sent: line {sent}' if sent else ''}")
-        self.stop()
-        self._set(state="alarm", alarm_message=message)
-        return InterpCncError(message, self._snapshot(), line=self._status.line, code=code)
-
-    # ------------------------------------------------------------ polling
-    def _read_card(self) -> None:
-        """IR 3000-3004 in one request: free registers, Grbl free, planner free, status, alarm."""
-        with self.link.lock:
-            t0 = time.perf_counter()
-            free, _grbl, pfree, status, alarm = self.link.read_input(regs.POLL_FIRST, regs.POLL_COUNT, "status poll")
-            self.stats["t_poll"] += time.perf_counter() - t0
-            self._free, self._planner_free, self._card_status, self._alarm_code = free, pfree, status, alarm
-            self._last_poll = self.clock()
-            self.stats["polls"] += 1
-
-    def _read_poll(self, *, purged: bool = False) -> None:
-        """The card's status words and the marker registers; updates the window and the status.
-
-        An idle card with empty buffers has run everything sent - unless it purged them (an alarm, a
-        stop): ``purged`` (or an alarm, a fault, a stop) forbids that inference, a motion segment whose
-        marker was read last is then only known to have started (a dwell's or an output's marker says
-        it has run).
-        """
-        with self.link.lock:                     # one consistent view, whichever thread polls
-            self._read_poll_locked(purged)
-
-    def _read_poll_locked(self, purged: bool) -> None:
-        self._read_card()
-        t0 = time.perf_counter()
-        raw, self._sub = self.link.read_holding(self.options.marker_register, 2, "reading the sequence registers")
-        self.stats["t_poll"] += time.perf_counter() - t0
-        marker = self._marker + ((raw - self._marker) & 0xFFFF)
-        if marker > self._seq:
-            self._fault = "alarm"
-            msg = (f"the sequence register {self.options.marker_register} holds {raw}, which this stream never "
-                   "sent: another client wrote it or the card was reset")
-            self._set(state="alarm", alarm_message=msg)
-            raise InterpCncError(msg, self._snapshot())
-        for seq in range(self._marker, marker):
-            self._lines.pop(seq, None)
-        self._marker = marker
-        purged = purged or self._card_alarm() or self._fault is not None or self._stopped
-        complete = not purged and self._card_idle() and all(e.transmitted for e in self._window)
-        window = self._window
-        while window and window[0].seq < marker:
-            window.popleft()
-        if window and window[0].seq == marker and window[0].segment.kind == "motion":
-            # the move the card is running (its marker went out first): where it goes, for a PLC
-            self._set(target=dict(zip(self.axes, window[0].segment.piece.end.tolist(), strict=True)))
-        if window and window[0].seq == marker:
-            if complete and marker == self.marker_log.last:     # idle: the whole group has run
-                self._done = window[-1].seq
-                window.clear()
-            elif window[0].has_run(self._sub):
-                window.popleft()
-                self._done = marker
-        self._done = max(self._done, marker - 1)
-        # buffers empty mid-stream (not after a stop or an alarm): the card ran dry - an underrun if more follows
-        self._dry = not purged and self._card_idle() and self._status.state == "run" and self._seq > 0
-        line = self._lines.get(marker, self._status.line) if marker else 0
-        level = max(1.0 - self._free / self._buffer_size, 1.0 - self._planner_free / self._planner_size)
-        self._set(executed=self._done, line=line, buffer_level=level)
-        self._follow_hold()
-
-    def _follow_hold(self) -> None:
-        """A stream held by the card (feed hold, also from a hardware input L1141, or the door safety: IR 3003 bits
-        4, 6, L429) shows as state "pause", and as "run" again when the card lets it go: the progress line and a PLC
-        then see why nothing moves."""
-        held = bool(self._card_status & regs.STATUS_HELD)
-        with self._lock:
-            state = self._status.state
-            if held and state in ("run", "pause"):
-                self._hold_seen = True
-                self._status.state = "pause"
-            elif not held and state == "pause" and self._hold_seen:
-                self._hold_seen = False
-                self._status.state = "run" if self._window else "idle"
-
-    def _poll(self) -> None:
-        """Read the card's status words and the markers (raises on an alarm).  The markers are read on every poll,
-        the periodic ones included: the line an error names (the last block started) is then at most one poll
-        interval old, which the fault campaign holds the back-end to."""
-        self._read_poll()
-        if self._card_alarm():
-            self._fault = "alarm"
-            code = self._alarm_code
-            self._note_alarm(code)
-            self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
-            advice = (" the machine position can no longer be trusted: call abandon(), home the machine and start "
-                      "the program again;" if self._untrusted_alarm else self._gate_advice(code))
-            raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: stopped sending;{advice} "
-                                 f"{self._where_text()}", self._snapshot(), alarm=code, line=self._status.line)
-
-    def _gate_advice(self, code: int) -> str:
-        """For alarm 18 in a stream with gates: the gate's 1012 address convention may be wrong (audit B1).
-
-        Raised here, with the link up all along, the back-end had opened the gate (it writes the token as soon as the
-        segment's commands are accepted).  The seed gives two readings of 1012's address 100000 + r (holding r:
-        L460, L1113-L1115, which the back-end follows; input register r: L250, L775-L791, L1291).
-        """
-        if code != regs.ALARM_WAIT_TIMEOUT or not self._gated_seq:
-            return ""
-        gate = self.options.marker_register + 2
-        return (" an output or a dwell waited 65 s at its gate, which the back-end had opened (holding register "
-                f"{gate}; the card watches it as address {regs.EXTENDED_HOLDING + gate}): this card probably reads "
-                f"that address as input register {gate} instead (the protocol document gives both meanings), so no "
-                "gate can ever open - almost certainly so if it stopped at the first output or dwell of the program; "
-                "ask the card's maker which one it uses (the gate registers come from the option marker_register, "
-                f"now {self.options.marker_register});")
-
-    def _note_alarm(self, code: int) -> None:
-        """Remember an alarm after which the position is not trusted, even if someone acknowledges it on
-        the card: only abandon() forgets it."""
-        if code in regs.ALARMS_POSITION_LOST:
-            self._untrusted_alarm = code
-
-    def _card_alarm(self) -> bool:
-        return bool(self._card_status & regs.STATUS_ALARM or self._alarm_code)
-
-    def _card_idle(self) -> bool:
-        # Exact: empty means free space = size (IR 3000 vs 2990, 3002 vs 2992; L423-L428, L848-L850).  Nothing in the
-        # seed says an empty buffer can report less; a card that did would make finish() wait forever (audit B5).
-        return (self._free >= self._buffer_size and self._planner_free >= self._planner_size
-                and not self._card_status & regs.STATUS_CYCLE)
-
-    def _axes_moving(self) -> bool:
-        """IR 1016's low byte: an axis still moving (L260; L512 "check that the axes have really stopped").
-
-        The planner may free its last entry before the axes have stopped.  Read only where the back-end decides
-        that motion has ended (finish(), after a stop), so the status poll on the streaming path stays one request.
-        """
-        bits = self.link.read_input(regs.IR_STATUS_BITS, 1, "reading the axes-moving bits")[0]
-        return bool(bits & regs.AXES_MOVING_MASK)
-
-    def _where_text(self) -> str:
-        s = self._status
-        if not s.line:
-            return "no block had started"
-        return f"last block started: line {s.line} ({s.executed} segments complete)"
-
-    def _position(self) -> dict[str, float]:
-        res = self.options.resolution
-        if not res:
-            return {}
-        pulses = proto.decode_i32_list(self.link.read_input(regs.IR_AXIS_POSITION, 12, "reading the position"))
-        return {a: pulses[regs.CARD_AXES.index(c)] / res[a] for a, c in zip(self.axes, self.card_axes, strict=True)
-                if a in res}
-
-    # ------------------------------------------------------------ faults and recovery
-    def _link_lost(self, exc: LinkError) -> InterpCncError:
-        self._fault = "link"
-        self._set(state="alarm", alarm=0, alarm_message=f"link lost: {exc}")
-        return InterpCncError(f"{exc}; stopped sending. {self._where_text()} (as last read). "
-                              "Call reconnect_and_continue() when the link is back.", self._snapshot(),
-                              line=self._status.line)
-
-    def _fault_error(self, what: str) -> InterpCncError:
-        s = self._status
-        how = "resume() to acknowledge the alarm" if self._fault == "alarm" else "reconnect_and_continue()"
-        if self._untrusted_alarm:
-            how = "abandon() to acknowledge the alarm and discard the stream"
-        return InterpCncError(f"the InterpCNC back-end is stopped ({s.alarm_message}): {what}; call {how} first",
-                              self._snapshot(), alarm=s.alarm, line=s.line)
-
     def _immediate(self, words: list[int], what: str) -> None:
         self._io(lambda: self.link.command(words, what))
 
@@ -940,175 +674,6 @@ class InterpCncBackend:
             return fn()
         except LinkError as exc:
             raise self._link_lost(exc) from exc
-
-    def _recover(self, *, acknowledge: bool) -> None:
-        """Reconnect if needed, acknowledge an alarm if allowed, then resynchronise."""
-        try:
-            self._reconnect()
-            self._read_poll(purged=True)
-            if self._card_alarm():
-                self._note_alarm(self._alarm_code)
-            if self._untrusted_alarm:
-                self._refuse_untrusted()
-            if self._card_alarm():
-                if not acknowledge:
-                    self._raise_alarm_state("acknowledge it with resume()")
-                self._purge_and_acknowledge()
-                self._read_poll(purged=True)
-                if self._card_alarm():
-                    self._raise_alarm_state("still active after the acknowledge (emergency stop still engaged?)")
-            self._resync()
-        except LinkError as exc:
-            raise self._link_lost(exc) from exc
-
-    def _reconnect(self) -> None:
-        """The start of a recovery: the back-end must be open; the link is connected again if it failed
-        (raises LinkError for the caller to report)."""
-        self._last_status = -math.inf
-        if self._status.state == "closed":
-            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
-        if self.link.failed:
-            self.link.connect()
-
-    def _purge_and_acknowledge(self) -> None:
-        """1200/255 (stop, purge both buffers), then 1200/88 (acknowledge the alarm).
-
-        The seed says only 255 purges the buffers (L1225) and that a pause keeps them (L1139); nothing says an
-        alarm empties them.  A card that kept them would, once acknowledged, carry on with what was queued - after
-        alarm 18 the body behind a gate nobody opened (half an M function), after a limit switch more travel
-        toward it - for the round trips until the resynchronisation's own 255.  Purged first, nothing is left to run.
-        """
-        self.link.command(proto.encode_stop(), "stop and purge before acknowledging the alarm")
-        self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
-
-    def _refuse_untrusted(self) -> None:
-        """Raise (nothing sent) for an alarm of regs.ALARMS_POSITION_LOST: see resume()."""
-        # the card's alarm, or the one that stopped the stream if someone acknowledged it behind our back
-        code = self._alarm_code if self._alarm_code in regs.ALARMS_POSITION_LOST else self._untrusted_alarm
-        self._raise_alarm_state("the machine position can no longer be trusted, so the interrupted program is "
-                                "not continued; call abandon() to acknowledge the alarm and discard the stream, "
-                                "then home the machine and start the program again", code)
-
-    def _raise_alarm_state(self, advice: str, code: int | None = None) -> None:
-        code = self._alarm_code if code is None else code
-        self._fault = "alarm"
-        self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
-        raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: {advice}; {self._where_text()}",
-                             self._snapshot(), alarm=code, line=self._status.line)
-
-    def _resync(self) -> None:
-        # after a link fault the only stop; after an alarm a second one, in case the card ignored the first (sent
-        # in alarm, _purge_and_acknowledge): the seed does not say it honours 255 then.  At rest it costs nothing.
-        self.link.command(proto.encode_stop(), "stop and purge before resuming")
-        self._await_rest()
-        marker = self._marker
-        redo = [e for e in self._window if e.seq >= marker]
-        # the segments under the marker read: its own, and those sent without a marker of their own after it
-        group = [e for e in redo if e.head == marker] if marker else []
-        plans: list[tuple[_Sent, list[Command]]] = []
-        self.encoder.reset(at_start=True)   # the interrupted move resumes from the position read back
-        self.coalescer.close()              # the first segment sent again carries its own marker
-        self.marker_log.forget_after(marker)
-        if len(group) > 1:
-            plans = self._resume_group(group)
-            redo = redo[len(group):]
-        for e in redo:
-            fresh = _Sent(e.seq, e.segment, e.moves, end_sub=e.end_sub)
-            words = self._resume_words(fresh) if e.seq == marker else self._prepare(fresh)
-            if words is not None:
-                plans.append((fresh, words))
-        self._fault = None
-        self.stats["resyncs"] += 1
-        with self.link.lock:
-            # every segment to send again is in the window before the first write: a fault half-way through
-            # leaves the rest there (not transmitted) for the next resynchronisation, nothing is forgotten
-            self._window.clear()
-            self._window.extend(fresh for fresh, _ in plans)
-        self._set(state="run", alarm=0, alarm_message="")
-        sent = self._status.sent
-        for fresh, words in plans:
-            self._transmit(fresh, words)
-        with self._lock:
-            self._status.sent = sent        # segments sent again were counted the first time
-        self._flush()
-
-    def _await_rest(self, read=None) -> None:
-        """After a 1200/255: poll (``read``, by default the status and markers) until the card is idle with
-        empty buffers and no axis moving (the position read next must be where it stopped, not mid-deceleration)."""
-        deadline = self.clock() + max(10.0, 20 * self.options.timeout)
-        while True:
-            if read is None:
-                self._read_poll(purged=True)
-            else:
-                read()
-            if self._card_idle() and not self._axes_moving():
-                return
-            if self.clock() > deadline:
-                raise InterpCncError(f"the InterpCNC did not come to rest after stop (1200/255): input registers "
-                                     f"{regs.IR_CNC_BUFFER_FREE}-{regs.IR_CNC_STATUS} (buffers, status) or "
-                                     f"{regs.IR_STATUS_BITS} (axes moving) still report motion; "
-                                     f"{self._where_text()}", self._snapshot(), code="BCK002")
-            self.sleep(self.options.poll_interval)
-
-    def _resume_group(self, group: list[_Sent]) -> list[tuple[_Sent, list[Command]]]:
-        """The commands finishing a group of straight moves sharing one marker (see :mod:`.markers`): the move
-        under way is found from the position counters (:func:`.markers.locate`), the moves before it are complete,
-        it is finished from where the machine stands (or skipped at its end), the later ones are sent again."""
-        res = self.options.resolution
-        missing = [a for a in self.axes if a not in res]
-        first = group[0].segment.line
-        if missing:
-            raise InterpCncError(f"cannot resume line {first}: the position of axis {missing[0]} cannot be read "
-                                 "back without 'resolution' (pulses per mm)", self._snapshot())
-        pulses = proto.decode_i32_list(self.link.read_input(regs.IR_AXIS_POSITION, 12, "reading the position"))
-        counts = np.array([float(pulses[regs.CARD_AXES.index(c)]) for c in self.card_axes])
-        scale = np.array([res[a] for a in self.axes])
-        pos = counts / scale
-        tol = path_tolerance(res, self.options.chordal_tolerance)
-        moves = [e.moves[0] for e in group]
-        i = locate(moves, pos, counts, scale, tol)
-        rest = None if i is None else remaining_moves(moves[i:i + 1], pos, 0.5 / scale, tol)
-        if rest is None:
-            raise InterpCncError(f"cannot resume line {first}: the machine is not on the path of the interrupted "
-                                 "moves (was it moved?); nothing was sent", self._snapshot())
-        self._done = max(self._done, group[i].seq - 1)
-        plans: list[tuple[_Sent, list[Command]]] = []
-        if rest:                                       # the move under way, from where the machine stands
-            e = group[i]
-            fresh = _Sent(e.seq, e.segment, rest)
-            plans.append((fresh, self._prepare(fresh, rest)))
-        for e in group[i + 1:]:
-            fresh = _Sent(e.seq, e.segment, e.moves)
-            plans.append((fresh, self._prepare(fresh)))
-        return plans
-
-    def _resume_words(self, entry: _Sent) -> list[Command] | None:
-        """Commands finishing the segment that had started (marker = its number); None when nothing is left."""
-        if entry.has_run(self._sub):
-            return None
-        if not entry.moves:
-            return self._prepare(entry)                   # a dwell cut short runs again in full
-        res = self.options.resolution
-        missing = [a for a in self.axes if a not in res]
-        if missing:
-            raise InterpCncError(f"cannot resume line {entry.segment.line}: the position of axis {missing[0]} "
-                                 "cannot be read back without 'resolution' (pulses per mm)", self._snapshot())
-        position = self._position()
-        pos = np.array([position[a] for a in self.axes])
-        j = self._sub if len(entry.moves) > 1 else 0
-        if not 0 <= j < len(entry.moves):
-            raise InterpCncError(f"cannot resume line {entry.segment.line}: move register holds {j}, the block has "
-                                 f"{len(entry.moves)} moves", self._snapshot())
-        # at its end = the position counters read its end (the card then counts it as done)
-        end_tol = np.array([0.5 / res[a] for a in self.axes])
-        path_tol = max(3.0 / min(res.values()), self.options.chordal_tolerance)
-        rest = remaining_moves(entry.moves[j:], pos, end_tol, path_tol)
-        if rest is None:
-            raise InterpCncError(f"cannot resume line {entry.segment.line}: the machine is not on the path of the "
-                                 "interrupted move (was it moved?); nothing was sent", self._snapshot())
-        if not rest:
-            return None
-        return self._prepare(entry, rest, first=len(entry.moves) - len(rest))
 
     # ------------------------------------------------------------ auxiliary functions
     def actions_for(self, function: str, value: float) -> tuple[OutputAction, ...] | None:
@@ -1131,6 +696,7 @@ class InterpCncBackend:
     def _snapshot(self) -> Status:
         with self._lock:
             s = self._status
-            return Status(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position),
-                          s.buffer_level, dict(s.velocity), dict(s.target))
+            return InterpCncStatus(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position),
+                                   s.buffer_level, dict(s.velocity), dict(s.target), self.rate(),
+                                   self.stats["underruns"])
 
