@@ -305,3 +305,32 @@ def test_a_second_link_fault_while_the_recovery_sends_again_loses_nothing():
         assert len(errors) == 2 and backend.stats["resyncs"] >= 2
         assert_exactly_once(segments, backend, emu.executed())
         backend.close()
+
+
+def test_start_lead_holds_the_card_until_that_much_motion_is_queued():
+    # start_lead = 1 s of planned motion: the rapid to the start and the first chords (planned time) are queued
+    # behind a 1012 wait on M+1 (3991) before the back-end writes 1 into it and the card starts
+    machine, segments = plan(spiral_program(200))
+    clock, emu = lock_step(10.0, resolution=1000)
+    with emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, start_lead=1.0)
+        backend.clock, backend.sleep = clock, clock.sleep
+        backend.open()
+        total, held = 0.0, 0
+        while total + segments[held].duration < 1.0:                  # the rapid to the start, then 10 ms chords
+            total += segments[held].duration
+            held += 1
+        assert held >= 5
+        for seg in segments[:held]:
+            backend.send(seg)
+        assert emu.inspect(lambda c: (c.moves_started, c.hr[3991])) == (0, 0)     # less than 1 s queued: held
+        for seg in segments[held:]:
+            backend.send(seg)
+        status = backend.finish()
+        log = emu.executed()
+        backend.close()
+    waits = [e for e in log if e.kind == "wait"]
+    assert waits and waits[0].args["address"] == 100000 + 3991 and waits[0].args["alarm"] == 0
+    assert_exactly_once(segments, backend, log)
+    assert emu.card.underruns == 0
+    assert status.segments_per_second > 0 and status.underruns == 0       # the streaming figures in the status
