@@ -334,3 +334,20 @@ def test_start_lead_holds_the_card_until_that_much_motion_is_queued():
     assert_exactly_once(segments, backend, log)
     assert emu.card.underruns == 0
     assert status.segments_per_second > 0 and status.underruns == 0       # the streaming figures in the status
+
+
+def test_a_feed_override_at_zero_is_not_a_stall():
+    machine, segments = plan(spiral_program(50))
+    with Emulator(port=0, speed=5.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, stall_timeout=0.2)
+        backend.open()
+        backend.set_override(0)                      # the operator holds the motion with the override
+        for seg in segments:
+            backend.send(seg)
+        timer = threading.Timer(0.8, backend.set_override, args=(100,))
+        timer.start()
+        (status,) = _in_thread(backend.finish)
+        timer.join(5)
+        assert not isinstance(status, Exception), status
+        assert status.executed == len(segments)
+        backend.close()

@@ -23,7 +23,8 @@ class Watchdog:
 
         Progress is any change of the free space (IR 3000, 3002), of the marker registers or, read only once the
         rest has stood still, of the position counters (a long slow move); a feed hold or the door (the
-        operator's, IR 3003 bits 4 and 6) is never a stall.
+        operator's, IR 3003 bits 4 and 6) or an override at 0 % (HR 2430/2431, read at the deadline) is never a
+        stall.
         """
         if self._card_status & regs.STATUS_HELD:
             self._stall_reset()
@@ -45,6 +46,10 @@ class Watchdog:
         pulses = self._pulses()
         if pulses != self._stall_pulses:
             self._stall_pulses, self._stall_since = pulses, now
+            return
+        feed, rapid = self.link.read_holding(regs.HR_FEED_OVERRIDE, 2, "reading the overrides")
+        if feed == 0 or rapid == 0:             # an override at 0 % holds the motion: the operator's, like a hold
+            self._stall_reset()
             return
         raise self._stalled("BCK001", f"the card has consumed nothing for {limit:g} s while the back-end waited "
                             f"for {waiting_for}: input register {regs.IR_CNC_BUFFER_FREE} (free space in the CNC "
