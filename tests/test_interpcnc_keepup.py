@@ -197,7 +197,7 @@ def test_a_card_reporting_no_free_space_for_ever_stops_the_stream_with_bck001():
         text = str(err)
         assert "input register 3000" in text and "reads 0 of 4096" in text and "stall_timeout" in text
         assert "last block started: line" in text and "last block sent: line" in text
-        assert err.status.state == "alarm"
+        assert err.status.state == "alarm" and err.status.fault == "stall"
         assert emu.inspect(lambda c: not c.queue and not c.planner)      # the card was stopped (1200/255)
         backend.close()
 
@@ -303,6 +303,7 @@ def test_a_second_link_fault_while_the_recovery_sends_again_loses_nothing():
             except InterpCncError as err:
                 recover(err)
         assert len(errors) == 2 and backend.stats["resyncs"] >= 2
+        assert errors[0].status.fault == "link" and errors[0].status.line > 0
         assert_exactly_once(segments, backend, emu.executed())
         backend.close()
 

@@ -147,6 +147,7 @@ class InterpCncBackend(Polling, Recovery, Watchdog):
         self._stall_since = 0.0
         self._stall_pulses: list[int] | None = None
         self._first_sent = self._last_sent = 0.0     # clock of the first and the last segment transmitted
+        self._stall_code = ""                        # BCK001/BCK002 once the watchdog stopped the stream
         self._lead: float | None = None              # planned s queued behind the start wait, None: no wait shut
         self._lock = threading.Lock()
         self._status = Status(state="closed")
@@ -460,6 +461,7 @@ class InterpCncBackend(Polling, Recovery, Watchdog):
         self._dry = False
         self._first_sent = self._last_sent = 0.0
         self._lead = None
+        self._stall_code = ""
         self.stats["underruns"] = 0
         self._fault = None
         self._untrusted_alarm = 0
@@ -698,5 +700,5 @@ class InterpCncBackend(Polling, Recovery, Watchdog):
             s = self._status
             return InterpCncStatus(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position),
                                    s.buffer_level, dict(s.velocity), dict(s.target), self.rate(),
-                                   self.stats["underruns"])
+                                   self.stats["underruns"], "stall" if self._stall_code else (self._fault or ""))
 

@@ -39,6 +39,9 @@ class InterpCncStatus(Status):
 
     segments_per_second: float = 0.0
     underruns: int = 0
+    #: why the stream stopped, for a run summary: "alarm" (``alarm`` N at ``line``), "link" (link lost at ``line``,
+    #: ``alarm_message`` says how), "stall" (BCK001/BCK002: the card stopped consuming or never stopped), "" none
+    fault: str = ""
 
 
 @dataclass(frozen=True)

@@ -67,5 +67,6 @@ class Watchdog:
                    f"{'stall_timeout' if code == 'BCK001' else 'stop_timeout'}); {self._where_text()}"
                    f"{f', last block sent: line {sent}' if sent else ''}")
         self.stop()
+        self._stall_code = code
         self._set(state="alarm", alarm_message=message)
         return InterpCncError(message, self._snapshot(), line=self._status.line, code=code)
