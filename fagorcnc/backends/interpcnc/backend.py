@@ -22,7 +22,11 @@ within one interval.
 **Sequence markers.**  Every segment gets a sequence number n (1, 2, ...)
 and a synchronised action 1010 type 3 writing ``n mod 65536`` into the user
 RAM holding register M = ``marker_register`` (3990 by default, see
-``registers.DEFAULT_MARKER_REGISTER``; L463, L967-L971).  The card runs
+``registers.DEFAULT_MARKER_REGISTER``; L463, L967-L971) - except the
+straight moves that share the marker of the group they join, up to
+``marker_every`` of them (see :mod:`.markers`: M = n then means segment n,
+the group's first, has started, and a resume finds the move under way in
+the group from the position counters).  The card runs
 synchronised actions in order with the moves, just before the next move
 (L941), so:
 
@@ -51,6 +55,16 @@ pass 65535 the back-end waits until the card has passed the last gate, then
 sets G back to 0 (once per 65535 dwells and outputs).  The wait raises
 alarm 18 if the gate stays shut for 65.535 s (a link lost for that long):
 the card stops rather than run an output nobody confirmed.
+
+**The start lead.**  With ``start_lead`` > 0 the stream's first command is
+a 1012 wait until M+1 is above 0 (no alarm on its timeout); the back-end
+writes 1 into M+1 once that many seconds of planned motion are queued (or
+as soon as it must wait for the card), so that the card starts with a
+buffer deep enough to ride out a hiccup of the PC.
+
+**Timeouts.**  See :mod:`.watchdog`: ``stall_timeout`` (BCK001) and
+``stop_timeout`` (BCK002) end waits on a card that stopped consuming or
+whose axes never stop.
 
 The back-end assumes it is the only client commanding the card (another
 master acknowledging an alarm behind its back would make a purged segment
