@@ -8,7 +8,7 @@ user can filter on, a severity and a message written for a machinist.
 Codes are grouped by stage: ``SYN`` syntax of a block, ``STR`` program
 structure (headers, subroutines, labels, ``$`` nesting), ``INT`` the
 interpreter, ``CFG`` the machine configuration.  Later stages add their own
-prefixes.  A code, once published, keeps its meaning.
+prefixes (``PLN`` the planner, ``BCK`` a back-end while it runs).  A code, once published, keeps its meaning.
 """
 
 from __future__ import annotations

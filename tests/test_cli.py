@@ -21,13 +21,13 @@ def test_diagnostic_format_file_line_col_code_and_caret():
 
 
 def test_every_emitted_code_is_documented():
-    assert all(code[:3] in ("SYN", "STR", "INT", "CFG", "PLN") and len(code) == 6 for code in CODES)
+    assert all(code[:3] in ("SYN", "STR", "INT", "CFG", "PLN", "BCK") and len(code) == 6 for code in CODES)
     import re
     from pathlib import Path
 
     emitted = set()
     for path in (Path(__file__).resolve().parents[1] / "fagorcnc").rglob("*.py"):
-        emitted |= set(re.findall(r'"((?:SYN|STR|INT|CFG|PLN)[0-9]{3})"', path.read_text()))
+        emitted |= set(re.findall(r'"((?:SYN|STR|INT|CFG|PLN|BCK)[0-9]{3})"', path.read_text()))
     assert emitted <= set(CODES), sorted(emitted - set(CODES))
     d = Diagnostic("f", 1, 1, "SYN001", "warning", "m")
     assert str(d) == "f:1:1: SYN001 warning: m"

@@ -195,7 +195,8 @@ def test_a_card_reporting_no_free_space_for_ever_stops_the_stream_with_bck001():
         (err,) = _in_thread(send_all)
         assert isinstance(err, InterpCncError) and err.code == "BCK001", err
         text = str(err)
-        assert "input register 3000" in text and "reads 0 of 4096" in text and "stall_timeout" in text
+        assert text.startswith("InterpCNC BCK001: ") and "input register 3000" in text and "reads 0 of 4096" in text
+        assert "stall_timeout" in text
         assert "last block started: line" in text and "last block sent: line" in text
         assert err.status.state == "alarm" and err.status.fault == "stall"
         assert emu.inspect(lambda c: not c.queue and not c.planner)      # the card was stopped (1200/255)

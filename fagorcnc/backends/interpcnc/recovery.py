@@ -203,4 +203,7 @@ class Recovery:
                                  "interrupted move (was it moved?); nothing was sent", self._snapshot())
         if not rest:
             return None
-        return self._prepare(entry, rest, first=len(entry.moves) - len(rest))
+        first = len(entry.moves) - len(rest)
+        if len(entry.moves) == 1:     # what the card gets: a later resume, and its group's rules, see only that
+            entry.moves = rest
+        return self._prepare(entry, rest, first=first)

@@ -63,7 +63,7 @@ class Watchdog:
     def _stalled(self, code: str, what: str) -> InterpCncError:
         """Stop (1200/255, nothing more is sent) and the error: what the card reports, the last block."""
         sent = self._lines.get(self._seq, 0)
-        message = (f"InterpCNC: {what}; stopped the card (1200/255) and the stream (timeout set by "
+        message = (f"InterpCNC {code}: {what}; stopped the card (1200/255) and the stream (timeout set by "
                    f"{'stall_timeout' if code == 'BCK001' else 'stop_timeout'}); {self._where_text()}"
                    f"{f', last block sent: line {sent}' if sent else ''}")
         self.stop()
