@@ -9,6 +9,8 @@ Codes are grouped by stage: ``SYN`` syntax of a block, ``STR`` program
 structure (headers, subroutines, labels, ``$`` nesting), ``INT`` the
 interpreter, ``CFG`` the machine configuration, ``KIN`` kinematics and coordinate
 transformations (fagorcnc.kinematics).  Later stages add their own prefixes.  A code, once published, keeps its meaning.
+interpreter, ``CFG`` the machine configuration.  Later stages add their own
+prefixes (``PLN`` the planner, ``BCK`` a back-end while it runs).  A code, once published, keeps its meaning.
 """
 
 from __future__ import annotations
@@ -254,6 +256,10 @@ CODES: dict[str, str] = {
     "CLI010": "suppression comment naming a code fagorcnc does not have",
     "CLI011": "invalid [tool.fagorcnc] configuration or --select/--ignore code",
     "CLI012": "an error cannot be suppressed or ignored: the control stops there",
+    # InterpCNC streaming (issues 25, 29, 30): CFG030-CFG049, BCK001-BCK049
+    "CFG030": "a transformation the back-end cannot reproduce is active (#KIN, #RTCP, #CS ...): nothing is sent",
+    "BCK001": "the card consumed nothing for stall_timeout seconds although it holds commands",
+    "BCK002": "the card's axes-moving bits stayed set stop_timeout seconds after its buffers emptied",
 }
 
 

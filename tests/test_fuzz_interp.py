@@ -39,6 +39,7 @@ from hypothesis import strategies as st
 
 import fagorcnc
 from fagorcnc import CODES, Diagnostic
+from fagorcnc.path.compensation import LOOKAHEAD as COMPENSATION_LOOKAHEAD
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
 PROGRAM_TEXTS = [p.read_text(encoding="utf-8") for p in sorted(PROGRAMS.glob("*.nc"))]
@@ -102,12 +103,13 @@ def check(text: str) -> None:
     for record in run:
         records.append(record)
         if error_seen_at is not None and record.kind in MOVES:
-            # the corner-aid and the radius-compensation stages each hold one move back (radius
-            # compensation also the plunges and retracts after it, until the next move in the
-            # plane): moves of blocks before the error may still come out after it, never a move
-            # of a later block
+            # the corner-aid stage holds one move back and radius compensation its look-ahead (the
+            # moves it may drop as too short for the tool, and the plunges and retracts after them,
+            # until the next move in the plane): moves of blocks before the error may still come out
+            # after it, never a move of a later block
             late_moves += not _plunge(record)
-            assert late_moves <= 2, f"move {record} yielded after the error {error_seen_at} was reported"
+            assert late_moves <= 1 + COMPENSATION_LOOKAHEAD, \
+                f"move {record} yielded after the error {error_seen_at} was reported"
             assert record.line < int(error_seen_at.split(":")[1]) or NOT_STRAIGHT.search(text), record
         if error_seen_at is None:
             errors = [d for d in run.diagnostics if d.is_error]

@@ -110,24 +110,30 @@ MAX_UNSENDABLE = 20
 def run(source: str | os.PathLike | None = None, machine: Machine | dict | str | Path | None = None, *,
         text: str | None = None, backend: str | Backend = "sim", block_skip: bool = False,
         check_first: bool | None = None, progress: Progress | None = None, keep_profiles: bool = False,
-        on_move: Callable[[object], None] | None = None, **backend_options) -> RunReport:
+        on_move: Callable[[object], None] | None = None,
+        before_start: Callable[[list[Diagnostic]], None] | None = None, **backend_options) -> RunReport:
     """Run a program on a back-end (``"sim"`` by default, ``"interpcnc"`` for the card).
 
     ``check_first`` (default: True except on the plain simulator) plans the
     whole program before sending anything and refuses to start when it has an
     error; it also gives ``progress`` the total time for an ETA.
-    ``progress(segment, status, total_time)`` is called after each segment.
+    ``progress(segment, status, total_time)`` is called after each segment, and
+    with ``segment=None`` while the back-end waits for the machine to finish.
     ``on_move(record)`` is called for each move as it is given to the back-end (the moves the report
-    counts).  ``backend_options`` go to the back-end (e.g. ``host``, ``port``, ``serial``).
+    counts).  ``before_start(warnings)`` gets what the check found that does not stop
+    the run (e.g. CFG003, an M function the card has no output for) before
+    anything is sent; they are in the report's diagnostics too.
+    ``backend_options`` go to the back-end (e.g. ``host``, ``port``, ``serial``).
     """
     source = resolve(source, text)   # a file or program text, as simulate() decides (FileNotFoundError)
     with fewer_collections():
         return _run(source, machine, backend, block_skip, check_first, progress, keep_profiles, backend_options,
-                    on_move)
+                    on_move, before_start)
 
 
 def _run(source, machine, backend, block_skip: bool, check_first: bool | None, progress: Progress | None,
-         keep_profiles: bool, backend_options: dict, on_move: Callable[[object], None] | None = None) -> RunReport:
+         keep_profiles: bool, backend_options: dict, on_move: Callable[[object], None] | None = None,
+         before_start=None) -> RunReport:
     try:
         mach = load_machine(machine)
     except MachineError as exc:
@@ -153,6 +159,14 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
             return RunReport(False, found, be.status(), stopped_by="error",
                              message="auxiliary functions without an output mapping: nothing was sent", backend=be,
                              ending=Ending("not started", unmapped[0].line))
+        refusals = getattr(be, "refusals", None)          # what the path ignores and the machine would not
+        refused = refusals(checked.diagnostics) if refusals is not None else []
+        if refused:
+            return RunReport(False, [*checked.diagnostics, *refused], be.status(), stopped_by="error",
+                             message="a transformation the back-end cannot reproduce is active: nothing was sent",
+                             backend=be, ending=Ending("not started", refused[0].line))
+        if before_start is not None and unmapped:
+            before_start(list(unmapped))
     else:   # the program streams from its file; one with a syntax or structure error anywhere is not started
         errors = syntax_errors(source, compat=mach.compat)
         if errors:
@@ -182,6 +196,8 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
             if progress is not None:
                 progress(seg, be.status(), total)
         counted.finished()
+        if progress is not None and hasattr(be, "on_wait"):   # the machine still runs what was sent
+            be.on_wait = lambda st: progress(None, st, total)
         status = be.finish()
     except BackendError as exc:
         stopped_by, message = "alarm", str(exc)
@@ -224,17 +240,28 @@ class _ProgressBar:
 
     def __init__(self, stream, label: str) -> None:
         import time
+        from collections import deque
 
         self.stream, self.label, self.clock = stream, label, time.monotonic
         self.last = 0.0
         self.start = self.clock()
+        self.sent: deque[tuple[int, float]] = deque()    # (segments sent, planned end) not known executed yet
+        self.count = 0
+        self.done = 0.0
 
     def __call__(self, seg, status, total) -> None:
+        # what the machine has executed, not what was sent (a card buffers seconds of motion): the planned end of
+        # the last segment the back-end reports executed (status.executed, from the card's sequence markers)
+        if seg is not None:
+            self.count += 1
+            self.sent.append((self.count, seg.t0 + seg.duration))
+        while self.sent and self.sent[0][0] <= status.executed:
+            self.done = self.sent.popleft()[1]
         now = self.clock()
         if now - self.last < 0.2:
             return
         self.last = now
-        done = seg.t0 + seg.duration
+        done = self.done
         if total:
             frac = min(1.0, done / total)
             bar = "#" * int(frac * 20)
@@ -297,6 +324,14 @@ def _command(args: argparse.Namespace, machine, path: Path, shown: str) -> int:
     backend, progress, server = args.backend, bar, None
     report = None
     on_move = _MoveList(sys.stdout) if args.verbose else None
+    announced: set[int] = set()
+
+    def announce(warnings) -> None:
+        """The check's warnings (CFG003...) before anything moves, not after the run."""
+        for d in warnings:
+            announced.add(id(d))
+            print(d.render().replace(str(path), shown) if shown != str(path) else d.render(), flush=True)
+
     try:
         if args.status_server is not None:
             backend, server = _start_status_server(args, machine, options, path)
@@ -304,7 +339,7 @@ def _command(args: argparse.Namespace, machine, path: Path, shown: str) -> int:
                 return 2
             options, progress = {}, server.progress_callback(bar)
         report = run(path, machine, backend=backend, block_skip=args.block_skip, progress=progress,
-                     on_move=on_move, **options)
+                     on_move=on_move, before_start=announce, **options)
     except BackendError as exc:
         print(f"fagorcnc: {cli_message(str(exc))}", file=sys.stderr)
         if server is not None:
@@ -316,7 +351,7 @@ def _command(args: argparse.Namespace, machine, path: Path, shown: str) -> int:
         if server is not None and report is None:
             server.stop()
     for d in report.diagnostics:
-        if d.severity != "info" or args.verbose:
+        if (d.severity != "info" or args.verbose) and id(d) not in announced:
             print(d.render().replace(str(path), shown) if shown != str(path) else d.render())
     status = report.status
     errors = sum(d.is_error for d in report.diagnostics)
@@ -325,6 +360,11 @@ def _command(args: argparse.Namespace, machine, path: Path, shown: str) -> int:
     print(f"{shown}: {verdict} on {target}: {report.summary}, "
           f"last block executed: line {status.line}, {_where(report)}cycle time "
           f"{clock(report.cycle_time)} (jerk-limited plan), {errors} errors", flush=True)
+    streamed = getattr(report.backend, "rate", None)
+    if callable(streamed) and report.status.sent:
+        stats = getattr(report.backend, "stats", {})
+        print(f"{shown}: streamed {report.status.sent} segments at {streamed():.0f} segments/s sustained, "
+              f"{stats.get('underruns', 0)} underruns seen (the card's buffers found empty mid-program)", flush=True)
     if server is not None:   # the PLC reads how the run ended before the port closes
         server.finished(report.ok, report.ending)
         if server.linger_seconds > 0:

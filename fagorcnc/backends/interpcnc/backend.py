@@ -22,7 +22,11 @@ within one interval.
 **Sequence markers.**  Every segment gets a sequence number n (1, 2, ...)
 and a synchronised action 1010 type 3 writing ``n mod 65536`` into the user
 RAM holding register M = ``marker_register`` (3990 by default, see
-``registers.DEFAULT_MARKER_REGISTER``; L463, L967-L971).  The card runs
+``registers.DEFAULT_MARKER_REGISTER``; L463, L967-L971) - except the
+straight moves that share the marker of the group they join, up to
+``marker_every`` of them (see :mod:`.markers`: M = n then means segment n,
+the group's first, has started, and a resume finds the move under way in
+the group from the position counters).  The card runs
 synchronised actions in order with the moves, just before the next move
 (L941), so:
 
@@ -51,6 +55,16 @@ pass 65535 the back-end waits until the card has passed the last gate, then
 sets G back to 0 (once per 65535 dwells and outputs).  The wait raises
 alarm 18 if the gate stays shut for 65.535 s (a link lost for that long):
 the card stops rather than run an output nobody confirmed.
+
+**The start lead.**  With ``start_lead`` > 0 the stream's first command is
+a 1012 wait until M+1 is above 0 (no alarm on its timeout); the back-end
+writes 1 into M+1 once that many seconds of planned motion are queued (or
+as soon as it must wait for the card), so that the card starts with a
+buffer deep enough to ride out a hiccup of the PC.
+
+**Timeouts.**  See :mod:`.watchdog`: ``stall_timeout`` (BCK001) and
+``stop_timeout`` (BCK002) end waits on a card that stopped consuming or
+whose axes never stop.
 
 The back-end assumes it is the only client commanding the card (another
 master acknowledging an alarm behind its back would make a purged segment
@@ -82,37 +96,23 @@ import threading
 import time
 from collections import deque
 from collections.abc import Iterable
-from dataclasses import dataclass, field
-
-import numpy as np
 
 from ...config.machine import Machine
+from ...diagnostics import Diagnostic
 from ...plan import Segment
 from ..base import BackendError, Status
 from . import protocol as proto
 from . import registers as regs
 from .link import Link, LinkError
+from .markers import Coalescer, MarkerLog, path_tolerance
 from .options import Options, OutputAction, parse_options
 from .outputs import OutputTable
-from .translate import Encoder, Move, TranslationError, remaining_moves, segment_moves
-
-
-class InterpCncError(BackendError):
-    """The InterpCNC back-end stopped.
-
-    ``alarm``: the card's alarm code (0 for a link failure); ``line``: source
-    line of the last segment known started; ``accepted``: whether the segment
-    given to the failing ``send`` was kept (True: recovery will deliver it,
-    do not send it again).
-    """
-
-    def __init__(self, message: str, status: Status | None = None, *, alarm: int = 0, line: int = 0,
-                 accepted: bool = True) -> None:
-        super().__init__(message, status)
-        self.alarm = alarm
-        self.line = line
-        self.accepted = accepted
-
+from .polling import Polling
+from .records import Command, InterpCncError, InterpCncStatus, _OpenGate, _ResetGate, _Sent
+from .recovery import Recovery
+from .refusals import refused_transformations
+from .translate import Encoder, Move, TranslationError, segment_moves
+from .watchdog import Watchdog
 
 #: How long the card waits at a shut gate before alarm 18 (the longest 1012 timeout, L1091).
 GATE_TIMEOUT_MS = 0xFFFF
@@ -120,42 +120,8 @@ GATE_TIMEOUT_MS = 0xFFFF
 GATE_TOKENS = 0xFFFF
 
 
-@dataclass(frozen=True)
-class _OpenGate:
-    """Not a card command: the direct write of ``token`` into the gate register (see the module docstring)."""
 
-    token: int
-
-
-@dataclass(frozen=True)
-class _ResetGate:
-    """Not a card command: once segment ``after`` (the last one gated) has run, the gate register back to 0."""
-
-    after: int
-
-
-Command = proto.Words | _OpenGate | _ResetGate
-
-
-@dataclass
-class _Sent:
-    """A segment with its sequence number, its moves (motion) and whether all its commands went out."""
-
-    seq: int
-    segment: Segment
-    moves: list[Move] = field(default_factory=list)
-    transmitted: bool = False
-
-    end_sub: int | None = None     # the M+1 value written when it ends (a dwell); None: M = seq says it has run
-
-    def has_run(self, sub: int) -> bool:
-        """Whether it has run, the card's M holding its number and M+1 holding ``sub`` (see the module docstring)."""
-        if self.segment.kind == "motion":
-            return False                 # M = seq: started; the position tells how far
-        return self.end_sub is None or sub == self.end_sub
-
-
-class InterpCncBackend:
+class InterpCncBackend(Polling, Recovery, Watchdog):
     """Back-end ``interpcnc`` (options: see :mod:`.options`)."""
 
     name = "interpcnc"
@@ -177,7 +143,26 @@ class InterpCncBackend:
         self.link = Link(host=opt.host, port=opt.port, serial=opt.serial, baudrate=opt.baudrate, unit=opt.unit,
                          timeout=opt.timeout)
         self.warnings: list[str] = []
-        self.stats = {"polls": 0, "commands": 0, "registers": 0, "waits": 0, "low_water": 0, "resyncs": 0}
+        self.stats = {"polls": 0, "commands": 0, "registers": 0, "waits": 0, "low_water": 0, "resyncs": 0,
+                      "markers": 0, "underruns": 0, "t_encode": 0.0, "t_write": 0.0, "t_poll": 0.0, "t_wait": 0.0}
+        #: the clock and the sleep of every wait and timeout (a test may give the emulator's virtual clock)
+        self.clock = time.monotonic
+        self.sleep = time.sleep
+        #: called with the status while :meth:`finish` waits for the card (progress after the last segment sent)
+        self.on_wait = None
+        # boxes widened by the resume's path tolerance each: members not consecutive stay 2 tolerances apart
+        self.coalescer = Coalescer(self.options.marker_every,
+                                   path_tolerance(self.options.resolution, self.options.chordal_tolerance),
+                                   len(self.axes))
+        #: the segments that carried a marker (see markers.MarkerLog; verify.expected_events reads it)
+        self.marker_log = MarkerLog()
+        self._dry = False                            # a poll found the card's buffers empty while streaming
+        self._stall_mark: tuple | None = None        # what the card reported when progress was last seen
+        self._stall_since = 0.0
+        self._stall_pulses: list[int] | None = None
+        self._first_sent = self._last_sent = 0.0     # clock of the first and the last segment transmitted
+        self._stall_code = ""                        # BCK001/BCK002 once the watchdog stopped the stream
+        self._lead: float | None = None              # planned s queued behind the start wait, None: no wait shut
         self._lock = threading.Lock()
         self._status = Status(state="closed")
         self._window: deque[_Sent] = deque()        # sent, not known complete (seq order)
@@ -260,21 +245,39 @@ class InterpCncBackend:
         alarm or link loss).  A feed hold or the door safety on the card (state "pause") keeps it waiting."""
         if self._status.state == "closed":
             raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
+        moving_since = None
+        self._stall_reset()
         while True:
             if self._fault:
                 raise self._fault_error("cannot finish")
             if self._pending:
                 self._flush()
+            if self._lead is not None:
+                self._io(self._start)
             if self._stopped:
                 break
             self._io(self._poll)
             # a feed hold or the door (state "pause") keeps it waiting: ending the hold is the operator's; IR 1016
             # is read only once the buffers look empty, not on every poll
-            if self._card_idle() and self._marker == self._seq and not self._io(self._axes_moving):
-                break
-            time.sleep(self.options.poll_interval)
+            if self._card_idle() and self._marker == self.marker_log.last:
+                if not self._io(self._axes_moving):
+                    break
+                moving_since = self.clock() if moving_since is None else moving_since
+                if self.clock() - moving_since > self.options.stop_timeout:
+                    raise self._stalled("BCK002", f"the axes-moving bits (input register {regs.IR_STATUS_BITS}) "
+                                        f"stayed set {self.options.stop_timeout:g} s after the card's buffers had "
+                                        "emptied")
+            else:
+                moving_since = None
+                self._io(lambda: self._watch("the end of the program"))
+            if self.on_wait is not None:
+                self.on_wait(self._snapshot())
+            self.sleep(self.options.poll_interval)
         self._set(state="idle")
-        return self.status()
+        status = self.status()
+        if self.on_wait is not None:
+            self.on_wait(status)              # the end: 100 % executed
+        return status
 
     def pause(self) -> None:
         """Feed hold (1200/130; the card also stops the spindle, buffers kept)."""
@@ -348,7 +351,7 @@ class InterpCncBackend:
     def status(self) -> Status:
         """The card's status, read again when older than ``poll_interval`` (so that calling it after every
         segment costs nothing); the last known one when the link is down.  The position needs ``resolution``."""
-        now = time.monotonic()
+        now = self.clock()
         if self._status.state != "closed" and not self.link.failed and now - self._last_status >= \
                 self.options.poll_interval:
             self._last_status = now
@@ -360,6 +363,12 @@ class InterpCncBackend:
             except (LinkError, InterpCncError):
                 pass
         return self._snapshot()
+
+    def rate(self) -> float:
+        """Segments per second sustained so far: segments sent over the time from the first to the last one
+        (0 before two were sent)."""
+        span = self._last_sent - self._first_sent
+        return (self._status.sent - 1) / span if span > 0 and self._status.sent > 1 else 0.0
 
     def close(self) -> None:
         self.link.close()
@@ -377,6 +386,11 @@ class InterpCncBackend:
             if self.outputs.unmapped(rec.function, rec.value):
                 out.append(self.outputs.unmapped_message(rec.line, rec.function, rec.value))
         return out
+
+    def refusals(self, diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
+        """Errors (CFG030) for what the check found that this card cannot reproduce (see :mod:`.refusals`):
+        :func:`fagorcnc.run` asks before anything is sent."""
+        return refused_transformations(diagnostics, self.name)
 
     def preflight(self, segment: Segment) -> str | None:
         """Why ``segment`` could not be sent to the card (None when it can): the check before a real
@@ -456,6 +470,13 @@ class InterpCncBackend:
         self._pending.clear()
         self._lines.clear()
         self._seq = self._marker = self._sub = self._done = self._gate = self._gated_seq = 0
+        self.coalescer.close()
+        self.marker_log.clear()
+        self._dry = False
+        self._first_sent = self._last_sent = 0.0
+        self._lead = None
+        self._stall_code = ""
+        self.stats["underruns"] = 0
         self._fault = None
         self._untrusted_alarm = 0
         self._hold_seen = False
@@ -467,17 +488,45 @@ class InterpCncBackend:
         while self._pending:
             segment = self._pending[0]
             entry = _Sent(self._seq + 1, segment)
+            t0 = time.perf_counter()
             try:
                 words = self._prepare(entry)
             except TranslationError as exc:
                 self._pending.popleft()
                 raise InterpCncError(str(exc), self._snapshot(), accepted=False) from exc
+            self.stats["t_encode"] += time.perf_counter() - t0
+            if entry.seq == 1 and self.options.start_lead > 0:
+                words = [self._start_wait(), *words]
             with self.link.lock:
                 self._pending.popleft()
                 self._seq = entry.seq
                 self._window.append(entry)
                 self._lines[entry.seq] = segment.line
             self._transmit(entry, words)
+            if self._lead is not None:
+                self._lead += float(segment.duration)
+                if self._lead >= self.options.start_lead:
+                    self._start()
+
+    def _start_wait(self) -> proto.Words:
+        """The start lead: a 1012 wait before the stream's first command until the move register M+1 is above 0,
+        so that ``start_lead`` s of planned motion are queued before the card moves and a hiccup of the PC
+        early in the stream cannot run the card dry.  M+1 is 0 (cleared by open()) and nothing of the stream
+        writes it before the wait is over; :meth:`_start` writes 1 into it.  On timeout the card goes on (no
+        alarm): the wait holds back nothing that must not run."""
+        self._lead = 0.0
+        return proto.encode_wait_value(regs.EXTENDED_HOLDING + self.options.marker_register + 1, regs.WAIT_ABOVE, 0,
+                                       GATE_TIMEOUT_MS, alarm_on_timeout=False)
+
+    def _start(self) -> None:
+        """Let the card start (see :meth:`_start_wait`): once the lead is queued, when the back-end must wait for
+        the card (room, a gate, the end), never later."""
+        if self._lead is None:
+            return
+        self._lead = None
+        with self.link.lock:
+            self._check_stopped()
+            self.link.write(self.options.marker_register + 1, [1], "starting the stream (the start lead is queued)")
 
     def _prepare(self, entry: _Sent, moves: list[Move] | None = None, first: int = 0) -> list[Command]:
         """The commands of a segment with its markers (order: see the module docstring).
@@ -491,7 +540,13 @@ class InterpCncBackend:
             if moves is None:
                 entry.moves = moves = segment_moves(seg, self.xy, self.options.chordal_tolerance, self.rapid_feed)
             if len(entry.moves) == 1:
+                if not self.coalescer.place(moves):      # joins the open group: no marker of its own
+                    entry.head = self.marker_log.last
+                    return self.encoder.encode(moves)
+                self._headed(entry)
                 return [marker, *self.encoder.encode(moves)]
+            self.coalescer.close()
+            self._headed(entry)
             out = []
             for j, m in enumerate(moves, start=first):
                 out.append(proto.encode_register_write(reg + 1, j))
@@ -499,6 +554,8 @@ class InterpCncBackend:
                     out.append(marker)
                 out += self.encoder.encode([m])
             return out
+        self.coalescer.close()
+        self._headed(entry)
         if seg.kind == "dwell":
             dwell = proto.encode_dwell(float(getattr(seg.record, "seconds", seg.duration)))
             if not dwell:
@@ -510,6 +567,12 @@ class InterpCncBackend:
             actions = self._aux_words(seg)
             return self._gated(entry, [*actions, marker]) if actions else [marker]
         return [marker]
+
+    def _headed(self, entry: _Sent) -> None:
+        """``entry`` carries its own marker."""
+        entry.head = entry.seq
+        self.marker_log.add(entry.seq)
+        self.stats["markers"] += 1
 
     def _gated(self, entry: _Sent, body: list[proto.Words]) -> list[Command]:
         """``body`` held behind a wait until the gate opens (see the module docstring)."""
@@ -538,27 +601,39 @@ class InterpCncBackend:
                 self._room(len(words))
                 with self.link.lock:             # a poll from another thread sees the write and the count
                     self._check_stopped()
+                    t0 = time.perf_counter()
                     self.link.command(words)
+                    self.stats["t_write"] += time.perf_counter() - t0
                     self._free -= len(words)
                 self.stats["commands"] += 1
                 self.stats["registers"] += len(words)
         except LinkError as exc:
             raise self._link_lost(exc) from exc
         entry.transmitted = True
+        if self._dry:                            # the card had run dry, and the stream goes on: an underrun
+            self._dry = False
+            self.stats["underruns"] += 1
+        now = self.clock()
         with self._lock:
+            if not self._status.sent:
+                self._first_sent = now
+            self._last_sent = now
             self._status.sent += 1
             if self._status.state == "idle":
                 self._status.state = "run"
 
     def _await_done(self, seq: int) -> None:
         """Poll until segment ``seq`` has run (raises on an alarm or a stop)."""
+        self._stall_reset()
+        self._start()
         while True:
             self._poll()
             if self._done >= seq:
                 return
             self._check_stopped()
+            self._watch(f"the card to pass the gate of segment {seq}")
             self.stats["waits"] += 1
-            time.sleep(self.options.poll_interval)
+            self._pause(self.options.poll_interval)
 
     def _check_stopped(self) -> None:
         if self._stopped:
@@ -576,167 +651,35 @@ class InterpCncBackend:
             raise InterpCncError(f"a command of {size} registers cannot fit the card's "
                                  f"{self._buffer_size}-register buffer", self._snapshot())
         batch = max(size, self._buffer_size // 4)
+        waited = False
         while True:
-            if self._free >= size and time.monotonic() - self._last_poll < opt.poll_interval:
-                return
+            if self._free >= size:
+                if self.clock() - self._last_poll < opt.poll_interval:
+                    return
+                self._poll()                     # the periodic check for an alarm while the estimate has room
+                if self._free >= size:
+                    return
+            self._start()                        # the card must consume: the lead is as long as the buffer allows
             self._poll()
             low = self._planner_size - self._planner_free < opt.low_water
             if self._free >= (size if low else batch):
                 return
             self._check_stopped()
+            if not waited:
+                waited = True
+                self._stall_reset()
+            self._watch(f"room for {size} registers in the card's buffer")
             self.stats["waits"] += 1
             if low:
                 self.stats["low_water"] += 1
-                time.sleep(0.001)
+                self._pause(0.001)
             else:
-                time.sleep(opt.poll_interval)
+                self._pause(opt.poll_interval)
 
-    # ------------------------------------------------------------ polling
-    def _read_card(self) -> None:
-        """IR 3000-3004 in one request: free registers, Grbl free, planner free, status, alarm."""
-        with self.link.lock:
-            free, _grbl, pfree, status, alarm = self.link.read_input(regs.POLL_FIRST, regs.POLL_COUNT, "status poll")
-            self._free, self._planner_free, self._card_status, self._alarm_code = free, pfree, status, alarm
-            self._last_poll = time.monotonic()
-            self.stats["polls"] += 1
-
-    def _read_poll(self, *, purged: bool = False) -> None:
-        """The card's status words and the marker registers; updates the window and the status.
-
-        An idle card with empty buffers has run everything sent - unless it purged them (an alarm, a
-        stop): ``purged`` (or an alarm, a fault, a stop) forbids that inference, a motion segment whose
-        marker was read last is then only known to have started (a dwell's or an output's marker says
-        it has run).
-        """
-        with self.link.lock:                     # one consistent view, whichever thread polls
-            self._read_poll_locked(purged)
-
-    def _read_poll_locked(self, purged: bool) -> None:
-        self._read_card()
-        raw, self._sub = self.link.read_holding(self.options.marker_register, 2, "reading the sequence registers")
-        marker = self._marker + ((raw - self._marker) & 0xFFFF)
-        if marker > self._seq:
-            self._fault = "alarm"
-            msg = (f"the sequence register {self.options.marker_register} holds {raw}, which this stream never "
-                   "sent: another client wrote it or the card was reset")
-            self._set(state="alarm", alarm_message=msg)
-            raise InterpCncError(msg, self._snapshot())
-        for seq in range(self._marker, marker):
-            self._lines.pop(seq, None)
-        self._marker = marker
-        purged = purged or self._card_alarm() or self._fault is not None or self._stopped
-        complete = not purged and self._card_idle() and all(e.transmitted for e in self._window)
-        window = self._window
-        while window and window[0].seq < marker:
-            window.popleft()
-        if window and window[0].seq == marker and window[0].segment.kind == "motion":
-            # the move the card is running (its marker went out first): where it goes, for a PLC
-            self._set(target=dict(zip(self.axes, window[0].segment.piece.end.tolist(), strict=True)))
-        if window and window[0].seq == marker and (complete or window[0].has_run(self._sub)):
-            window.popleft()
-            self._done = marker
-        self._done = max(self._done, marker - 1)
-        line = self._lines.get(marker, self._status.line) if marker else 0
-        level = max(1.0 - self._free / self._buffer_size, 1.0 - self._planner_free / self._planner_size)
-        self._set(executed=self._done, line=line, buffer_level=level)
-        self._follow_hold()
-
-    def _follow_hold(self) -> None:
-        """A stream held by the card (feed hold, also from a hardware input L1141, or the door safety: IR 3003 bits
-        4, 6, L429) shows as state "pause", and as "run" again when the card lets it go: the progress line and a PLC
-        then see why nothing moves."""
-        held = bool(self._card_status & regs.STATUS_HELD)
-        with self._lock:
-            state = self._status.state
-            if held and state in ("run", "pause"):
-                self._hold_seen = True
-                self._status.state = "pause"
-            elif not held and state == "pause" and self._hold_seen:
-                self._hold_seen = False
-                self._status.state = "run" if self._window else "idle"
-
-    def _poll(self) -> None:
-        self._read_poll()
-        if self._card_alarm():
-            self._fault = "alarm"
-            code = self._alarm_code
-            self._note_alarm(code)
-            self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
-            advice = (" the machine position can no longer be trusted: call abandon(), home the machine and start "
-                      "the program again;" if self._untrusted_alarm else self._gate_advice(code))
-            raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: stopped sending;{advice} "
-                                 f"{self._where_text()}", self._snapshot(), alarm=code, line=self._status.line)
-
-    def _gate_advice(self, code: int) -> str:
-        """For alarm 18 in a stream with gates: the gate's 1012 address convention may be wrong (audit B1).
-
-        Raised here, with the link up all along, the back-end had opened the gate (it writes the token as soon as the
-        segment's commands are accepted).  The seed gives two readings of 1012's address 100000 + r (holding r:
-        L460, L1113-L1115, which the back-end follows; input register r: L250, L775-L791, L1291).
-        """
-        if code != regs.ALARM_WAIT_TIMEOUT or not self._gated_seq:
-            return ""
-        gate = self.options.marker_register + 2
-        return (" an output or a dwell waited 65 s at its gate, which the back-end had opened (holding register "
-                f"{gate}; the card watches it as address {regs.EXTENDED_HOLDING + gate}): this card probably reads "
-                f"that address as input register {gate} instead (the protocol document gives both meanings), so no "
-                "gate can ever open - almost certainly so if it stopped at the first output or dwell of the program; "
-                "ask the card's maker which one it uses (the gate registers come from the option marker_register, "
-                f"now {self.options.marker_register});")
-
-    def _note_alarm(self, code: int) -> None:
-        """Remember an alarm after which the position is not trusted, even if someone acknowledges it on
-        the card: only abandon() forgets it."""
-        if code in regs.ALARMS_POSITION_LOST:
-            self._untrusted_alarm = code
-
-    def _card_alarm(self) -> bool:
-        return bool(self._card_status & regs.STATUS_ALARM or self._alarm_code)
-
-    def _card_idle(self) -> bool:
-        # Exact: empty means free space = size (IR 3000 vs 2990, 3002 vs 2992; L423-L428, L848-L850).  Nothing in the
-        # seed says an empty buffer can report less; a card that did would make finish() wait forever (audit B5).
-        return (self._free >= self._buffer_size and self._planner_free >= self._planner_size
-                and not self._card_status & regs.STATUS_CYCLE)
-
-    def _axes_moving(self) -> bool:
-        """IR 1016's low byte: an axis still moving (L260; L512 "check that the axes have really stopped").
-
-        The planner may free its last entry before the axes have stopped.  Read only where the back-end decides
-        that motion has ended (finish(), after a stop), so the status poll on the streaming path stays one request.
-        """
-        bits = self.link.read_input(regs.IR_STATUS_BITS, 1, "reading the axes-moving bits")[0]
-        return bool(bits & regs.AXES_MOVING_MASK)
-
-    def _where_text(self) -> str:
-        s = self._status
-        if not s.line:
-            return "no block had started"
-        return f"last block started: line {s.line} ({s.executed} segments complete)"
-
-    def _position(self) -> dict[str, float]:
-        res = self.options.resolution
-        if not res:
-            return {}
-        pulses = proto.decode_i32_list(self.link.read_input(regs.IR_AXIS_POSITION, 12, "reading the position"))
-        return {a: pulses[regs.CARD_AXES.index(c)] / res[a] for a, c in zip(self.axes, self.card_axes, strict=True)
-                if a in res}
-
-    # ------------------------------------------------------------ faults and recovery
-    def _link_lost(self, exc: LinkError) -> InterpCncError:
-        self._fault = "link"
-        self._set(state="alarm", alarm=0, alarm_message=f"link lost: {exc}")
-        return InterpCncError(f"{exc}; stopped sending. {self._where_text()} (as last read). "
-                              "Call reconnect_and_continue() when the link is back.", self._snapshot(),
-                              line=self._status.line)
-
-    def _fault_error(self, what: str) -> InterpCncError:
-        s = self._status
-        how = "resume() to acknowledge the alarm" if self._fault == "alarm" else "reconnect_and_continue()"
-        if self._untrusted_alarm:
-            how = "abandon() to acknowledge the alarm and discard the stream"
-        return InterpCncError(f"the InterpCNC back-end is stopped ({s.alarm_message}): {what}; call {how} first",
-                              self._snapshot(), alarm=s.alarm, line=s.line)
+    def _pause(self, seconds: float) -> None:
+        t0 = time.perf_counter()
+        self.sleep(seconds)
+        self.stats["t_wait"] += time.perf_counter() - t0
 
     def _immediate(self, words: list[int], what: str) -> None:
         self._io(lambda: self.link.command(words, what))
@@ -747,132 +690,6 @@ class InterpCncBackend:
             return fn()
         except LinkError as exc:
             raise self._link_lost(exc) from exc
-
-    def _recover(self, *, acknowledge: bool) -> None:
-        """Reconnect if needed, acknowledge an alarm if allowed, then resynchronise."""
-        try:
-            self._reconnect()
-            self._read_poll(purged=True)
-            if self._card_alarm():
-                self._note_alarm(self._alarm_code)
-            if self._untrusted_alarm:
-                self._refuse_untrusted()
-            if self._card_alarm():
-                if not acknowledge:
-                    self._raise_alarm_state("acknowledge it with resume()")
-                self._purge_and_acknowledge()
-                self._read_poll(purged=True)
-                if self._card_alarm():
-                    self._raise_alarm_state("still active after the acknowledge (emergency stop still engaged?)")
-            self._resync()
-        except LinkError as exc:
-            raise self._link_lost(exc) from exc
-
-    def _reconnect(self) -> None:
-        """The start of a recovery: the back-end must be open; the link is connected again if it failed
-        (raises LinkError for the caller to report)."""
-        self._last_status = -math.inf
-        if self._status.state == "closed":
-            raise InterpCncError("the InterpCNC back-end is not open", self._snapshot())
-        if self.link.failed:
-            self.link.connect()
-
-    def _purge_and_acknowledge(self) -> None:
-        """1200/255 (stop, purge both buffers), then 1200/88 (acknowledge the alarm).
-
-        The seed says only 255 purges the buffers (L1225) and that a pause keeps them (L1139); nothing says an
-        alarm empties them.  A card that kept them would, once acknowledged, carry on with what was queued - after
-        alarm 18 the body behind a gate nobody opened (half an M function), after a limit switch more travel
-        toward it - for the round trips until the resynchronisation's own 255.  Purged first, nothing is left to run.
-        """
-        self.link.command(proto.encode_stop(), "stop and purge before acknowledging the alarm")
-        self.link.command(proto.encode_ack_alarm(), "acknowledging the alarm")
-
-    def _refuse_untrusted(self) -> None:
-        """Raise (nothing sent) for an alarm of regs.ALARMS_POSITION_LOST: see resume()."""
-        # the card's alarm, or the one that stopped the stream if someone acknowledged it behind our back
-        code = self._alarm_code if self._alarm_code in regs.ALARMS_POSITION_LOST else self._untrusted_alarm
-        self._raise_alarm_state("the machine position can no longer be trusted, so the interrupted program is "
-                                "not continued; call abandon() to acknowledge the alarm and discard the stream, "
-                                "then home the machine and start the program again", code)
-
-    def _raise_alarm_state(self, advice: str, code: int | None = None) -> None:
-        code = self._alarm_code if code is None else code
-        self._fault = "alarm"
-        self._set(state="alarm", alarm=code, alarm_message=proto.alarm_message(code))
-        raise InterpCncError(f"InterpCNC {proto.describe_alarm(code)}: {advice}; {self._where_text()}",
-                             self._snapshot(), alarm=code, line=self._status.line)
-
-    def _resync(self) -> None:
-        # after a link fault the only stop; after an alarm a second one, in case the card ignored the first (sent
-        # in alarm, _purge_and_acknowledge): the seed does not say it honours 255 then.  At rest it costs nothing.
-        self.link.command(proto.encode_stop(), "stop and purge before resuming")
-        self._await_rest()
-        marker = self._marker
-        redo = [e for e in self._window if e.seq >= marker]
-        plans: list[tuple[_Sent, list[Command]]] = []
-        self.encoder.reset(at_start=True)   # the interrupted move resumes from the position read back
-        for e in redo:
-            fresh = _Sent(e.seq, e.segment, e.moves, end_sub=e.end_sub)
-            words = self._resume_words(fresh) if e.seq == marker else self._prepare(fresh)
-            if words is not None:
-                plans.append((fresh, words))
-        self._fault = None
-        self.stats["resyncs"] += 1
-        with self.link.lock:
-            self._window.clear()
-        self._set(state="run", alarm=0, alarm_message="")
-        sent = self._status.sent
-        for fresh, words in plans:
-            with self.link.lock:
-                self._window.append(fresh)
-            self._transmit(fresh, words)
-        with self._lock:
-            self._status.sent = sent        # segments sent again were counted the first time
-        self._flush()
-
-    def _await_rest(self, read=None) -> None:
-        """After a 1200/255: poll (``read``, by default the status and markers) until the card is idle with
-        empty buffers and no axis moving (the position read next must be where it stopped, not mid-deceleration)."""
-        deadline = time.monotonic() + max(10.0, 20 * self.options.timeout)
-        while True:
-            if read is None:
-                self._read_poll(purged=True)
-            else:
-                read()
-            if self._card_idle() and not self._axes_moving():
-                return
-            if time.monotonic() > deadline:
-                raise InterpCncError("the InterpCNC did not come to rest after stop (1200/255)", self._snapshot())
-            time.sleep(self.options.poll_interval)
-
-    def _resume_words(self, entry: _Sent) -> list[Command] | None:
-        """Commands finishing the segment that had started (marker = its number); None when nothing is left."""
-        if entry.has_run(self._sub):
-            return None
-        if not entry.moves:
-            return self._prepare(entry)                   # a dwell cut short runs again in full
-        res = self.options.resolution
-        missing = [a for a in self.axes if a not in res]
-        if missing:
-            raise InterpCncError(f"cannot resume line {entry.segment.line}: the position of axis {missing[0]} "
-                                 "cannot be read back without 'resolution' (pulses per mm)", self._snapshot())
-        position = self._position()
-        pos = np.array([position[a] for a in self.axes])
-        j = self._sub if len(entry.moves) > 1 else 0
-        if not 0 <= j < len(entry.moves):
-            raise InterpCncError(f"cannot resume line {entry.segment.line}: move register holds {j}, the block has "
-                                 f"{len(entry.moves)} moves", self._snapshot())
-        # at its end = the position counters read its end (the card then counts it as done)
-        end_tol = np.array([0.5 / res[a] for a in self.axes])
-        path_tol = max(3.0 / min(res.values()), self.options.chordal_tolerance)
-        rest = remaining_moves(entry.moves[j:], pos, end_tol, path_tol)
-        if rest is None:
-            raise InterpCncError(f"cannot resume line {entry.segment.line}: the machine is not on the path of the "
-                                 "interrupted move (was it moved?); nothing was sent", self._snapshot())
-        if not rest:
-            return None
-        return self._prepare(entry, rest, first=len(entry.moves) - len(rest))
 
     # ------------------------------------------------------------ auxiliary functions
     def actions_for(self, function: str, value: float) -> tuple[OutputAction, ...] | None:
@@ -895,6 +712,7 @@ class InterpCncBackend:
     def _snapshot(self) -> Status:
         with self._lock:
             s = self._status
-            return Status(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position),
-                          s.buffer_level, dict(s.velocity), dict(s.target))
+            return InterpCncStatus(s.state, s.alarm, s.alarm_message, s.line, s.executed, s.sent, dict(s.position),
+                                   s.buffer_level, dict(s.velocity), dict(s.target), self.rate(),
+                                   self.stats["underruns"], "stall" if self._stall_code else (self._fault or ""))
 

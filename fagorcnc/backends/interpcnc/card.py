@@ -51,6 +51,11 @@ What it models, from seed 000:
   HR 2150-2165 and coils.  Command 1000 strings are only recorded
   (``gcode``): there is no G-code interpreter here.  The table's 1005
   (L1133) is refused like any unknown id.
+* A card that misbehaves: ``report_full_after`` = n - once n buffered
+  commands were accepted, IR 3000 reads 0 (no free space) for ever, while the
+  card goes on running what it holds; ``extra_moving`` (above) set for good -
+  the axes-moving bits never clear.  Against both the back-end must stop
+  with an error after its timeouts, never wait for ever (issue 30 items 13, 14).
 * Faults for tests: :meth:`Card.hold_full` (stops consuming for a while),
   :meth:`Card.schedule_alarm` (an alarm half-way through the n-th move).
 """
@@ -111,7 +116,8 @@ class Card:
                  rapid_speed: float = 10000.0, resolution: float | dict[str, float] = 1000.0,
                  limits: dict[str, tuple[float, float]] | None = None,
                  watch_register: int = regs.DEFAULT_MARKER_REGISTER, max_lag: float = 0.02,
-                 keep_buffers_on_alarm: bool = False, clock=time.monotonic) -> None:
+                 keep_buffers_on_alarm: bool = False, clock=time.monotonic,
+                 report_full_after: int | None = None) -> None:
         if speed <= 0:
             raise ValueError("speed factor must be positive")
         self.speed = speed
@@ -154,6 +160,8 @@ class Card:
         self.time = 0.0                               # machine time, s
         self.underruns = 0
         self.overflows = 0
+        self.report_full_after = report_full_after
+        self.buffered = 0                             # buffered commands accepted
         self.discarded = 0
         self.arc_errors = 0
         self.moves_started = 0
@@ -469,6 +477,7 @@ class Card:
             self._starved = False
         self.queue.append(cmd)
         self.used += cmd.size
+        self.buffered += 1
         self._run(0.0)            # an action with nothing queued runs at once (L941)
         return None
 
@@ -548,6 +557,8 @@ class Card:
         ir[regs.IR_CNC_BUFFER_SIZE], ir[regs.IR_GRBL_BUFFER_SIZE], ir[regs.IR_PLANNER_SIZE] = \
             self.buffer_size, 1024, self.planner_size
         ir[regs.IR_CNC_BUFFER_FREE] = self.buffer_size - self.used
+        if self.report_full_after is not None and self.buffered >= self.report_full_after:
+            ir[regs.IR_CNC_BUFFER_FREE] = 0
         ir[regs.IR_GRBL_BUFFER_FREE] = 1024
         ir[regs.IR_PLANNER_FREE] = self.planner_size - self.entries
         ir[regs.IR_CNC_STATUS] = self.status_word()

@@ -13,7 +13,17 @@ registers a client reads are current; a background tick keeps time moving
 between requests.  Fault injection for tests: :meth:`Emulator.drop_connection`,
 :meth:`fail_next` (Modbus exception replies), :meth:`delay_next` (the
 request is applied, the reply comes late), :meth:`hold_full` (the card
-stops consuming: the buffer fills up), :meth:`raise_alarm` / :meth:`schedule_alarm`.
+stops consuming: the buffer fills up), :meth:`raise_alarm` / :meth:`schedule_alarm`; card options
+``report_full_after`` (IR 3000 reads 0 for ever after that many buffered commands) and ``extra_moving``
+(axes-moving bits that never clear) make a card that misbehaves.
+
+**Lock-step** (``clock=VirtualClock(request_time)``): the card's time moves only
+by ``request_time`` per Modbus request and by the sleeps of a client sharing the
+clock (``backend.clock = clock; backend.sleep = clock.sleep``), so "does the
+stream keep up at N x real time over a link of that round trip?" has an answer
+that does not depend on how loaded the test machine is.  Functions 22 (mask
+write) and 23 (read/write) write holding registers like 6 and 16: their writes
+reach the card model (a command at 2000 included).
 
 :class:`EmulatorProcess` runs the same emulator in a child process (as a
 real card runs beside the PC, without sharing the client's interpreter).
@@ -27,6 +37,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import math
 import multiprocessing
 import threading
 import time
@@ -42,6 +53,31 @@ from .card import Card, Executed
 
 _READS = {1: "c", 2: "d", 3: "h", 4: "i"}
 _WRITES = {5: "c", 15: "c", 6: "h", 16: "h"}
+#: functions that read and write holding registers: pymodbus calls the action once to read, once with the values
+_READ_WRITE = (22, 23)
+
+
+class VirtualClock:
+    """Seconds that pass only when told: ``request_time`` for each Modbus request the emulator serves, and the
+    duration of every :meth:`sleep` of a client sharing it (thread-safe; callable like ``time.monotonic``)."""
+
+    def __init__(self, request_time: float = 0.0) -> None:
+        if not request_time >= 0:
+            raise ValueError("request_time must be 0 or more seconds")
+        self.request_time = request_time
+        self._now = 0.0
+        self._lock = threading.Lock()
+
+    def __call__(self) -> float:
+        return self._now
+
+    def advance(self, seconds: float) -> None:
+        with self._lock:
+            self._now += max(seconds, 0.0)
+
+    def sleep(self, seconds: float) -> None:
+        """A client's wait: the time passes at once."""
+        self.advance(seconds)
 
 
 class Emulator:
@@ -55,10 +91,13 @@ class Emulator:
     """
 
     def __init__(self, host: str = "127.0.0.1", port: int = 0, *, speed: float = 1.0, framer: str = "socket",
-                 unit: int = 0, tick: float = 0.002, **card_options) -> None:
+                 unit: int = 0, tick: float = 0.002, clock: VirtualClock | None = None, **card_options) -> None:
         if framer not in ("socket", "rtu"):
             raise ValueError("framer must be 'socket' or 'rtu'")
         self.host, self.port, self.framer, self.unit, self.tick = host, port, framer, unit, tick
+        self.virtual = clock
+        if clock is not None:   # virtual time never lags: nothing to drop (see card.Card.max_lag)
+            card_options = {"clock": clock, "max_lag": math.inf, **card_options}
         self.card = Card(speed=speed, **card_options)
         self.lock = threading.Lock()
         self.requests = 0
@@ -147,12 +186,16 @@ class Emulator:
     # ------------------------------------------------------------ Modbus
     async def _action(self, fc: int, start: int, address: int, count: int, registers: list,
                       values: list | None) -> ExcCodes | None:
-        is_write = fc in _WRITES
+        is_write = fc in _WRITES or (fc in _READ_WRITE and values is not None)
+        # 22 reads then writes, 23 writes then reads: one request, two calls
+        second = (fc == 23 and values is None) or (fc == 22 and values is not None)
+        if self.virtual is not None and not second:
+            self.virtual.advance(self.virtual.request_time)
         with self.lock:
-            self.requests += 1
+            self.requests += not second
             if self._due(self._fail, is_write):
                 return self._fail[1]
-            touches_command = fc in (6, 16) and address <= regs.HR_COMMAND < address + count
+            touches_command = (is_write and fc not in (5, 15)) and address <= regs.HR_COMMAND < address + count
             if touches_command and self._drop_after is not None:
                 if self._drop_after == 0:
                     self._drop_after = None
@@ -195,8 +238,8 @@ class Emulator:
 
     def _read(self, fc: int, start: int, address: int, count: int, registers: list) -> None:
         card = self.card
-        if fc in (3, 4):
-            image = card.hr if fc == 3 else card.ir
+        if fc in (3, 4, *_READ_WRITE):
+            image = card.ir if fc == 4 else card.hr
             registers[address - start:address - start + count] = image[address:address + count]
             return
         bits = card.outputs if fc == 1 else card.inputs + self._status_bits()
@@ -300,7 +343,7 @@ def report(emu: Emulator) -> dict:
         return {"log": list(card.log), "aborted": list(card.aborted), "underruns": card.underruns,
                 "overflows": card.overflows, "discarded": card.discarded, "arc_errors": card.arc_errors,
                 "outputs": list(card.outputs), "analog": list(card.analog), "time": card.time,
-                "requests": emu.requests}
+                "requests": emu.requests, "lag_events": card.lag_events}
     return emu.inspect(take)
 
 

@@ -10,6 +10,10 @@ Example (TOML)::
     # serial = "/dev/ttyACM0"        # Modbus RTU (also "socket://host:port")
     chordal_tolerance = 0.005        # mm, for arcs/blends sent as lines
     resolution = { X = 800, Y = 800, Z = 1600 }   # pulses per mm (position read-back)
+    marker_every = 16                # straight moves sharing one sequence marker (1: one per segment)
+    stall_timeout = 30               # s: the card consumes nothing although it holds commands -> stop (BCK001)
+    stop_timeout = 10                # s: an axis still reported moving once the buffers are empty -> stop (BCK002)
+    start_lead = 0.2                 # s of planned motion queued before the card starts (default 0: at once)
 
     [backends.interpcnc.outputs]     # auxiliary functions -> synchronised actions (command 1010)
     M3 = { type = 1, output = 0, value = 1 }               # OUT0 on
@@ -89,11 +93,16 @@ class Options:
     marker_register: int = regs.DEFAULT_MARKER_REGISTER   # user RAM (this and the next two): markers and gate
     axis_map: dict[str, str] = field(default_factory=dict)   # machine axis -> card axis letter
     strict_outputs: bool = False             # unmapped auxiliary function -> error instead of warning
+    marker_every: int = 16                   # straight moves sharing one sequence marker at most (see markers.py)
+    stall_timeout: float = 30.0              # s without progress while the card holds commands -> error (BCK001)
+    stop_timeout: float = 10.0               # s the axes may keep moving once the buffers are empty (BCK002)
+    start_lead: float = 0.0                  # s of planned motion queued before the card may start (0: at once)
 
 
 _KEYS = {
     "host", "port", "serial", "baudrate", "unit", "timeout", "chordal_tolerance", "resolution", "outputs",
-    "ignore", "poll_interval", "low_water", "marker_register", "axis_map", "strict_outputs",
+    "ignore", "poll_interval", "low_water", "marker_register", "axis_map", "strict_outputs", "marker_every",
+    "stall_timeout", "stop_timeout", "start_lead",
 }
 _FUNCTION_KEY = re.compile(r"^[MSTHD](\d+)?$")
 
@@ -138,6 +147,10 @@ def parse_options(machine: Machine, overrides: dict[str, Any]) -> Options:
     opt.low_water = int(_number("low_water", table.get("low_water", opt.low_water), 0, 35, True))
     opt.marker_register = int(_number("marker_register", table.get("marker_register", opt.marker_register),
                                       regs.HR_USER_RAM, regs.HR_USER_RAM_LAST - 2, True))
+    opt.marker_every = int(_number("marker_every", table.get("marker_every", opt.marker_every), 1, 64, True))
+    opt.stall_timeout = _number("stall_timeout", table.get("stall_timeout", opt.stall_timeout), 0.05, 86400.0)
+    opt.stop_timeout = _number("stop_timeout", table.get("stop_timeout", opt.stop_timeout), 0.05, 3600.0)
+    opt.start_lead = _number("start_lead", table.get("start_lead", opt.start_lead), 0.0, 60.0)
     strict = table.get("strict_outputs", False)
     if not isinstance(strict, bool):
         raise _err("strict_outputs", "expected true or false")

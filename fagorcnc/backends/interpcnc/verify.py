@@ -3,7 +3,9 @@
 :func:`expected_events` lists, for the segments streamed in one session of
 an :class:`~.backend.InterpCncBackend`, what the card must execute, in
 order: every move's end point as the card receives it (single precision),
-tagged with the segment's sequence number, every synchronised action of the
+tagged with the marker it ran under (its segment's sequence number, or its
+group's head when markers are coalesced: ``backend.marker_log``), every
+synchronised action of the
 ``outputs`` table and every dwell.  :func:`executed_events` reads the same
 events from the emulator's executed log (:class:`~.card.Executed`), leaving
 out the back-end's own marker writes and feed changes.  Equal lists mean
@@ -31,14 +33,16 @@ def expected_events(segments: Iterable[Segment], backend) -> list[Event]:
     card_index = [regs.CARD_AXES.index(c) for c in backend.card_axes]
     position = [0.0] * len(regs.CARD_AXES)
     last: tuple | None = None
+    log = getattr(backend, "marker_log", None)
     for seq, seg in enumerate(segments, start=1):
         if seg.kind == "motion":
+            tag = log.tag(seq) if log is not None and len(log) else seq
             for m in segment_moves(seg, backend.xy, backend.options.chordal_tolerance, backend.rapid_feed):
                 for k, v in zip(card_index, m.end, strict=True):
                     position[k] = proto.float32(float(v))
                 end = tuple(position)
                 if end != last:
-                    out.append(("move", seq, end))
+                    out.append(("move", tag, end))
                 last = end
         elif seg.kind == "dwell":
             seconds = float(getattr(seg.record, "seconds", seg.duration))
