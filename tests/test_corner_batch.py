@@ -149,7 +149,7 @@ def test_corners_at_arcs_in_a_batch_plan_as_one_by_one(monkeypatch, mode, plane)
 
     import fagorcnc
     from fagorcnc.plan import Planner
-    from fagorcnc.plan.planner import _MISSING
+    from fagorcnc.plan.junctions import _MISSING
     from fagorcnc.simulate import Run
 
     machine = fagorcnc.load_machine(None)

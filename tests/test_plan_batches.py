@@ -169,7 +169,7 @@ def test_an_hsc_transition_curve_is_measured_against_the_line_it_replaces():
     the tolerance of that stretch of line, and the longest step that does is taken (it used to be measured against
     the stretch from the step's end to the line's end, which is never closer than the step: only steps below the
     tolerance passed)."""
-    from fagorcnc.plan.planner import _transition_curve
+    from fagorcnc.plan.junctions import _transition_curve
 
     p = LinePiece(np.array([0.0, 0.0, 0.0]), np.array([8.0, 0.0, 0.0]))
     k = np.array([0.0, 0.02, 0.0])                 # curvature 0.02 /mm towards +Y at the start
@@ -475,7 +475,7 @@ def test_a_span_made_later_settles_to_the_limits_made_at_once():
 def test_roundpar_of_a_line_batch_is_roundpar_of_each_corner(params):
     """The G05 line batch takes #ROUNDPAR's feed, speed and tolerance for all its corners at once:
     the very numbers _roundpar gives each corner (its entries are matched against them)."""
-    from fagorcnc.plan.planner import _roundpar, _roundpar_rows
+    from fagorcnc.plan.junctions import _roundpar, _roundpar_rows
 
     feeds = np.array([50.0, 100.0 / 3.0, 17.1, 0.123456789])
     f, speeds, tolerance = _roundpar_rows(params, feeds)
