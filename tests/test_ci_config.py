@@ -82,3 +82,26 @@ def test_junit_and_statistics(tmp_path, capsys):
     assert main(["check", "--no-config", "--statistics", "-j", "1", str(a), str(b), str(a)]) == 1
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip()]
     assert rows[0][:3] == ["2", "INT098", "warning"] and rows[1][:3] == ["1", "INT100", "error"]
+
+
+def test_pyproject_compat_lays_over_the_machines_policy(tmp_path, monkeypatch, capsys):
+    # issue 28: [tool.fagorcnc] compat sets the [compat] policy of the check (the README "CAM posts"):
+    # G51 A45 E0.002 is a warning by default (CAM001), an error with compat = { g51 = "error" } or "strict"
+    prog = tmp_path / "p.nc"
+    prog.write_text("G51 A45 E0.002\nG1 X10 F100\nM30\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", "--no-config", str(prog)]) == 0
+    for table in ('compat = { g51 = "error" }', 'compat = "strict"'):
+        (tmp_path / "pyproject.toml").write_text(f"[tool.fagorcnc]\n{table}\n")
+        capsys.readouterr()
+        assert main(["check", str(prog)]) == 1, table
+        assert "CAM001" in capsys.readouterr().out
+    (tmp_path / "pyproject.toml").write_text('[tool.fagorcnc]\ncompat = { g51 = "maybe" }\n')
+    assert main(["check", str(prog)]) == 2
+    assert "CLI011" in capsys.readouterr().err
+
+
+def test_pyproject_max_cycle_time_in_minutes(tmp_path):
+    path = tmp_path / "pyproject.toml"
+    path.write_text('[tool.fagorcnc]\nmax-cycle-time = "1:30"\n')
+    assert load_config(path).get("max-cycle-time") == 90.0   # 1 min 30 s

@@ -690,6 +690,11 @@ def command(args: argparse.Namespace) -> int:
     machine = command_machine(args)
     if machine is None:
         return 2
+    try:
+        machine = ci.with_compat(args, machine)   # [tool.fagorcnc] compat over the machine's [compat]
+    except ci.ConfigError as exc:
+        print(f"fagorcnc: CLI011 {exc}", file=sys.stderr)
+        return 2
     if args.strict:   # the manual's letter: every CAM posts' construct of [compat] is an error
         machine = dataclasses.replace(machine, compat=machine.compat.strictly())
     with tempfile.TemporaryDirectory(prefix="fagorcnc-check-") as scratch:

@@ -7,7 +7,7 @@ directory above it (``--config FILE`` names another; ``--no-config`` ignores it)
 
     [tool.fagorcnc]
     machine = "machines/mill.toml"   # --machine (relative to the pyproject.toml's directory)
-    compat = "..."                   # --compat, when this fagorcnc has that option
+    compat = { g51 = "error" }       # over the machine's [compat] table (or compat = "strict", as --strict)
     fail-on = "warning"              # --fail-on
     select = ["INT", "PLN"]          # codes or prefixes reported (default: all)
     ignore = ["INT098", "STR011"]    # codes or prefixes not reported
@@ -126,9 +126,21 @@ def _checked(path: Path, key: str, value: Any) -> Any:
             raise ConfigError(f"{where} must be \"error\" or \"warning\"")
         return value
     if key == "max-cycle-time":
+        if isinstance(value, str):   # "1:30", as on the command line
+            from ._shared import duration
+
+            try:
+                value = duration(value)
+            except Exception:
+                raise ConfigError(f"{where} = {value!r}: seconds, m:ss or h:mm:ss") from None
         if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
             raise ConfigError(f"{where} must be a positive number of seconds")
         return float(value)
+    if key == "compat":
+        if value != "strict" and not isinstance(value, dict):
+            raise ConfigError(f"{where}: a table like the machine file's [compat] (compat = {{ g51 = \"error\" }}) "
+                              "or \"strict\"")
+        return value
     if not isinstance(value, str) or not value:
         raise ConfigError(f"{where} must be a string")
     return value
@@ -176,20 +188,8 @@ def prepare(args: argparse.Namespace) -> int | None:
         if args.fail_on is None:
             args.fail_on = config.get("fail-on", "error")
         if args.max_cycle_time is None:
-            limit = config.get("max-cycle-time")
-            if isinstance(limit, str):   # "1:30", as on the command line
-                from ._shared import duration
-
-                try:
-                    limit = duration(limit)
-                except Exception:
-                    raise ConfigError(f"{config.file}: [tool.fagorcnc] max-cycle-time = {limit!r}: seconds, "
-                                      "m:ss or h:mm:ss") from None
-            args.max_cycle_time = limit
-        if config.get("compat") is not None and getattr(args, "compat", None) is None:
-            if not hasattr(args, "compat"):
-                raise ConfigError(f"{config.file}: [tool.fagorcnc] compat: this fagorcnc has no --compat option")
-            args.compat = config.get("compat")
+            args.max_cycle_time = config.get("max-cycle-time")
+        args.compat_table, args.compat_file = config.get("compat"), config.file
         select = _codes(args.select, "--select") if args.select is not None else list(config.get("select", []))
         ignore = _codes(args.ignore, "--ignore") if args.ignore is not None else list(config.get("ignore", []))
         select += _codes(args.extend_select, "--extend-select")
@@ -325,3 +325,26 @@ def junit_report(reports: Sequence, *, fail_on: str = "error", verbose: bool = F
         root.set(key, str(totals[key]))
     ElementTree.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ElementTree.tostring(root, encoding="unicode")
+
+
+def with_compat(args: argparse.Namespace, machine):
+    """The machine with ``[tool.fagorcnc] compat`` laid over its ``[compat]`` policy (the file's keys win;
+    ``"strict"`` is ``--strict``); raises :class:`ConfigError` naming the bad key."""
+    from dataclasses import replace
+
+    from ..config.compat import parse_compat
+    from ..config.errors import MachineError
+
+    table = getattr(args, "compat_table", None)
+    if table is None:
+        return machine
+    if table == "strict":
+        return replace(machine, compat=machine.compat.strictly())
+    try:
+        parsed = parse_compat(table)   # validates the keys and actions
+    except MachineError as exc:
+        raise ConfigError(f"{args.compat_file}: [tool.fagorcnc] {exc}") from None
+    actions = {**machine.compat.actions, **{k: parsed.actions[k] for k in table if k != "strict"}}
+    return replace(machine, compat=replace(machine.compat, actions=actions,
+                                           strict=machine.compat.strict or parsed.strict))
+

@@ -46,6 +46,7 @@ def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.nd
 
 
 class _Grid:
+
     def __init__(self, mid: np.ndarray, cell: float, origin: np.ndarray) -> None:
         self.cell, self.origin = cell, origin
         ijk = np.floor((mid - origin) / cell).astype(np.int64)
@@ -114,6 +115,20 @@ class SegmentIndex:
         if self._tree is None:
             self._grids.append(_Grid(mid, cell, self.origin))
 
+
+    def _keep_nearest(self, points, ids, pidx, seg, best, arg) -> None:
+        """For the candidate pairs (point ``ids[pidx]``, segment ``seg``), keep in ``best``/``arg`` each
+        point's nearest segment where it is nearer than what was found before."""
+        d = point_segment_distance(points[ids][pidx], self.a[seg], self.b[seg])
+        local = np.full(len(ids), np.inf)
+        np.minimum.at(local, pidx, d)
+        hit = d <= local[pidx]
+        where = np.zeros(len(ids), dtype=np.int64)
+        where[pidx[hit]] = seg[hit]
+        better = local < best[ids]
+        best[ids[better]] = local[better]
+        arg[ids[better]] = where[better]
+
     def _grid(self, level: int) -> _Grid:
         while len(self._grids) <= level:
             self._grids.append(_Grid(self._mid, self.cell * 4 ** len(self._grids), self.origin))
@@ -143,16 +158,7 @@ class SegmentIndex:
                 ids = todo[s:s + chunk]
                 pidx, sidx = grid.candidates(points[ids])
                 if len(pidx):
-                    seg = self.parent[sidx]
-                    d = point_segment_distance(points[ids][pidx], self.a[seg], self.b[seg])
-                    local = np.full(len(ids), np.inf)
-                    np.minimum.at(local, pidx, d)
-                    hit = d <= local[pidx]
-                    where = np.zeros(len(ids), dtype=np.int64)
-                    where[pidx[hit]] = seg[hit]
-                    better = local < best[ids]
-                    best[ids[better]] = local[better]
-                    arg[ids[better]] = where[better]
+                    self._keep_nearest(points, ids, pidx, self.parent[sidx], best, arg)
                 if not last:
                     unresolved.append(ids[~(best[ids] <= reach)])
             todo = np.concatenate(unresolved) if unresolved else np.empty(0, dtype=np.int64)
@@ -192,16 +198,7 @@ class SegmentIndex:
             counts = np.fromiter((len(x) for x in lists), dtype=np.int64, count=len(lists))
             flat = np.fromiter(itertools.chain.from_iterable(lists), dtype=np.int64, count=int(counts.sum()))
             pidx = np.repeat(np.arange(len(ids)), counts)
-            seg = self.parent[flat]
-            d = point_segment_distance(points[ids][pidx], self.a[seg], self.b[seg])
-            local = np.full(len(ids), np.inf)
-            np.minimum.at(local, pidx, d)
-            hit = d <= local[pidx]
-            where = np.zeros(len(ids), dtype=np.int64)
-            where[pidx[hit]] = seg[hit]
-            better = local < best[ids]
-            best[ids[better]] = local[better]
-            arg[ids[better]] = where[better]
+            self._keep_nearest(points, ids, pidx, self.parent[flat], best, arg)
         return best, arg
 
 

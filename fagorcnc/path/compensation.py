@@ -52,6 +52,7 @@ from dataclasses import replace
 
 from .aids import _arc_record, _circle_circle, _cross, _left, _line_circle, _line_record, _moved, _unit
 from .arcs import sweep
+from .clearance import Clearance
 from .proximity import GOUGE_TOLERANCE, nearest
 
 Point = tuple[float, float]
@@ -380,6 +381,38 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
     held: list = []                # records after pending (off-plane moves, aux)
     dropped: list = []             # programmed elements dropped after pending
     comp = None
+    clear: Clearance | None = None  # the path handed on and the profile, for the gouges the look-ahead cannot see
+
+    exiting: _Move | None = None   # the last move before a G40: its joins are the exit transition
+    follows_activation = False     # the move handed on last was the activation
+
+    def emit(move: _Move) -> Iterator:
+        """Hand a move on, after the no-gouge watch has seen its path (spec 04 §16.2): not the approach
+        (the activation move and its transition) nor the exit transition, which reach the profile's ends
+        on purpose (G139/G138, spec 04 §18.3, §19.1), nor the first move's stretch and the last move (below)."""
+        nonlocal follows_activation
+        first, follows_activation = follows_activation, move.activation
+        if clear is not None and not move.activation and move is not exiting:
+            # the last move before G40 ends at its perpendicular point (spec 04 §20): at a corner of a closed
+            # contour that is on the first edge, as the manual's square of spec 04 §26 shows
+            pieces = _pieces(move, move.inserted, a, o)
+            # the first move starts where the activation ends (spec 04 §19.2): at a corner of a closed contour
+            # that is on the closing edge, which the manual leaves untrimmed (spec 04 §26)
+            for piece in pieces[1:] if first else pieces:
+                hit = clear.path(piece, move.rec)
+                if hit is not None:
+                    raise CompensationError(move.rec, f"the tool does not fit here: its path would come "
+                                            f"{hit[0]:.4f} mm into the profile of line {hit[1].line} (a part of "
+                                            f"the contour narrower than the tool diameter {2 * comp[1]:g})")
+        yield from _emit(move, a, o)
+
+    def watch(rec) -> None:
+        """A programmed element of the contour: refused when the path already handed on comes into it."""
+        hit = clear.profile(_element(rec, a, o), rec) if clear is not None else None
+        if hit is not None:
+            raise CompensationError(rec, f"the tool does not fit here: the path of line {hit[1].line} would come "
+                                    f"{hit[0]:.4f} mm into this block's profile (a part of the contour narrower "
+                                    f"than the tool diameter {2 * comp[1]:g})")
 
     def drop(rec, code: str, message: str) -> None:
         if warn is None or _off_plane(rec, a, o) or len(dropped) >= MAX_DROPS:
@@ -397,8 +430,8 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
         def back_off(code: str, message: str) -> bool:
             """Drop pending and reopen the move before it; False if there is none to reopen."""
             nonlocal pending, held
-            if pending.activation or not ready:
-                return False
+            if pending.activation or not ready or ready[-1].activation:
+                return False   # the first move of the contour is where the activation leads: never dropped
             drop(pending.rec, code, message)
             before = ready.pop()
             held = before.held + held
@@ -453,7 +486,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
 
     def flush() -> Iterator:
         while ready:
-            yield from _emit(ready.pop(0), a, o)
+            yield from emit(ready.pop(0))
 
     for rec in records:
         kind = rec.kind
@@ -478,6 +511,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
                 raise CompensationError(rec, "radius compensation starts with a straight move (G00/G01), "
                                         "not an arc (L9659)")
             pending = _Move(rec, _pts(rec, a, o)[0], activation=True)
+            clear = Clearance(rc[1])
             continue
         s, r, _t, _m, (a, o) = comp
         if rc is not None and not _planar(rec, a, o):
@@ -495,8 +529,10 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
             pending.held, held = held, []
             pending.inserted, pending.feed = inserted, rec.feed if rec.kind != "rapid" else None
             ready.append(pending)
+            clear = None   # the joins of a side change cross the profile on purpose (spec 04 §22)
             yield from flush()
             comp = rc
+            clear = Clearance(rc[1])   # the other side, or another radius: watched from here on
             pending = _Move(rec, next_start)
             continue
         if waiting:
@@ -513,6 +549,8 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
             held = []
             waiting = False
             pending = _Move(rec, b)
+            clear = Clearance(r)
+            watch(rec)
             if not _followable(rec, a, o, s, r):
                 raise CompensationError(rec, f"the tool radius {r:g} is not smaller than the concave arc radius: "
                                         "the arc cannot be followed")
@@ -533,10 +571,13 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
             pending.end = _offset_point(pending.rec, a, o, s, r, True)
             pending.held, held = held, []
             ready.append(pending)
+            exiting = pending
             yield from flush()
             yield _record(rec, a, o, pending.end, None)
             pending, comp = None, None
             continue
+        if not cancel:
+            watch(rec)
         if not cancel and not _followable(rec, a, o, s, r):
             drop(rec, "INT121", f"the tool radius {r:g} is not smaller than the radius of this concave arc: "
                  "the arc cannot be followed")
@@ -545,8 +586,9 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
         if next_start is None:
             continue
         while len(ready) > LOOKAHEAD:
-            yield from _emit(ready.pop(0), a, o)
+            yield from emit(ready.pop(0))
         if cancel:
+            exiting = ready[-1] if ready else None
             yield from flush()
             yield _record(rec, a, o, next_start, None)
             pending, comp = None, None
