@@ -184,7 +184,7 @@ def test_a_plc_alarm_is_the_ending_of_the_run_not_m30():
     # issue 30.17: HR 40001 = 5 stops the run with alarm 9001; the summary said "ended by M30"
     demo = Path(__file__).resolve().parents[1] / "programs" / "demo.nc"
     machine = fagorcnc.load_machine(None)
-    be = SimulatorBackend(machine, realtime=60.0)   # demo.nc plans ~92 s: ~1.5 s of wall clock
+    be = SimulatorBackend(machine, realtime=20.0)   # demo.nc plans ~92 s: ~4.6 s of wall clock, a wide window
     with StatusServer(be, machine, port=0, holding_writes=True) as server:
         client = client_for(server)
         result: list = []
