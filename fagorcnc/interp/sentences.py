@@ -98,32 +98,39 @@ def _graphics_zone(interp, node) -> None:
     interp.state.planner["DGWZ"] = tuple(values)
 
 
+def _without_sub(statement):
+    return lambda interp, node, sub: statement(interp, node)
+
+
+#: Sentences a module of their own executes: keyword -> handler(interp, node, first keyword).
+_HANDLERS = {
+    "DEF": _without_sub(macros.define_statement),          # macros (interp/macros.py)
+    "INIT": _without_sub(macros.init_statement),
+    "DGWZ": _without_sub(_graphics_zone),                  # the graphics zone (above)
+    "SWTOUT": laser.swtout_statement,                      # laser (interp/laser.py)
+    "PWMOUT": laser.pwmout_statement,
+    "HSC": dynamics.hsc_statement,                         # planning context (interp/dynamics.py)
+    "ROUNDPAR": _without_sub(dynamics.roundpar_statement),
+    "SLOPE": _without_sub(dynamics.slope_statement),
+    "TANGFEED": _without_sub(dynamics.tangfeed_statement),
+}
+
+
 def execute_sentence(interp, node, src):
     kw = node.keyword
     st = interp.state
     first = node.args[0] if node.args else None
     sub = first.name if type(first) in (Name, Keyed) else None
-    if kw == "DEF":
-        macros.define_statement(interp, node)
-        return
-    if kw == "INIT":
-        macros.init_statement(interp, node)
+    handler = _HANDLERS.get(kw)
+    if handler is not None:
+        handler(interp, node, sub)
         return
     if kw == "REPOS":
         # seed 002 L11114: "#REPOS is only allowed in interrupt subroutines", which the PLC starts
         raise InterpError("INT119", "#REPOS is allowed only in an interrupt subroutine, which the PLC starts "
                           "(L11114); a program or subroutine run here cannot use it", node.col)
-    if kw == "DGWZ":
-        _graphics_zone(interp, node)
-        return
     if kw in ("CONTJOG", "INCJOG", "MPG") or (kw == "SET" and sub == "OFFSET") or (kw == "SYNC" and sub == "POS"):
         manual.statement(interp, node)
-        return
-    if kw == "SWTOUT":
-        laser.swtout_statement(interp, node, sub)
-        return
-    if kw == "PWMOUT":
-        laser.pwmout_statement(interp, node, sub)
         return
     if kw == "ERROR":
         # seed 002 L14139-L14212: stops the program with the error
@@ -191,18 +198,6 @@ def execute_sentence(interp, node, src):
         return
     if kinematics.handles(kw, sub):   # seed 002 ch. 14-17: #KIN ID, #CS, #ACS, #RTCP, #TLC, #TOOL ORI...
         yield from kinematics.execute(interp, node, src)
-        return
-    if kw == "HSC":
-        dynamics.hsc_statement(interp, node, sub)
-        return
-    if kw == "ROUNDPAR":
-        dynamics.roundpar_statement(interp, node)
-        return
-    if kw == "SLOPE":
-        dynamics.slope_statement(interp, node)
-        return
-    if kw == "TANGFEED":
-        dynamics.tangfeed_statement(interp, node)
         return
     if kw == "FLUSH":
         st.sync = True   # seed 002 L17446: preparation waits for execution, the motion stops here

@@ -19,20 +19,15 @@ import math
 from dataclasses import dataclass
 
 from ..config.kinematics import AngularAxis
+from .frame import AxisFrame
 
 
 @dataclass(frozen=True, eq=False)
-class AngaxFrame:
+class AngaxFrame(AxisFrame):
     """The active angular transformations (a linear map: a line stays a line)."""
 
     transformations: tuple[AngularAxis, ...]
-    description: str = "#ANGAX"
-    kinematics: object = None
-    engaged: bool = False
-    tlc: float = 0.0
-    pieces: bool = False
-    arcs = False
-    initial_pieces = 1
+    description = "#ANGAX"
 
     @property
     def linear(self) -> tuple[str, str, str]:

@@ -17,6 +17,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .frame import AxisFrame
+
 
 def _nearest(angle: float, near: float | None) -> float:
     if near is None:
@@ -25,17 +27,13 @@ def _nearest(angle: float, near: float | None) -> float:
 
 
 @dataclass(frozen=True, eq=False)
-class FaceFrame:
+class FaceFrame(AxisFrame):
     """#FACE [radial, C, longitudinal]: the polar transformation of the face plane."""
 
     radial: str
     angular: str
     longitudinal: str
-    description: str = "#FACE"
-    kinematics: object = None
-    engaged: bool = False
-    tlc: float = 0.0
-    pieces: bool = False
+    description = "#FACE"
     arcs = False          # an arc of the face plane is never an arc of the joints
     wrapped = property(lambda self: (self.angular,))   # its angle is followed over whole turns
     initial_pieces = 32   # the first cut of a move, angles followed from piece to piece
@@ -64,7 +62,7 @@ class FaceFrame:
 
 
 @dataclass(frozen=True, eq=False)
-class CylinderFrame:
+class CylinderFrame(AxisFrame):
     """#CYL [abscissa, ordinate, longitudinal R]: the rotary axis programmed along the developed surface."""
 
     abscissa: str
@@ -72,13 +70,7 @@ class CylinderFrame:
     longitudinal: str
     rotary: str
     radius: float
-    description: str = "#CYL"
-    kinematics: object = None
-    engaged: bool = False
-    tlc: float = 0.0
-    pieces: bool = False
-    arcs = False
-    initial_pieces = 1
+    description = "#CYL"
 
     @property
     def linear(self) -> tuple[str, str, str]:

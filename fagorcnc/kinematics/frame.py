@@ -114,3 +114,20 @@ class Frame:
     def tool_axis(self, pos: dict) -> tuple[float, float, float]:
         """The tool direction (tip -> spindle) in machine coordinates at ``pos``."""
         return tuple(float(c) for c in self._tool(self._angles(pos)))
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class AxisFrame:
+    """What the frames of the axis transformations share (#FACE, #CYL, #ANGAX): a map of the programmed
+    axes onto the machine's, with no kinematics and no tool length of their own.  Each subclass names
+    itself in ``description`` and says whether an arc stays an arc (``arcs``) and how finely a move is
+    first cut (``initial_pieces``)."""
+
+    kinematics: object = None
+    engaged: bool = False
+    tlc: float = 0.0
+    pieces: bool = False
+    description = ""
+    arcs = False
+    initial_pieces = 1
+
