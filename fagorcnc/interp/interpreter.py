@@ -24,7 +24,7 @@ from ..path.compensation import CompensationError, compensate
 from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
-from . import compat
+from . import axes, compat
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
 from .files import SubroutineFiles, is_stream
@@ -97,6 +97,8 @@ class Interpreter(FlowMixin):
         self.variables.axis_vars.update(self.manual.variables())
         self.spindle_modes = SpindleModes()   # M19 positioning, directions, S.POS, PRGSSO (seed 002 ch. 7)
         self.variables.spindle_vars.update(self.spindle_modes.variables(self.state))
+        self.variables.plain_vars.update(axes.variables(self.state))   # V.G.AXISNAMEn, V.G.LINKACTIVE
+        self.variables.axis_vars.update(axes.axis_variables())          # V.A.ACTCH.Xn
         self.cam = compat.CamState()   # CAM constructs and lint (interp/compat.py)
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
@@ -121,7 +123,8 @@ class Interpreter(FlowMixin):
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
             records = compensate(apply_aids(with_frames(follow(self._guarded(), self), self.state), self._aid_error),
                                  self._path_warning)
-            for record in joint_space(records, self):
+            # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
+            for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
                 self.cycle_time += record_time(machine, record)
                 handed = cpu_time()
                 yield record
@@ -570,6 +573,10 @@ class _Clock:
 
     def expired(self) -> bool:
         return cpu_time() > self.deadline
+
+
+def _stage_error(record, code: str, message: str) -> None:
+    raise StageError(record, code, message)
 
 
 def _is_on_off(node: Sentence) -> bool:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from ..kinematics import statements as kinematics
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import dynamics, laser, macros, manual
+from . import axes, dynamics, laser, macros, manual
 from .expressions import InterpError
 from .records import Dwell
 
@@ -28,7 +28,7 @@ RECORDED = frozenset({"ESBLK", "DSBLK", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
 #: through the points, L15690), #CD (loops removed, L15598).
 NOT_YET = frozenset({"TOOL", "POLY",
                      "SPLINE", "ASPLINE", "CD",
-                     "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "RPT"})
+                     "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "RPT"})
 
 
 def _text_of(args) -> str:
@@ -124,6 +124,9 @@ def execute_sentence(interp, node, src):
     handler = _HANDLERS.get(kw)
     if handler is not None:
         handler(interp, node, sub)
+        return
+    if axes.handles(kw, sub):   # the axis configuration, #PARK, #LINK (interp/axes.py)
+        axes.statement(interp, node)
         return
     if kw == "REPOS":
         # seed 002 L11114: "#REPOS is only allowed in interrupt subroutines", which the PLC starts
