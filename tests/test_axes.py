@@ -218,6 +218,14 @@ def test_a_parked_axis_cannot_be_programmed():
     assert _names("#PARK A\n", 4) == [10, 20, 30, 0]
 
 
+def test_generic_names_in_link_and_park():
+    # L1243-L1279: #LINK, #PARK and #UNPARK take the generic names; channel X Y Z A W ...: ?4 is A, ?5 is W
+    assert _errors("#PARK ?4\nG1 A10 F100\nM30\n") == [(2, 4, "INT203")]
+    assert _errors("#PARK ?4\n#UNPARK ?4\nG1 A10 F100\nM30\n") == []
+    end = _moves("#LINK [?3, ?5]\nG1 Z7 F100\nM30\n")[-1].end
+    assert end["W"] == 7.0
+
+
 def test_park_refused_while_in_use():
     # L14603-L14613: not an axis of a coupling, of an active #ANGAX, #TANGCTRL or kinematics
     assert _errors("#LINK [X, U]\n#PARK U\nM30\n") == [(2, 7, "INT208")]

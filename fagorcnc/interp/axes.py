@@ -110,14 +110,14 @@ class ChannelAxes:
             raise InterpError("INT203", f"axis {name} is parked (#PARK): it cannot be programmed (L14641)", col)
         return axis
 
-    def generic(self, k: int, col: int) -> str:
+    def generic(self, k: int, col: int, parked_ok: bool = False) -> str:
         """The axis of generic name ``?k``: slot k, holes counted (seed 002 L1207-L1211)."""
         slot = self.slots[k - 1] if 1 <= k <= len(self.slots) else None
         if slot is None:
             what = "a hole of the axis configuration" if 1 <= k <= len(self.slots) else "beyond the channel's axes"
             raise InterpError("INT022", f"generic axis ?{k} designates no axis: position {k} is {what} (L1211)",
                               col)
-        if slot in self.parked:
+        if slot in self.parked and not parked_ok:
             raise InterpError("INT203", f"?{k} is axis {self.name_of(slot)}, which is parked (#PARK) (L14641)", col)
         return slot
 
@@ -454,7 +454,9 @@ def park(interp, node, unpark: bool) -> None:
     if name is None:
         raise InterpError("INT208", f"{what} takes one axis or spindle: {what} A, {what} S2 (L14649)", node.col)
     col = item.col
-    if _SPINDLE_NAME.fullmatch(name) and name not in ch.by_name:
+    if name[0] == "?":   # the generic names are allowed in #PARK and #UNPARK (L1243-L1279)
+        element = ch.generic(int(name[1:]), col, parked_ok=True)
+    elif _SPINDLE_NAME.fullmatch(name) and name not in ch.by_name:
         if name not in st.speeds:
             raise InterpError("INT020", f"{what}: spindle {name} does not exist on this machine", col)
         element = name
