@@ -257,6 +257,16 @@ def test_the_slave_keeps_its_place_after_unlink():
     assert lines[3].end["U"] == 20.0   # X moves alone again
 
 
+def test_a_slave_reads_where_its_master_took_it():
+    # U = 5 + (X - 0): after G1 X10, V.A.POS.U reads 15 (no motion: the block reads it at once)
+    assert _params("G0 U5\n#LINK [X, U]\nG1 X10 F1000\nP1=V.A.POS.U\nM30\n", 1) == [15.0]
+
+
+def test_a_slave_cannot_become_a_main_axis():
+    # L14530 holds while the coupling lasts: #SET AX may not bring the slave U into the first three positions
+    assert [c for _l, _c, c in _errors("#LINK [X, U]\n#SET AX [X, U, Y, Z, A, W, V, B, C]\nM30\n")] == ["INT209"]
+
+
 def test_link_ends_at_m30_and_link_active_variable():
     # L14521: a coupling still active at the end of the program ends after M02/M30; V.G.LINKACTIVE (L40690)
     assert _params("#LINK [X, U]\nP1=V.G.LINKACTIVE\n#UNLINK\nP2=V.G.LINKACTIVE\nM30\n", 1, 2) == [1.0, 0.0]

@@ -248,6 +248,10 @@ def _changed(interp, before: list, added: list[str], keywords: list[str]) -> Non
     ch._index()
     if ch.slots == before:
         return   # "only an exchange of order ... the offsets are not taken into account" (L14774): nothing moved
+    slaves = [k.slave for k in ch.links if k.slave in ch.main_axes()]
+    if slaves:
+        raise InterpError("INT209", f"axis {ch.name_of(slaves[0])} is a coupled slave (#LINK) and cannot be one of "
+                          "the first three axes of the channel (L14530); #UNLINK first", 1)
     st.polar_origin = (0.0, 0.0)
     tr = st.transform
     tr.angle = 0.0
@@ -569,13 +573,22 @@ def unlink(interp, node) -> None:
     end_links(interp.state)
 
 
+def sync_slaves(st) -> None:
+    """The interpreter's own position of each coupled slave, where its master took it (what V.A.POS of a
+    slave reads; the records get the slaves' positions from :func:`follow_links`).  Not under a
+    transformation, where the interpreter's positions are in the programmed frame."""
+    if st.kin.frame is None:
+        pos = st.machine_pos
+        for k in st.channel.links:
+            pos[k.slave] = pos[k.master] + k.offset
+
+
 def end_links(st) -> None:
     """End the couplings (#UNLINK, M02/M30 L14521): each slave's position is where its master took it."""
     ch = st.channel
     if not ch.links:
         return
-    for k in ch.links:
-        st.machine_pos[k.slave] = st.machine_pos[k.master] + k.offset
+    sync_slaves(st)
     ch.links = ()
     st.dynamics_changed()
 

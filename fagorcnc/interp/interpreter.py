@@ -298,6 +298,8 @@ class Interpreter(FlowMixin):
     def _block(self, block: Block):
         self._current_block = block
         self.state.line = block.line
+        if self.state.channel.links:   # the coupled slaves where their masters took them (interp/axes.py)
+            axes.sync_slaves(self.state)
         items = block.items
         if not items:
             return
