@@ -230,6 +230,11 @@ def test_park_refused_while_in_use():
     # L14603-L14613: not an axis of a coupling, of an active #ANGAX, #TANGCTRL or kinematics
     assert _errors("#LINK [X, U]\n#PARK U\nM30\n") == [(2, 7, "INT208")]
     assert _errors("#PARK\nM30\n") == [(1, 1, "INT208")]
+    lathe = {"axes": {"X": {}, "Y": {}, "Z": {}, "W": {}},
+             "angular_axes": [{"angular_axis": "X", "orthogonal_axis": "Z", "angle": 30}]}
+    assert _errors("#ANGAX ON [1]\n#PARK Z\nM30\n", lathe) == [(2, 7, "INT208")]
+    assert _errors("#ANGAX ON [1]\n#PARK W\nM30\n", lathe) == []
+    assert _errors("#CS ON [1] [MODE 1, 0, 0, 0, 0, 0, 30]\n#PARK Y\n#PARK W\nM30\n", lathe) == [(2, 7, "INT208")]
 
 
 def test_parked_spindle():
@@ -342,3 +347,20 @@ def test_no_sentence_of_this_section_is_left_unsupported():
                "#PARK B\n#UNPARK B\n#LINK [X, U]\n#UNLINK\nM30\n")
     r = _run(program)
     assert r.ok and not [d for d in r.diagnostics if d.code in ("INT011", "INT078", "INT079", "INT044")]
+
+
+def test_m30_ends_the_coupling_and_undoes_temporary_changes():
+    # L14521: the coupling ends at M02/M30; L14694-L14700: a temporary change of channel (AXISEXCH 1) does not
+    # outlast the program, a permanent one (2) does
+    from fagorcnc.interp import axes
+    from fagorcnc.interp.state import ChannelState
+
+    machine = load_machine({"axes": {**AXES, "V": {"exchange": 2}}, "channel_axes": ["X", "Y", "Z", "W"]})
+    st = ChannelState(machine)
+    ch = st.channel
+    ch.slots = ["X", "Y", "Z", None, "U", "V"]   # W left (temporary), U came (temporary), V came (permanent)
+    ch.links = (axes.Link("X", "U", 5.0),)
+    st.machine_pos["X"] = 10.0
+    axes.reset(st)
+    assert ch.links == () and st.machine_pos["U"] == 15.0   # U where X took it: 10 + 5
+    assert ch.slots == ["X", "Y", "Z", "W", None, "V"]

@@ -481,8 +481,9 @@ def _axis_busy(interp, axis: str) -> str:
     current = kin.current
     if kin.frame is not None and current is not None and axis in current.axes:
         return "it belongs to the active kinematics"
-    if kin.active:
-        return "an #AC/#ACS transformation is active"
+    linear = [a for a in st.axes if not st.machine.axes[a].rotary][:3]   # the axes #CS/#ACS transform
+    if kin.active and (axis in linear or (current is not None and axis in current.axes)):
+        return "it belongs to an active #CS/#ACS transformation"
     if any(t.number in kin.angax and axis in (t.angular, t.orthogonal) for t in kin.angular_axes):
         return "it belongs to an active angular transformation #ANGAX"
     if axis in kin.tangential:
