@@ -561,7 +561,8 @@ def _link_axis(interp, item, role: str) -> str:
         return ch.generic(int(name[1:]), col)
     axis = ch.word_axis(name, col)
     if axis is None:
-        raise InterpError("INT204", f"#LINK: {name} is not an axis of the channel", col)
+        raise InterpError("INT204", f"#LINK: the machine has no axis {name}" if _AXIS_NAME.fullmatch(name)
+                          else f"#LINK: {name} is not an axis name (X, Y ... C, X1 ... C9)", col)
     return axis
 
 
