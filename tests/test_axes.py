@@ -244,6 +244,8 @@ def test_parked_spindle():
     assert _errors("#PARK S2\nS2=1000 M3.S2\nM30\n", two) == [(2, 1, "INT213")]
     assert _errors("S2=1000 M3.S2\n#PARK S2\nM30\n", two) == [(2, 7, "INT208")]
     assert _errors("#PARK S2\n#UNPARK S2\nS2=1000 M3.S2\nM30\n", two) == []
+    assert _errors("#PARK S\nM3\nM30\n", two) == [(2, 1, "INT213")]   # M3 alone is for the master, S
+    assert _errors("#PARK S\nS2=100 M3\nM30\n", two) == []            # ... here for S2, the block's spindle
 
 
 # ---------------------------------------------------------------------- #LINK / #UNLINK

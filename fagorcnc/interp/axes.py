@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 from ..syntax.ast import ItemList, Keyed, Name, Num
 from .expressions import InterpError, whole
+from .spindle import targets
 
 #: The offsets #SET AX / #CALL AX may apply to the axes they add (L14806-L14815).
 OFFSET_KEYWORDS = frozenset({"ALL", "LOCOF", "FIXOF", "ORGOF", "MEASOF", "MANOF"})
@@ -121,8 +122,9 @@ class ChannelAxes:
             raise InterpError("INT203", f"?{k} is axis {self.name_of(slot)}, which is parked (#PARK) (L14641)", col)
         return slot
 
-    def check_block(self, bw, gs: frozenset) -> None:
-        """The block's words against the couplings and the parked spindles."""
+    def check_block(self, bw, gs: frozenset, master: str | None) -> None:
+        """The block's words against the couplings and the parked spindles (``master``: the master spindle,
+        which an M3/M4/M5/M19 without a spindle suffix is for)."""
         if self.links and bw.axes and not gs & {130, 131, 132, 133, 134, 135}:
             slaves = self.slaves()
             for axis, (_v, col) in bw.axes.items():
@@ -132,7 +134,8 @@ class ChannelAxes:
                                       "until #UNLINK (L14549)", col)
         if self.parked:
             used = [(s, c) for s, (_v, c) in bw.speeds.items()]
-            used += [(t[0], bw.m[i][1]) for i, t in bw.m_target.items() if t and t[0]]
+            used += [(sp, c) for i, (m, c) in enumerate(bw.m) if m in (3, 4, 5, 19) or i in bw.m_target
+                     for sp in targets(bw, i, master)]
             for spindle, col in used:
                 if spindle in self.parked:
                     raise InterpError("INT213", f"spindle {spindle} is parked (#PARK): it cannot be programmed "

@@ -157,7 +157,7 @@ class WordsMixin:
             else:
                 raise InterpError("INT025", f"'{addr}' is not meaningful here", col)
         if channel.busy:   # a coupled slave programmed, a parked spindle (interp/axes.py)
-            channel.check_block(bw, frozenset(n for n, _c, _e in bw.g))
+            channel.check_block(bw, frozenset(n for n, _c, _e in bw.g), next(iter(st.speeds), None))
         return bw
 
     @staticmethod
