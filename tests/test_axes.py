@@ -269,6 +269,11 @@ def test_a_slave_reads_where_its_master_took_it():
     assert _params("G0 U5\n#LINK [X, U]\nG1 X10 F1000\nP1=V.A.POS.U\nM30\n", 1) == [15.0]
 
 
+def test_a_coupled_axis_cannot_leave_the_channel():
+    assert _errors("#LINK [X, U]\n#FREE AX [U]\nM30\n") == [(2, 11, "INT206")]
+    assert _errors("#LINK [X, U]\n#SET AX [X, Y, Z]\nM30\n") == [(2, 1, "INT206")]
+
+
 def test_a_slave_cannot_become_a_main_axis():
     # L14530 holds while the coupling lasts: #SET AX may not bring the slave U into the first three positions
     assert [c for _l, _c, c in _errors("#LINK [X, U]\n#SET AX [X, U, Y, Z, A, W, V, B, C]\nM30\n")] == ["INT209"]

@@ -237,8 +237,9 @@ def _leaving(interp, axis: str, col: int, what: str) -> None:
     if _exchange(ch.machine, axis) == 0:
         raise InterpError("INT205", f"{what}: axis {ch.name_of(axis)} may not change channel (its AXISEXCH is 0, "
                           "L14694)", col)
-    if any(axis in (k.master, k.slave) for k in ch.links):
-        raise InterpError("INT206", f"{what}: axis {ch.name_of(axis)} is coupled (#LINK); #UNLINK first", col)
+    busy = _axis_busy(interp, axis)   # [CONSTRUCTION] what may not park may not leave either (L14603-L14613)
+    if busy:
+        raise InterpError("INT206", f"{what}: axis {ch.name_of(axis)} cannot leave the channel while {busy}", col)
 
 
 def _changed(interp, before: list, added: list[str], keywords: list[str]) -> None:
