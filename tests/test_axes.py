@@ -3,6 +3,8 @@ coupled axes #LINK/#UNLINK (seed 002 ch. 21.1.6-21.1.8, L14515-L15048; generic a
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 import fagorcnc
@@ -325,6 +327,9 @@ def test_a_slave_of_a_plane_axis_on_an_arc_is_refused():
     # a slave of the helix axis follows linearly: Z 0 -> 4, W 0 -> 4
     arc = _moves("#LINK [Z, W]\nG2 X10 Y0 Z4 I5 J0 F100\nM30\n")[-1]
     assert (arc.start["W"], arc.end["W"]) == (0.0, 4.0)
+    # half circle of radius 5: 5 pi = 15.708 mm in the plane; helix Z 4: hypot(15.708, 4) = 16.209 mm; with W
+    # hypot(15.708, 4, 4) = 16.700 mm: F100 * 16.700 / 16.209 keeps the programmed path at 100 mm/min
+    assert arc.feed == pytest.approx(100.0 * math.hypot(5 * math.pi, 4, 4) / math.hypot(5 * math.pi, 4))
 
 
 def test_the_planner_sees_the_slave_limits():

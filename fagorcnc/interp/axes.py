@@ -20,6 +20,7 @@ checked there.
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -714,11 +715,18 @@ def _follow(rec, links, on_error):
     for k in links:
         if k.slave in part and k.slave in rec.end:
             part[k.slave] += end[k.slave] - rec.end[k.slave]
-    new = dataclasses.replace(rec, start=start, end=end, end_part=part)
-    if rec.feed:
-        before, after = rec.length, new.length
+    feed = rec.feed
+    if feed and rec.kind != "arc":   # a line's length over all its axes, the slaves now included
+        before = rec.length
+        after = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
         if before > 0.0 and after > before:
-            new = dataclasses.replace(new, feed=rec.feed * after / before)
+            feed *= after / before
+        return dataclasses.replace(rec, start=start, end=end, end_part=part, feed=feed)
+    new = dataclasses.replace(rec, start=start, end=end, end_part=part)
+    if feed:
+        before, after = rec.length, new.length   # an arc: its plane's sweep and the helix axes
+        if before > 0.0 and after > before:
+            new = dataclasses.replace(new, feed=feed * after / before)
     return new
 
 

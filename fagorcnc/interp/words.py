@@ -58,6 +58,7 @@ class WordsMixin:
         ev, st = self.ev, self.state
         bw = BlockWords()
         channel = st.channel
+        by_name = channel.by_name
         g157 = any(w.address == "G" and w.value == 157.0 for w in words)
         g20 = any(w.address == "G" and w.value == 20.0 for w in words)
         skip = 0
@@ -140,7 +141,9 @@ class WordsMixin:
                 bw.nr = (ev.integer(w.value, "NR", col), col)
             elif addr[0] == "?":   # seed 002 L1211: ?n on a hole or beyond the channel is an error
                 self._axis_word(bw, channel.generic(int(addr[1:]), col), ev.value(w.value), col)
-            elif (axis := channel.word_axis(addr, col)) is not None:   # its name in the channel (interp/axes.py)
+            elif (axis := by_name.get(addr)) is not None or addr in st.machine.axes:   # its name in the channel
+                if axis is None or channel.parked:
+                    axis = channel.word_axis(addr, col)   # not in the channel, or parked: the error (interp/axes.py)
                 if g20:
                     bw.roles.append((axis, ev.value(w.value), col))
                     continue
