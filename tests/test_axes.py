@@ -208,6 +208,7 @@ def test_rename_errors():
     assert _errors("#RENAME AX [Q, X1]\nM30\n") == [(1, 13, "INT207")]
     assert _errors("#RENAME AX [X, Q1]\nM30\n") == [(1, 16, "INT207")]
     assert _errors("#RENAME AX [X]\nM30\n") == [(1, 13, "INT207")]
+    assert _errors("#RENAME AX [X, X1]\n#SET AX [X, Y, Z]\nM30\n") == [(2, 10, "INT204")]   # X is X1 now
 
 
 # ---------------------------------------------------------------------- #PARK / #UNPARK

@@ -216,6 +216,8 @@ def _any_axis(ch: ChannelAxes, name: str, col: int, what: str) -> str:
         return axis
     if name in ch.machine.axes and not ch.in_channel(name):
         return name
+    if name in ch.machine.axes:
+        raise InterpError("INT204", f"{what}: axis {name} is called {ch.name_of(name)} since #RENAME AX", col)
     if name and _AXIS_NAME.fullmatch(name):
         raise InterpError("INT204", f"{what}: the machine has no axis {name}", col)
     raise InterpError("INT204", f"{what}: {name or 'this'} is not an axis name (X, Y ... C, X1 ... C9)", col)
