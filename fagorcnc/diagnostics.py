@@ -235,7 +235,7 @@ CODES: dict[str, str] = {
     "KIN024": "kinematics statement on a machine without rotary axes: the identity kinematics",
     "KIN025": "move that does not continue the transformed moves before it",
     "KIN030": "#CYL without the cylinder radius",
-    "KIN031": "#CYL with radius 0 (the tool's distance to the centre) not computed",
+    "KIN031": "#CYL with radius 0 (the tool's distance to the centre) not computed",   # (computed since kin2)
     "KIN032": "#FACE/#CYL axes: not in the channel, or not one rotary axis and linear ones",
     "KIN033": "#FACE/#CYL kinematics number not of a C-axis type",
     "KIN034": "#FACE/#CYL with another C axis or a coordinate transformation active",
@@ -250,6 +250,10 @@ CODES: dict[str, str] = {
     "KIN060": "#CAX: spindle without a C axis in the machine file, or another axis name",
     "KIN061": "C axis of a spindle programmed without #CAX",
     "KIN062": "speed programmed for a spindle working as C axis",
+    # kinematics, second round (kin2: #CYL radius 0, G74 under a transformation): KIN070-KIN099
+    "KIN070": "#CYL with a negative radius",
+    "KIN071": "#CYL radius 0 without a C-axis kinematics (type 43) of that axis to give the rotation line",
+    "KIN072": "#CYL radius 0 with the tool tip on the rotation line",
     # the user's tools (fagorcnc diff, expand, check's CI configuration): CLI001-CLI049
     "CLI001": "fagorcnc diff: the two paths cannot be compared (a rotary axis moves, no motion)",
     "CLI002": "fagorcnc expand --golden: the expansion differs from the golden file",
