@@ -157,6 +157,7 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
     count = 0
     tool = 0
     tool_axes = ToolAxes()
+    tipped = False   # some move drawn at the tool tip (the tip view of a move under a kinematics)
     if result.moves:
         from ..plan import PlanningError
 
@@ -168,9 +169,11 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
                 rapid = getattr(seg.record, "kind", "") == "rapid" and not seg.blend
                 pts = _piece_points(seg.piece)
                 frame = five_axis(seg.record)
-                if frame is not None and all(a in frame.linear for a in view):
+                if frame is not None:
                     pts, dirs = tool_points(pts, axes_names, frame, view_mode)
-                    tool_axes.add(pts[:, idx], dirs[:, idx], seg.record.src)
+                    if all(a in frame.linear for a in view):   # (no glyph in a view of a rotary axis)
+                        tool_axes.add(pts[:, idx], dirs[:, idx], seg.record.src)
+                    tipped = tipped or view_mode == "tip"
                 pts = pts[:, idx]
                 if polylines and polylines[-1][1] == rapid and polylines[-1][2] == tool \
                         and np.allclose(polylines[-1][0][-1], pts[0]):
@@ -232,7 +235,7 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
         ax.plot([lo[0], hi[0], hi[0], lo[0], lo[0]], [lo[1], lo[1], hi[1], hi[1], lo[1]], color="red",
                 linewidth=0.8, linestyle=":", label="soft limits")
 
-    basis = "tool-tip view, mm" if view_mode == "tip" and tool_axes.points else "machine, mm"
+    basis = "tool-tip view, mm" if tipped else "machine, mm"
     ax.set_xlabel(f"{view[0]} ({basis})")
     ax.set_ylabel(f"{view[1]} ({basis})")
     if three_d:
