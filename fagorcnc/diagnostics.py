@@ -235,6 +235,7 @@ CODES: dict[str, str] = {
     "KIN024": "kinematics statement on a machine without rotary axes: the identity kinematics",
     "KIN025": "move that does not continue the transformed moves before it",
     "KIN030": "#CYL without the cylinder radius",
+    # (KIN031 no longer emitted since kin2: #CYL radius 0 is computed, KIN070-KIN072)
     "KIN031": "#CYL with radius 0 (the tool's distance to the centre) not computed",
     "KIN032": "#FACE/#CYL axes: not in the channel, or not one rotary axis and linear ones",
     "KIN033": "#FACE/#CYL kinematics number not of a C-axis type",
@@ -242,6 +243,7 @@ CODES: dict[str, str] = {
     "KIN035": "#FACE/#CYL with a work offset on the C axis active",
     "KIN040": "#ANGAX: transformation number missing or not set up",
     "KIN041": "suspended #ANGAX with scaling, rotation or mirror active",
+    # (KIN042 since kin2: emitted for #ANGAX and axes outside the RTCP only; the rest is computed)
     "KIN042": "G74 homing with #ANGAX, #RTCP (axes outside it) or another transformation active",
     "KIN050": "tangential axis not a modulo rotary axis, or an axis of the plane",
     "KIN051": "tangential control: angle outside ±359.9999, no axis nor F, G145 K not 0 or 1",
@@ -250,6 +252,11 @@ CODES: dict[str, str] = {
     "KIN060": "#CAX: spindle without a C axis in the machine file, or another axis name",
     "KIN061": "C axis of a spindle programmed without #CAX",
     "KIN062": "speed programmed for a spindle working as C axis",
+    # kinematics, second round (kin2: #CYL radius 0, G74 under a transformation): KIN070-KIN099
+    "KIN070": "#CYL with a negative radius",
+    "KIN071": "#CYL radius 0 without a C-axis kinematics (type 43) of that axis to give the rotation line",
+    "KIN072": "#CYL radius 0 with the tool tip on the rotation line",
+    "KIN073": "G74 of the C axis of #FACE (followed over whole turns) not computed",
     # the user's tools (fagorcnc diff, expand, check's CI configuration): CLI001-CLI049
     "CLI001": "fagorcnc diff: the two paths cannot be compared (a rotary axis moves, no motion)",
     "CLI002": "fagorcnc expand --golden: the expansion differs from the golden file",
