@@ -246,3 +246,31 @@ def test_check_reports_no_int078_for_the_curves(tmp_path, capsys):
     out = capsys.readouterr().out
     assert status == 0, out
     assert "INT078" not in out and "PASS" in out
+
+
+def test_spline_with_radius_compensation_is_offset_by_the_radius():
+    # G41 G136 with R2: every compensated point on the spline's blocks is 2 mm from the spline's chords
+    machine = {"tools": {"1": {"1": {"radius": 2.0}}}}
+    prog = ("T1 D1 M6\nG0 X0 Y-10\nG41 G1 X0 Y0 F1000\n#SPLINE ON\nX10 Y5\nX20 Y0\nX30 Y5\n#SPLINE OFF\nG1 X40\n"
+            "G40 X50 Y-10\nM30\n")
+    r = _run(prog, machine)
+    assert r.ok, r.diagnostics
+    plain = _xy([c.end for c in _chords(_run(prog.replace("G41 ", "").replace("G40 ", ""), machine))])
+    dense = np.concatenate([np.linspace(plain[i], plain[i + 1], 50) for i in range(len(plain) - 1)])
+    offset = _xy([m.end for m in r.moves if m.kind in ("linear", "arc") and m.src.line == 6])
+    gaps = [np.linalg.norm(dense - q, axis=1).min() for q in offset]
+    assert min(gaps) == pytest.approx(2.0, abs=1e-5) and max(gaps) == pytest.approx(2.0, abs=1e-5)
+
+
+def test_tangent_to_the_block_before():
+    # #ASPLINE MODE [2,1]: the spline leaves (10,0) along the G01 that reached it, +X
+    r = _run("G1 X0 Y0 F1000\nX10\n#ASPLINE MODE [2,1]\n#SPLINE ON\nX20 Y10\nX30 Y0\n#SPLINE OFF\nM30\n")
+    first = _chords(r)[0]
+    assert math.degrees(math.atan2(first.end["Y"] - first.start["Y"], first.end["X"] - first.start["X"])) \
+        == pytest.approx(0.0, abs=2.0)
+
+
+def test_spline_still_on_at_the_end_of_the_program_ends_there():
+    r = _run("G1 X0 Y0 F1000\n#SPLINE ON\nX3 Y4\nX6 Y0\nM30\n")
+    assert r.ok, r.diagnostics
+    assert _xy([c.end for c in _chords(r)])[-1].tolist() == [6.0, 0.0]
