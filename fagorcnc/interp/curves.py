@@ -305,6 +305,7 @@ class _Spline:
         self.tangent = tangent
         self.mark = mark
         self.total = total   # points of the spline before this stretch (an arc interrupted it)
+        self.last_chord = None
 
     def add(self, rec) -> None:
         if rec.frame is not None:
@@ -349,8 +350,10 @@ class _Spline:
                 end_pos = dict(zip(self.axes, row.tolist(), strict=True))
                 _check_limits(rec, end_pos, self.limits)
                 part = {a: end_pos[a] - offset[a] for a in rec.end_part}
-                yield CurveLine(rec.kind, prev, end_pos, part, rec.feed, rec.feed_mode, rec.src, rec.comp, rec.dyn,
-                                None, rec.joins, curve=curve)
+                chord = CurveLine(rec.kind, prev, end_pos, part, rec.feed, rec.feed_mode, rec.src, rec.comp, rec.dyn,
+                                  None, rec.joins, curve=curve)
+                self.last_chord = chord
+                yield chord
                 prev = end_pos
             yield from self.events.get(k + 1, ())
 
@@ -380,7 +383,7 @@ def splines(records, interp):
             if rec.on:
                 if held is not None:   # ON again before any move: the block after OFF has no tangent
                     yield from _release(held, None)
-                    held = None
+                    last, held = held[0].last_chord or last, None
                 axes = list(rec.position)
                 tangent = _direction(last, axes, True) if rec.mode == 2 and last is not None else rec.tangent
                 spline = _Spline(rec.position, tangent, rec, _limits(st))
@@ -390,7 +393,7 @@ def splines(records, interp):
                     held, spline = (spline, rec, []), None
                 else:
                     yield from spline.emit(rec.tangent)
-                    spline = None
+                    last, spline = spline.last_chord or last, None
             continue
         if held is not None:
             if kind not in MOTION:
