@@ -23,7 +23,7 @@ from fagorcnc.path.spline import (
 BIG = {"axes": {"X": {"min_limit": -10000, "max_limit": 10000}, "Y": {"min_limit": -20000, "max_limit": 20000},
                 "Z": {}}}
 PARABOLA = "G0 X0 Y1 Z0\nG1 F1000\n#POLY [X[0,60,0,0,0] Y[1,0,3,0,0] SP0 EP60]\nM30\n"   # L15862-L15870
-#: The manual's spline example (L15786-L15806).
+#: The manual's spline example (L15775-L15801).
 SPLINE_EXAMPLE = ("N10 G00 X0 Y20\nN20 G01 X20 Y20 F750\nN30 #ASPLINE MODE [1,2]\nN40 #SPLINE ON\nN50 X40 Y60\n"
                   "N60 X60\nN70 X50 Y40\nN80 X80\nN90 Y20\nN100 X110\nN110 Y50\nN120 #SPLINE OFF\nN130 X140\n"
                   "N140 M30\n")
@@ -182,7 +182,7 @@ def test_manual_spline_example_passes_every_point_and_ends_tangent_to_the_next_b
     xy = _xy([c.end for c in chords]).tolist()
     for point in ([40, 60], [60, 60], [50, 40], [80, 40], [80, 20], [110, 20], [110, 50]):
         assert point in xy
-    assert chords[0].start["X"] == 20.0 and chords[0].start["Y"] == 20.0   # N20: the spline's start (L15786)
+    assert chords[0].start["X"] == 20.0 and chords[0].start["Y"] == 20.0   # N20: the spline's start (L15777)
     # ASPLINE MODE [1,2]: the end is tangent to N130 X140, i.e. along +X
     last = chords[-1]
     d = math.atan2(last.end["Y"] - last.start["Y"], last.end["X"] - last.start["X"])
@@ -191,7 +191,7 @@ def test_manual_spline_example_passes_every_point_and_ends_tangent_to_the_next_b
 
 
 def test_given_tangents_start_and_end():
-    # MODE [3,3] with STARTTANG X1 Y1 and ENDTANG X0 Y1 (L15808-L15812): 2 points are enough (L15722)
+    # MODE [3,3] with STARTTANG X1 Y1 and ENDTANG X0 Y1 (L15803-L15812): 2 points are enough (L15722)
     r = _run("G1 X20 Y20 F750\n#ASPLINE MODE [3,3]\n#ASPLINE STARTTANG X1 Y1\n#ASPLINE ENDTANG X0 Y1\n"
              "#SPLINE ON\nX40 Y60\n#SPLINE OFF\nM30\n")
     assert r.ok, r.diagnostics

@@ -79,7 +79,7 @@ def test_add_abs_and_offsets():
 
 
 def test_rotary_takes_the_shortest_way():
-    # a normal rotary at 350 degrees to 10: +20 degrees, not -340 (L16697)
+    # a normal rotary at 350 degrees to 10: +20 degrees, not -340 (L16701)
     machine = {"axes": {"X": {}, "Y": {}, "Z": {}, "C": {"type": "rotary", "rotary_mode": "normal",
                                                           "min_limit": -1e6, "max_limit": 1e6}}}
     moves = _moves("G0 C350\n#MOVE [C10, F1000]\nM30\n", machine)

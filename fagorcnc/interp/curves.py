@@ -5,12 +5,12 @@ Both become chords (:class:`~fagorcnc.interp.records.CurveLine`) within
 the planner joins them without a corner (plan/links.py), each tied to the block it comes from.
 
 * ``#POLY [X[a,b,c,d,e] Y[...] ... SP sp EP ep]``: every axis follows ``a + b p + c p² + d p³ + e p⁴``
-  for ``p`` from sp to ep (L15830-L15858), at the active feed.  [CONSTRUCTION] the manual calls p
+  for ``p`` from sp to ep (L15830-L15857), at the active feed.  [CONSTRUCTION] the manual calls p
   the arc length (L15832) but its own example (L15862-L15870: X = 60p over p 0..60) is not, so the
   polynomials are evaluated literally; coefficients are in the programmed units and coordinates
   (absolute); the curve must start where the tool stands.
 * ``#SPLINE ON`` ... ``#SPLINE OFF``: the straight moves between them are replaced by the Akima spline
-  through their end points, the point before ``#SPLINE ON`` first (L15690-L15722, example L15786).
+  through their end points, the point before ``#SPLINE ON`` first (L15690-L15722, example L15777).
   The sentences put a :class:`SplineMark` in the record stream; :func:`splines` (a stage right after
   the block loop) collects the moves and hands on the chords, so a tangent "to the next block"
   (``#ASPLINE MODE [.., 2]``) is that of the move after ``#SPLINE OFF``.  An arc interrupts the
@@ -32,7 +32,7 @@ from ..syntax.ast import ItemList, Keyed
 from .expressions import InterpError
 from .records import Arc, CurveLine, Line, Source
 
-#: Tangent types of #ASPLINE MODE (L15740-L15790): automatic, tangent to the block before / after, given.
+#: Tangent types of #ASPLINE MODE (L15740-L15770): automatic, tangent to the block before / after, given.
 TANGENT_TYPES = (1, 2, 3)
 
 
@@ -100,11 +100,11 @@ def poly_statement(interp, node, src: Source):
     args = node.args
     if len(args) != 1 or type(args[0]) is not ItemList:
         raise InterpError("INT220", "#POLY takes its axes and parameters in brackets: "
-                          "#POLY [X[0,60,0,0,0] Y[1,0,3,0,0] SP0 EP60] (L15836)", node.col)
+                          "#POLY [X[0,60,0,0,0] Y[1,0,3,0,0] SP0 EP60] (L15835)", node.col)
     for item in _items(node):
         if type(item) is not Keyed:
             raise InterpError("INT220", "#POLY: each item is an axis with its coefficients X[a,b,c,d,e], SP or EP "
-                              "(L15836)", getattr(item, "col", node.col))
+                              "(L15835)", getattr(item, "col", node.col))
         name, value = item.name, item.value
         if name in ("SP", "EP") and type(value) is not ItemList:
             if name == "SP":
@@ -117,14 +117,14 @@ def poly_statement(interp, node, src: Source):
         seqs = value.items if type(value) is ItemList else ()
         if not 1 <= len(seqs) <= 5 or any(len(seq) != 1 for seq in seqs):
             raise InterpError("INT220", f"#POLY: {name} takes 1 to 5 coefficients in brackets, {name}[a,b,c,d,e] "
-                              "(4th degree at most, L15828)", item.col)
+                              "(4th degree at most, L15831)", item.col)
         if name in coeffs:
             raise InterpError("INT220", f"#POLY: axis {name} is programmed twice", item.col)
         coeffs[name] = [ev.value(seq[0]) for seq in seqs] + [0.0] * (5 - len(seqs))
     if not coeffs:
-        raise InterpError("INT220", "#POLY needs at least one axis and its coefficients (L15836)", node.col)
+        raise InterpError("INT220", "#POLY needs at least one axis and its coefficients (L15835)", node.col)
     if sp is None or ep is None:
-        raise InterpError("INT220", "#POLY needs the start and end parameters SP and EP (L15843)", node.col)
+        raise InterpError("INT220", "#POLY needs the start and end parameters SP and EP (L15856)", node.col)
     if sp == ep:
         raise InterpError("INT220", f"#POLY: SP and EP are both {sp:g}: no curve", node.col)
     if st.modes["motion"] == 0:
@@ -187,13 +187,13 @@ def _poly_records(interp, src: Source, axes: list, points: np.ndarray, cur: dict
 
 # ------------------------------------------------------------------ #SPLINE / #ASPLINE
 def _tangent_vector(interp, items, what: str, col: int) -> dict:
-    """``X1 Y1``: a direction by its components on the programmed axes (L15773-L15781)."""
+    """``X1 Y1``: a direction by its components on the programmed axes (L15755-L15770)."""
     st = interp.state
     out = {}
     for item in items:
         if type(item) is not Keyed or item.name not in st.axes or type(item.value) is ItemList:
             raise InterpError("INT223", f"#ASPLINE {what} takes the tangent by its axis components: "
-                              f"#ASPLINE {what} X1 Y1 (L15781)", getattr(item, "col", col))
+                              f"#ASPLINE {what} X1 Y1 (L15755-L15770)", getattr(item, "col", col))
         out[item.name] = interp.evaluator.value(item.value)
     if not out or not any(out.values()):
         raise InterpError("INT223", f"#ASPLINE {what} needs a direction that is not zero: #ASPLINE {what} X1 Y1", col)
@@ -202,7 +202,7 @@ def _tangent_vector(interp, items, what: str, col: int) -> dict:
 
 def aspline_statement(interp, node, sub) -> None:
     """``#ASPLINE MODE [start, end]``, ``#ASPLINE STARTTANG X.. Y..``, ``#ASPLINE ENDTANG ...``
-    (seed 002 L15724-L15782)."""
+    (seed 002 L15724-L15770)."""
     cs = interp.curves
     if sub == "MODE":
         value = node.args[0].value if type(node.args[0]) is Keyed else None
@@ -215,7 +215,7 @@ def aspline_statement(interp, node, sub) -> None:
             m = interp.evaluator.value(seq[0]) if seq else 1.0   # not programmed: 1 (L15737)
             if m not in TANGENT_TYPES:
                 raise InterpError("INT223", f"#ASPLINE MODE: tangent type {m:g}; the types are 1 (automatic), "
-                                  "2 (tangent to the block before / after) and 3 (STARTTANG / ENDTANG) (L15788)",
+                                  "2 (tangent to the block before / after) and 3 (STARTTANG / ENDTANG) (L15766-L15770)",
                                   node.col)
             modes.append(int(m))
         cs.start_mode = modes[0]
@@ -228,7 +228,7 @@ def aspline_statement(interp, node, sub) -> None:
         else:
             cs.end_tangent = vector
         return
-    raise InterpError("INT223", "#ASPLINE is followed by MODE, STARTTANG or ENDTANG (L15724-L15782)", node.col)
+    raise InterpError("INT223", "#ASPLINE is followed by MODE, STARTTANG or ENDTANG (L15724-L15770)", node.col)
 
 
 def _machine_direction(interp, vector: dict) -> tuple:
@@ -258,7 +258,7 @@ def spline_statement(interp, node, sub, src: Source):
         if vector is None:
             which = "STARTTANG" if on else "ENDTANG"
             raise InterpError("INT223", f"#ASPLINE MODE 3 needs the tangent: program #ASPLINE {which} X.. Y.. before "
-                              f"#SPLINE {sub} (L15752)", node.col)
+                              f"#SPLINE {sub} (L15746-L15748)", node.col)
         tangent = _machine_direction(interp, vector)
     if on == cs.active:
         return   # ON while on / OFF while off: nothing changes

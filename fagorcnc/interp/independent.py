@@ -8,7 +8,7 @@ WAITINPOS at rest and in position (L16722-L16740).  Without a link, ICORNER deci
 G50 -> NULL, G07 -> WAITINPOS (L16741-L16747).  The planner honours the links (plan/links.py).
 
 [CONSTRUCTION] offline there is one interpolator: the positioning runs before the blocks after it,
-where the machine runs it alongside them and adds both (L16619-L16622); the end positions are the
+where the machine runs it alongside them and adds both (L16620-L16623); the end positions are the
 same, the time and the way there are not, which a note (INT230) says once per program.
 """
 
@@ -41,7 +41,7 @@ def move_statement(interp, node, sub, src: Source):
     arg = node.args[0] if len(node.args) == 1 else None
     value = arg.value if type(arg) is Keyed and sub in ("ABS", "ADD", "INF") else arg
     if type(value) is not ItemList:
-        raise _fail("#MOVE takes the axis, the feed and the link in brackets: #MOVE [X50, F500, PRESENT] (L16690)",
+        raise _fail("#MOVE takes the axis, the feed and the link in brackets: #MOVE [X50, F500, PRESENT] (L16692)",
                     node.col)
     items = [i for seq in value.items for i in seq]
     axis, target, feed, link = None, None, None, None
@@ -57,17 +57,17 @@ def move_statement(interp, node, sub, src: Source):
             feed = interp.evaluator.value(expr)   # "FP100": the feed is P100 (example L16806)
         elif (t is Keyed and kind != "INF") or (t is Direction and kind == "INF"):
             if axis is not None:
-                raise _fail("#MOVE moves one axis: one #MOVE per axis (L16690)", col)
+                raise _fail("#MOVE moves one axis: one #MOVE per axis (L16692)", col)
             if item.name not in st.axes:
                 raise InterpError("INT229", f"#MOVE: {item.name} is not an axis of the channel (a spindle moves "
-                                  "independently only in #CAX mode, L16646)", col)
+                                  "independently only in #CAX mode, L16649)", col)
             axis = item.name
             target = item.sign if t is Direction else interp.evaluator.value(item.value)
         else:
             form = "X+ or X-" if kind == "INF" else "X50"
-            raise _fail(f"#MOVE {kind}: the items are the axis ({form}), F and the link (L16690)", col)
+            raise _fail(f"#MOVE {kind}: the items are the axis ({form}), F and the link (L16692)", col)
     if axis is None:
-        raise _fail("#MOVE needs the axis and its position: #MOVE [X50] (L16690)", node.col)
+        raise _fail("#MOVE needs the axis and its position: #MOVE [X50] (L16692)", node.col)
     if feed is None:
         raise InterpError("INT228", "#MOVE without F: the positioning feed POSFEED is a machine parameter the "
                           "machine file does not give fagorcnc; program F (L16714-L16720)", node.col)
@@ -90,7 +90,7 @@ def _record(interp, node, src: Source, kind: str, axis: str, target, feed: float
                               "never finishes offline", node.col)
         end_machine = st.upper_limits[axis] if target == "+" else st.lower_limits[axis]
         interp.message("INT231", "warning", f"#MOVE INF [{axis}{target}]: offline nothing interrupts it; it runs "
-                       f"to the travel limit {end_machine:g} (L16704)", node.col)
+                       f"to the travel limit {end_machine:g} (L16709)", node.col)
         end = dict(start)
         end[axis] = end_machine
     else:
@@ -115,7 +115,7 @@ def _record(interp, node, src: Source, kind: str, axis: str, target, feed: float
 
 
 def _rotary_target(ax, here: float, value: float) -> float:
-    """A rotary target: the shortest way (normal), or the preset direction (unidirectional) (L16697-L16700)."""
+    """A rotary target: the shortest way (normal), or the preset direction (unidirectional) (L16698-L16701)."""
     m = ax.module
     d = (value % m - here % m) % m
     if ax.rotary_mode == "unidirectional":
@@ -128,4 +128,4 @@ def _note(interp, node) -> None:
     cs.moves += 1
     if cs.moves == 1:
         interp.message("INT230", "info", "#MOVE runs here before the blocks after it (one interpolator offline); "
-                       "on the machine the independent axis moves alongside them (L16619)", node.col)
+                       "on the machine the independent axis moves alongside them (L16623)", node.col)
