@@ -232,6 +232,8 @@ def test_an_m_function_inside_the_spline_stays_at_its_point():
     ("T1 D1\nG137 G41 G1 X0 Y0 F100\n#SPLINE ON\n", "INT225"),                          # L15708
     ("G1 X0 Y0 F100\n#SPLINE ON\nX10 Y5\nG137 G41 X20 Y0\nX30 Y5\n#SPLINE OFF\n", "INT225"),   # and vice versa
     ("G1 X0 Y0 F100\n#SPLINE ON\nX10 Y5\n#POLY [X[10,1] SP0 EP1]\nX20\n#SPLINE OFF\n", "INT226"),
+    ("G1 X0 Y0 F100\n#SPLINE ON\nX10 Y5\n#MOVE [Z5, F100]\nX20\n#SPLINE OFF\n", "INT226"),
+    ("G1 X0 Y0 F100\nG93\n#SPLINE ON\nX10 Y5 F2\nX20 F2\nX30 Y5 F2\n#SPLINE OFF\n", "INT226"),
 ])
 def test_spline_errors(program, code):
     machine = {"tools": {"1": {"1": {"radius": 1.0}}}} if "T1" in program else None
