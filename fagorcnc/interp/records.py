@@ -63,6 +63,23 @@ class Line:
 
 
 @dataclass(frozen=True, slots=True)
+class CurveLine(Line):
+    """A chord of a sampled curve (#POLY, #SPLINE; interp/curves.py): ``curve`` is one object for
+    all the chords of one curve, which the planner joins without a corner."""
+
+    curve: object = None
+
+
+@dataclass(frozen=True, slots=True)
+class IndependentMove(Line):
+    """A #MOVE positioning of one axis (seed 002 L16684-L16747): ``link`` is how it ends, PRESENT
+    (at its own feed), NEXT (at the next #MOVE's feed), NULL (at rest) or WAITINPOS (at rest, in
+    position)."""
+
+    link: str = "NULL"
+
+
+@dataclass(frozen=True, slots=True)
 class Arc:
     """A circular or helical move in the plane (``abscissa``, ``ordinate``).
 
