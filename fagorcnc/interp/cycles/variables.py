@@ -11,6 +11,15 @@
   reads it is refused (spec 09 §1.2 reads it as program-visible; the seed wins).  Its value, for
   the other readers: the G number, 0 when none ([UNVERIFIED] value table, ``choices``).
 
+* ``V.PLC.TAPPING`` / ``V.PLC.RIGID`` (and ``...C1`` ... ``...C4`` per channel), the PLC marks "the channel
+  executes a tapping canned cycle" / "a rigid tapping" (seed 002 L29844-L29857), are readable from the
+  program, but each read "returns the execution value; its read stops block preparation": the block that
+  reads waits until the motion before it has ended, and then the channel executes that block, not a
+  tapping cycle (a canned cycle runs no program block inside it).  From a part program they therefore
+  always read 0; the marks themselves are carried by the cycle's move records
+  (``Dynamics.plc_marks``, :func:`.drilling.plc_marks`) for the PLC-side readers.  Channels 2-4 do not
+  exist offline (INT047).
+
 A letter never programmed reads 0.
 """
 
@@ -42,6 +51,19 @@ def register(plain_vars: dict, state) -> None:
         plain_vars[f"V.C.P_{letter}"] = (lambda i, x=letter: cs.pattern_params.get(x, 0.0), write(letter, True))
         plain_vars[f"V.C.P_CALLP_{letter}"] = (lambda i, x=letter: 1.0 if x in cs.pattern_called else 0.0, None)
     plain_vars["V.G.CYCLETYPEON"] = (_plc_only, None)
+    for mark in PLC_MARKS:
+        for suffix in ("", "C1"):
+            plain_vars[f"V.PLC.{mark}{suffix}"] = (lambda i: 0.0, None)   # seed 002 L29844-L29857 (above)
+        for n in (2, 3, 4):
+            plain_vars[f"V.PLC.{mark}C{n}"] = (lambda i, n=n: _no_channel(n), None)
+
+
+#: The PLC marks of the tapping cycles (seed 002 L29844 TAPPING, L29851 RIGID).
+PLC_MARKS = ("TAPPING", "RIGID")
+
+
+def _no_channel(n: int) -> float:
+    raise InterpError("INT047", f"channel {n} does not exist (one channel offline)")
 
 
 def cycle_type(state) -> float:
