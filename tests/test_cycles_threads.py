@@ -207,3 +207,12 @@ def test_plc_marks_read_from_the_program_are_off_and_synchronise():
     assert [(r.kind, r.seconds, r.position["Z"]) for r in sync] == [("dwell", 0.0, 20.0)]
     # one channel offline
     assert (3, "INT047") in codes(TAP + "P1=V.PLC.RIGIDC2\nM30\n")
+
+
+@pytest.mark.parametrize("name", ["V.SP.SREVM05", "V.SP.SREVM05.S", "V.MPA.SREVM05.S"])
+def test_srevm05_is_the_plcs_variable(name):
+    # seed 002 L21990-L21992: "Variable de lecture depuis le programme PLC et l'Interface" -- not a part
+    # program's (the machine file's SREVM05 drives G84, see test_cycles_drilling)
+    result = run(TAP + f"P1={name}\nM30\n")
+    errors = [d for d in result.diagnostics if d.is_error]
+    assert [(d.line, d.code) for d in errors] == [(3, "INT044")] and "PLC" in errors[0].message

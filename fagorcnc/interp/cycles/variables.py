@@ -19,6 +19,8 @@
   always read 0; the marks themselves are carried by the cycle's move records
   (``Dynamics.plc_marks``, :func:`.drilling.plc_marks`) for the PLC-side readers.  Channels 2-4 do not
   exist offline (INT047).
+* ``V.SP.SREVM05`` / ``V.MPA.SREVM05`` (with G84 the spindle stops before it reverses, the machine file's
+  ``SREVM05``) are read by the PLC and the interface only (L21990-L21992): a program read is refused.
 
 A letter never programmed reads 0.
 """
@@ -51,6 +53,10 @@ def register(plain_vars: dict, state) -> None:
         plain_vars[f"V.C.P_{letter}"] = (lambda i, x=letter: cs.pattern_params.get(x, 0.0), write(letter, True))
         plain_vars[f"V.C.P_CALLP_{letter}"] = (lambda i, x=letter: 1.0 if x in cs.pattern_called else 0.0, None)
     plain_vars["V.G.CYCLETYPEON"] = (_plc_only, None)
+    # SREVM05 (G84 stops the spindle before reversing it) is the PLC's and the interface's (L21990-L21992)
+    for group in ("SP", "MPA"):
+        for suffix in ("", *(f".{sp}" for sp in state.machine.spindles)):
+            plain_vars[f"V.{group}.SREVM05{suffix}"] = (_plc_only_of(f"V.{group}.SREVM05", "L21990-L21992"), None)
     for mark in PLC_MARKS:
         for suffix in ("", "C1"):
             plain_vars[f"V.PLC.{mark}{suffix}"] = (lambda i: 0.0, None)   # seed 002 L29844-L29857 (above)
@@ -72,6 +78,11 @@ def cycle_type(state) -> float:
     return float(active.code) if active is not None else float(choices.NO_CYCLE_TYPE)
 
 
-def _plc_only(index: tuple) -> float:
-    raise InterpError("INT044", "V.G.CYCLETYPEON is read by the PLC and the interface, not by a part program "
-                      "(seed 002 L40300)")
+def _plc_only_of(name: str, seed: str):
+    def read(index: tuple) -> float:
+        raise InterpError("INT044", f"{name} is read by the PLC and the interface, not by a part program "
+                          f"(seed 002 {seed})")
+    return read
+
+
+_plc_only = _plc_only_of("V.G.CYCLETYPEON", "L40300")
