@@ -66,6 +66,14 @@ def test_g211_left_hand_bottom_up():
                                "CCW(5,0,0.5; 0,0)@300 CCW(5,0,2; 0,0)@300 CCW(4,0,2; 4.5,0)@300")
 
 
+def test_g211_whole_turns_end_exactly_on_the_bottom():
+    # depth 0.3 - (-0.7) = 1.0 = 10 turns of 0.1 (0.1 is not exact in binary: 10 x 0.1 steps would end
+    # 1e-16 off); the tenth turn ends on Zb = -0.7 itself, then the exit semicircle at -0.7
+    program = HEAD + "G0 X0 Y0 Z20\nG99 G211 Z0.3 I-0.7 J8 K1 B0.1 F300\nM30\n"
+    arcs = [r for r in run(program, TOOLS).moves if r.line == 4 and r.kind == "arc"]
+    assert len(arcs) == 12 and arcs[-2].end_part["Z"] == -0.7 and arcs[-1].end_part["Z"] == -0.7
+
+
 # ------------------------------------------------------------------ G212 outside
 def test_g212_outside_left_hand_bottom_up_g99():
     # r = 3: rho = 8 + 3 = 11, rho_c = 12, centre (10,10).  Zr = 2, Zb = -3: depth 5 = 2 turns of 2 and a

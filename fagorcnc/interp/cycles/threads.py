@@ -105,10 +105,11 @@ def ops(cyc, th: Thread, rn, point) -> list:
     depth = abs(end - start)
     step = math.copysign(th.pitch, end - start)
     full = int(depth / th.pitch + 1e-9)
-    for n in range(1, full + 1):
-        out.append(("A", p(rho, 0, start + step * n), point, th.ccw, f))
-    angle = 0.0
     rest = depth - full * th.pitch
+    for n in range(1, full + 1):   # the last whole turn ends exactly on the end level when no part turn follows
+        z = end if n == full and rest <= 1e-9 else start + step * n
+        out.append(("A", p(rho, 0, z), point, th.ccw, f))
+    angle = 0.0
     if rest > 1e-9:   # the partial last turn ends off the start angle; the exit leaves from there
         angle = (1.0 if th.ccw else -1.0) * 2.0 * math.pi * rest / th.pitch
         out.append(("A", p(rho * math.cos(angle), rho * math.sin(angle), end), point, th.ccw, f))
