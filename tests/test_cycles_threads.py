@@ -187,20 +187,21 @@ def test_thread_under_radius_compensation_is_refused():
 TAP = "S500 M03\nG00 G90 X0 Y0 Z20\n"
 
 
-def test_tapping_marks_on_the_moves_of_the_tapping_cycle():
+def test_tapping_marks_on_the_records_of_the_tapping_cycle():
     # seed 002 L29849: TAPPING while a tapping canned cycle runs; L29856: RIGID during rigid tapping
-    # (G63; G84 R1 too, spec 09 §1.4 [UNVERIFIED]).  The plane positioning is not part of the cycle.
+    # (G63; G84 R1 too, spec 09 §1.4 [UNVERIFIED]).  The plane positioning is not part of the cycle; the
+    # approach to Zr, the tapping in, the dwell, the spindle reversal, the tapping out, the restored M03
+    # and the G98 return are.
     normal = run(TAP + "G98 G84 X15 Y15 Z3 I-12 K0.5 R0 F750\nX30\nG81 Z3 I-5\nM30\n")
-    marks = [(r.line, r.kind, r.dyn.plc_marks) for r in normal.moves if r.kind in ("rapid", "linear") and r.line > 2]
-    assert marks[:4] == [(3, "rapid", ()), (3, "rapid", ("TAPPING",)), (3, "linear", ("TAPPING",)),
-                         (3, "linear", ("TAPPING",))]
-    assert marks[4] == (3, "rapid", ("TAPPING",))   # the G98 return is part of the cycle
-    assert [m for m in marks if m[0] == 4] == [(4, "rapid", ()), (4, "rapid", ("TAPPING",)),
-                                               (4, "linear", ("TAPPING",)), (4, "linear", ("TAPPING",)),
-                                               (4, "rapid", ("TAPPING",))]
-    assert {m[2] for m in marks if m[0] == 5} == {()}   # G81 drills without the marks
+    t = ("TAPPING",)
+    hole = [(r.kind, r.plc_marks) for r in normal.moves if r.line == 3]
+    assert hole == [("rapid", ()), ("rapid", t), ("linear", t), ("dwell", t), ("aux", t), ("linear", t),
+                    ("aux", t), ("rapid", t)]
+    assert [r.plc_marks for r in normal.moves if r.line == 4] == [(), t, t, t, t, t, t, t]
+    assert {r.plc_marks for r in normal.moves if r.line == 5} == {()}   # G81 drills without the marks
+    assert {r.dyn.plc_marks for r in normal.moves if r.line == 3 and r.kind == "linear"} == {t}
     rigid = run(TAP + "G98 G84 X15 Y15 Z3 I-12 R1 B5 F750\nM30\n")
-    assert {r.dyn.plc_marks for r in rigid.moves if r.kind == "linear"} == {("TAPPING", "RIGID")}
+    assert {r.plc_marks for r in rigid.moves if r.line == 3 and r.kind == "linear"} == {("TAPPING", "RIGID")}
 
 
 def test_plc_marks_read_from_the_program_are_off_and_synchronise():

@@ -150,7 +150,7 @@ def _prepare_g84(cyc, rn) -> tuple:
 
 
 def plc_marks(cyc, plan) -> tuple:
-    """The PLC marks on while the hole of ``cyc`` runs (its moves from the approach to Zr to the return):
+    """The PLC marks on while the hole of ``cyc`` runs (its records from the approach to Zr to the return):
     TAPPING during a tapping canned cycle (seed 002 L29849), RIGID during rigid tapping (L29856: "G63";
     G84 R1 too, digest §1.4 [UNVERIFIED], ``choices.RIGID_MARK_IN_G84_R1``)."""
     if cyc.code != 84:

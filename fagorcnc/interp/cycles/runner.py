@@ -289,7 +289,8 @@ class CycleRunner:
         tapping move (feed override locked at 100 %), ``("A", point, centre, ccw, feed)`` arc in the
         plane (helix when the longitudinal level changes), ``("D", seconds)`` dwell, ``("M", n)``
         spindle function.  ``point`` is ``{axis: value}`` for some of the channel axes.  ``marks``: the PLC
-        marks on during these moves (``Dynamics.plc_marks``, see :func:`.drilling.plc_marks`).
+        marks on during these records (``record.plc_marks``: the moves' ``Dynamics.plc_marks``, a field of the
+        dwells and spindle functions; see :func:`.drilling.plc_marks`).
         """
         st, iso, interp = self.state, self.iso, self.interp
         out: list = []
@@ -300,10 +301,11 @@ class CycleRunner:
             kind = op[0]
             if kind == "D":
                 if op[1] > 0:
-                    out.append(Dwell("dwell", op[1], dict(st.machine_pos), src))
+                    out.append(Dwell("dwell", op[1], dict(st.machine_pos), src, marks))
                 continue
             if kind == "M":
-                out.append(iso.aux("M", float(op[1]), "before", src))
+                aux = iso.aux("M", float(op[1]), "before", src)
+                out.append(replace(aux, plc_marks=marks) if marks else aux)
                 for s in st.spindle_state:   # the master spindle, as an M03/M04/M05 block does
                     st.spindle_state[s] = op[1]
                     break

@@ -16,8 +16,8 @@
   program, but each read "returns the execution value; its read stops block preparation": the block that
   reads waits until the motion before it has ended, and then the channel executes that block, not a
   tapping cycle (a canned cycle runs no program block inside it).  From a part program they therefore
-  always read 0; the marks themselves are carried by the cycle's move records
-  (``Dynamics.plc_marks``, :func:`.drilling.plc_marks`) for the PLC-side readers.  Channels 2-4 do not
+  always read 0; the marks themselves are carried by the cycle's records
+  (``record.plc_marks``, :func:`.drilling.plc_marks`) for the PLC-side readers.  Channels 2-4 do not
   exist offline (INT047).
 * ``V.SP.SREVM05`` / ``V.MPA.SREVM05`` (with G84 the spindle stops before it reverses, the machine file's
   ``SREVM05``) are read by the PLC and the interface only (L21990-L21992): a program read is refused.
