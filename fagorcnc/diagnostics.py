@@ -203,6 +203,8 @@ CODES: dict[str, str] = {
     "CYC010": "influence-zone block that moves the longitudinal axis: run as a plain move, without the cycle",
     "CYC011": "hole cycle with the spindle stopped",
     "CYC012": "canned cycle point positioned by an arc",
+    # thread milling G211/G212 and the tapping marks (issue 22, second part; range CYC020-CYC039)
+    "CYC020": "thread milling canned cycle with provisional semantics (G211/G212)",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",

@@ -53,6 +53,8 @@ class Dynamics:
     slope: tuple = (1, 0, 0, 0)     # #SLOPE [type, jerk, accel, move]
     contact_feed: float | None = None   # G196: F is at the tool's contact point on arcs of radius above
     # this (#TANGFEED RMIN, 0 = all; seed 002 L4298-L4325); None: G197, F at the tool centre
+    plc_marks: tuple = ()   # PLC marks the channel holds on during the move: "TAPPING" (a tapping canned
+    # cycle, seed 002 L29849), "RIGID" (rigid tapping, L29856); see interp.cycles.drilling.plc_marks
 
     def acceleration_factor(self, axis: str, rapid: bool = False) -> float:
         if rapid and self.slope[3] == 1:

@@ -57,6 +57,11 @@ class Line:
         return self.kind == "rapid"
 
     @property
+    def plc_marks(self) -> tuple:
+        """PLC marks the channel holds on during the move (``Dynamics.plc_marks``; TAPPING, RIGID)."""
+        return self.dyn.plc_marks if self.dyn is not None else ()
+
+    @property
     def length(self) -> float:
         """Length of the move over all axes that change (mm; degrees count as mm)."""
         return math.sqrt(sum((self.end[a] - self.start[a]) ** 2 for a in self.end))
@@ -119,6 +124,11 @@ class Arc:
         return self.feed is None
 
     @property
+    def plc_marks(self) -> tuple:
+        """PLC marks the channel holds on during the move (``Dynamics.plc_marks``; TAPPING, RIGID)."""
+        return self.dyn.plc_marks if self.dyn is not None else ()
+
+    @property
     def sweep(self) -> float:
         """Signed sweep angle in degrees (negative clockwise), full turns included."""
         a, o = self.plane[0], self.plane[1]
@@ -161,6 +171,7 @@ class Dwell(_AtPosition):
     seconds: float
     position: dict
     src: Source
+    plc_marks: tuple = ()   # PLC marks on during the dwell (a tapping cycle's: TAPPING, RIGID)
 
 
 @dataclass(frozen=True, slots=True)
@@ -180,6 +191,7 @@ class Aux(_AtPosition):
     position: dict
     src: Source
     spindle: str | None = None
+    plc_marks: tuple = ()   # PLC marks on while it runs (a tapping cycle's spindle reversal: TAPPING)
 
 
 Record = Line | Arc | Dwell | Aux

@@ -60,6 +60,7 @@ EXECUTION_READS = frozenset({
     "V.G.FEED", "V.G.FPREV", "V.G.FREAL", "V.G.PATHFEED", "V.G.FRO", "V.G.CNCFRO", "V.G.RAPID",
     "V.G.CYTIME", "V.G.CLOCK", "V.G.PARTC", "V.G.STATUS", "V.G.FULLSTATUS", "V.G.FIRST", "V.G.M01STOP",
     "V.G.SBLOCK", "V.G.SBOUT",
+    "V.PLC.TAPPING", "V.PLC.TAPPINGC1", "V.PLC.RIGID", "V.PLC.RIGIDC1",   # L29844-L29857 (cycles/variables.py)
 })
 
 
