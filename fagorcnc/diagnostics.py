@@ -168,6 +168,13 @@ CODES: dict[str, str] = {
     "INT119": "function that needs another channel or an interrupt subroutine (#EXBLK to channel n, #REPOS)",
     "INT170": "manual intervention G200: the program waits for the operator (offline nothing moves by hand)",
     "INT171": "invalid manual intervention (G200-G202 #AXIS, #CONTJOG, #INCJOG, #MPG, #SET OFFSET, #SYNC POS)",
+    # the variable catalogue (issue 26 item 10; seed 002 ch. 22, fagorcnc/interp/mpvars.py, vcatalogue.py)
+    "INT240": "variable defined by the manual that fagorcnc does not implement",
+    "INT241": "variable read by the PLC or the interface only, not by a part program",
+    "INT242": "parameter set of an axis that does not exist (NPARSETS)",
+    "INT243": "variable not valid for this kind of axis or spindle (linear, rotary, spindle)",
+    "INT244": "variable without its index or its axis/spindle selector",
+    "INT245": "machine parameter the machine file does not give ([machine_parameters])",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",

@@ -85,6 +85,7 @@ class ChannelState:
         self.programmed_override = 0.0
         self.call_letters: list[frozenset] = [frozenset()]  # V.C.PCALLP_x per call level
         self.cycles = CycleState()             # the active canned cycle, V.C.x (interp/cycles)
+        self.mtb: list[float] = list(machine.mtb)   # V.MTB.P[i] (written by the program, L29198)
         self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)
 
     # ------------------------------------------------------------ planning context

@@ -18,7 +18,9 @@ from ..kinematics.variables import variables as kinematics_variables
 from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
 from .iso import INCH, whole
+from .mpvars import MachineParameters
 from .state import ChannelState
+from .vcatalogue import manual_defined
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
 Setter = Callable[[ChannelState, tuple, str | None, float], None]
@@ -69,6 +71,7 @@ class Variables:
     def __init__(self, state: ChannelState) -> None:
         self.state = state
         s = state
+        self.machine_parameters = MachineParameters(state)   # V.MPG, V.MPA, V.SP, V.MPMAN, V.MPM, V.TM, V.MTB
         # name -> (getter, setter or None); axis variables take the axis as 3rd argument
         self.axis_vars: dict[str, tuple[Getter, Setter | None]] = {
             "V.A.PPOS": (lambda st, i, a: st.part_pos()[a], None),          # L35650
@@ -320,7 +323,8 @@ class Variables:
         raise InterpError("INT046", f"axis {token} does not exist in this channel", col)
 
     def _resolve(self, name: str, index: tuple, col: int):
-        if name.startswith("V.[]."):
+        channel = name.startswith("V.[].")
+        if channel:
             if index and index[0] != 1:
                 raise InterpError("INT047", f"channel {index[0]:g} does not exist (one channel offline)", col)
             name, index = "V." + name[5:], index[1:]
@@ -337,6 +341,13 @@ class Variables:
                 raise InterpError("INT044", f"{name} needs the spindle: {name}.S", col)
             spindle = self._spindle(parts[3] if len(parts) == 4 else None, col)
             return ("spindle", parts[2], spindle)
+        found = self.machine_parameters.find(name, index, channel, col)
+        if found is not None:
+            return ("mp", found[0], found[1:])
+        defined = manual_defined(name)
+        if defined is not None:
+            raise InterpError("INT240", f"{name.replace('[]', '[..]')} is a variable of the manual (seed 002 "
+                              f"{defined}) that fagorcnc does not implement", col)
         raise InterpError("INT044", f"unknown variable {name.replace('[]', '[..]')}", col)
 
     def get(self, name: str, index: tuple, col: int = 1) -> float:
@@ -350,6 +361,8 @@ class Variables:
                 raise InterpError("INT043", f"variable {key} has no value yet (use EXIST[{key}])", col) from None
         if kind == "plain":
             return self.plain_vars[key][0](extra)
+        if kind == "mp":
+            return self.machine_parameters.read(key, extra[0], extra[1], col)
         if kind == "spindle":
             entry = self.spindle_vars[key]
             return entry[0](extra) if type(entry) is tuple else entry(extra)
@@ -370,6 +383,9 @@ class Variables:
             if setter is None:
                 raise InterpError("INT048", f"{key} is read-only", col)
             setter(extra, value)
+            return
+        if kind == "mp":
+            self.machine_parameters.write(key, extra[0], extra[1], value, col)
             return
         if kind == "spindle":
             entry = self.spindle_vars[key]
