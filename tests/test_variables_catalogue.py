@@ -194,3 +194,124 @@ def test_the_catalogue_cites_the_seed_in_the_manuals_range():
     # every entry is a §22.4-§22.12 variable: seed 002 L17975-L29306
     for e in entries():
         assert 17975 <= int(e.seed[1:]) <= 29306, e
+
+
+# ---------------------------------------------------------------- program-state variables (spec 08)
+
+def test_arc_variables_with_g265_the_manuals_example():
+    # seed 002 L40564: G00 X0 Y0 / G2 X120 Y120.001 I100 J20 under G265 (power-on): the centre moves to the
+    # projection of (100, 20) on the bisector of the chord: (100.000417, 20.000417), R = 101.980881 to both
+    # ends, CIRERR = programmed - corrected = -0.000417 on X and Y (start radius 101.980390, end 101.981371:
+    # 0.00098 mm apart, inside CIRINERR 0.01)
+    p = values("G00 X0 Y0\nG2 X120 Y120.001 I100 J20 F100\nP1=V.G.R P2=V.G.I P3=V.G.J P4=V.G.CIRERR[1] "
+               "P5=V.G.CIRERR[2] P6=V.G.K", 6, None)
+    assert p == pytest.approx([101.980881, 100.000417, 20.000417, -0.000417, -0.000417, 0.0], abs=5e-7)
+
+
+def test_arc_variables_with_g264_the_manuals_example():
+    # seed 002 L40568: with G264 the centre stays (100, 20): I = 100, J = 20, CIRERR = 0; G.R = 101.981371,
+    # sqrt(20² + 100.001²), the radius to the end point as the example prints it (spec 08 F.2: §8.3.6 says the
+    # arc runs with the start radius 101.980390)
+    p = values("G264 G00 X0 Y0\nG2 X120 Y120.001 I100 J20 F100\nP1=V.G.R P2=V.G.I P3=V.G.J P4=V.G.CIRERR[1] "
+               "P5=V.G.CIRERR[2]", 5, None)
+    assert p == pytest.approx([101.981371, 100.0, 20.0, 0.0, 0.0], abs=5e-7)
+
+
+def test_arc_centre_components_follow_the_channel_axes():
+    # L40466: I, J, K are the first, second and third channel axes: a G18 arc from X0 Z0 to X20 Z0 about the
+    # centre X10 Z0 (I10 K0) gives I = 10, J = 0, K = 0; R = 10; before any arc they read 0
+    assert values("P1=V.G.R\nG18 G1 X0 Z0 F100\nG2 X20 Z0 I10 K0\nP2=V.G.R P3=V.G.I P4=V.G.J P5=V.G.K", 5,
+                  None) == pytest.approx([0, 10, 10, 0, 0])
+    assert first_error("P1=V.G.CIRERR[3]", None) == "INT045"
+
+
+def test_extorg_names_the_origin_function():
+    # L41746: 0 G53, 1..6 G54..G59 (G56 = 3, spec 08 E.2), n for G159=n, 1000 for a G92 preset
+    assert values("G56\nP1=V.G.EXTORG\nG159=12\nP2=V.G.EXTORG\nG92 X0\nP3=V.G.EXTORG\nG53\nP4=V.G.EXTORG", 4,
+                  None) == [3, 12, 1000, 0]
+    assert _synchronised("V.G.EXTORG", ())   # an execution value (L41746)
+
+
+def test_mirror_variables():
+    # L40543 G.MIRROR bit 0 = first channel axis; L40586 MIRROR1..3: G11 mirrors X: 1, 0, 0; G11 G13: mask 5
+    assert values("G11\nP1=V.G.MIRROR1 P2=V.G.MIRROR2 P3=V.G.MIRROR3\nG13\nP4=V.G.MIRROR", 4, None) == [1, 0, 0, 5]
+
+
+def test_axis_and_spindle_names_of_the_configuration():
+    # §22.26 L32747-L33043 with X Z C and spindles S S1: AXISNAME2 = Z = 30 (index 2 in the channel),
+    # GAXISNAME3 = C = 90 (logical 3), SPDLNAME2 = S1 = 101, GSPDLNAME4 = S = 100 (spindles numbered after the
+    # 3 axes, L32786), MASTERSP = 4 (S's logical number), NUMCH 1, G.AXIS 3, G.NSPDL 2
+    assert values("P1=V.G.AXISNAME2 P2=V.G.GAXISNAME3 P3=V.G.SPDLNAME2 P4=V.G.GSPDLNAME4 P5=V.G.MASTERSP "
+                  "P6=V.G.NUMCH P7=V.G.AXIS P8=V.G.NSPDL", 8) == [30, 90, 101, 100, 4, 1, 3, 2]
+    assert first_error("P1=V.G.GSPDLNAME2") == "INT045"   # logical 2 is the axis Z
+    assert first_error("P1=V.G.AXISNAME4") == "INT045"
+    assert first_error("V.G.AXISNAME1 = 10") == "INT048"
+
+
+def test_path_acceleration_written_by_the_program_reaches_the_planner():
+    # L36469: V.G.MAXACCEL = 500 limits the path acceleration (the axis' is 1000): 100 mm at F6000 with
+    # J = 20000: ramps dv/A + A/J = 0.2 + 0.025 = 0.225 s over 11.25 mm, cruise 77.5 mm: 0.45 + 0.775 = 1.225 s
+    # (1.15 s without it); 0 removes the path limit, the machine parameter's included
+    r = fagorcnc.simulate("P1=V.G.MAXACCEL\nV.G.MAXACCEL=500\nP2=V.G.MAXACCEL\nG1 X100 F6000\nM30\n")
+    assert r.ok and [r.state.param(1), r.state.param(2)] == [0, 500]
+    list(r.segments())
+    assert r.cycle_time == pytest.approx(1.225, rel=1e-9)
+    limited = {"planner": {"max_path_acceleration": 500.0}}
+    r = fagorcnc.simulate("P1=V.G.MAXACCEL\nV.G.MAXACCEL=0\nG1 X100 F6000\nM30\n", limited)
+    assert r.ok and r.state.param(1) == 500
+    list(r.segments())
+    assert r.cycle_time == pytest.approx(1.15, rel=1e-9)
+    assert first_error("V.G.MAXJERK = -1", None) == "INT045"
+
+
+def test_path_limits_return_to_the_machine_parameters_at_m30_not_m02():
+    # L36478: M30 and reset restore MAXACCEL/MAXJERK; M02 is not named
+    from fagorcnc.interp.state import ChannelState
+
+    st = ChannelState(load_machine(None))
+    st.path_limits = (500.0, 0.0)
+    st.reset("M02")
+    assert st.path_limits == (500.0, 0.0)
+    st.reset("M30")
+    assert st.path_limits is None
+
+
+def test_feed_forward_percentages_g134_g135():
+    # L4513-L4546: G134 X50.75 Y80 Z10 -> V.A.FFGAIN.X = 50.75 (L41441); G135 X55.8 -> V.A.ACFGAIN.X = 55.8
+    # (L41565); an axis G134 does not name keeps the machine's FFGAIN ([machine_parameters] 60 for Z here)
+    assert values("G134 X50.75\nG135 X55.8\nP1=V.A.FFGAIN.X P2=V.A.ACFGAIN.X P3=V.A.FFGAIN.Z", 3) == \
+        [50.75, 55.8, 60]
+    assert first_error("P1=V.A.ACFGAIN.Z") == "INT245"   # no G135 on Z and no ACFGAIN in the file
+    assert _synchronised("V.A.FFGAIN.X", ())
+
+
+def test_tool_radius_in_preparation_changes_the_compensation_not_the_table():
+    # spec 08 E.5 / L39204: V.G.TOR = V.G.TOR + 0.5 with T1 D1 of radius 3: the G41 square is compensated
+    # with 3.5 (corner (40 - 3.5, 10 + 3.5) = (36.5, 13.5)) while V.TM.TOR, the table, still reads 3
+    tool = {"tools": {"1": {"1": {"radius": 3.0}}}}
+    r = fagorcnc.simulate("G90 G17 G00 X-10 Y-10\nT1 D1 M6\nV.G.TOR = V.G.TOR + 0.5\nP1=V.G.TOR P2=V.TM.TOR\n"
+                          "G01 G41 X10 Y10 F500\nX40\nY40\nX10\nG40 X-10 Y60\nM30\n", tool)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert [r.state.param(1), r.state.param(2)] == [3.5, 3.0]
+    ends = [(round(m.end["X"], 4), round(m.end["Y"], 4)) for m in r.moves]
+    assert (36.5, 13.5) in ends and (37.0, 13.0) not in ends
+
+
+def test_tool_radius_in_preparation_is_reloaded_at_the_next_offset():
+    # L38884-L38943: the next tool or offset change reloads the values from the table
+    tool = {"tools": {"1": {"1": {"radius": 3.0}, "2": {"radius": 2.0}}}}
+    assert values("T1 D1 M6\nV.G.TOR = 9\nP1=V.G.TOR\nD2\nP2=V.G.TOR\nD1\nP3=V.G.TOR", 3, tool) == [9, 2, 3]
+
+
+def test_manual_feeds_are_kept():
+    # L39814 G.FMAN (G94) and L39829 G.MANFPR (G95): read/written by the program, no effect on its moves
+    assert values("V.G.FMAN = 1500\nV.G.MANFPR = 0.2\nP1=V.G.FMAN P2=V.G.MANFPR", 2, None) == [1500, 0.2]
+
+
+def test_a_variable_the_manual_defines_is_not_an_unknown_one():
+    # L36672 G.DYNOVR, L41781 G.CAMST, L35936 A.FLWACT, PLC signals: defined, not implemented (INT240);
+    # a name the manual does not have stays INT044
+    for text in ("P1=V.G.DYNOVR", "P1=V.G.CAMST[1]", "P1=V.A.FLWACT.X", "P1=V.PLC.READYC2", "P1=V.TM.MZWAIT"):
+        assert first_error(text, None) == "INT240", text
+    for text in ("P1=V.G.DYNOVER", "P1=V.A.FLWACTS.X", "P1=V.PLC.NOPE"):
+        assert first_error(text, None) == "INT044", text

@@ -53,6 +53,7 @@ class Dynamics:
     slope: tuple = (1, 0, 0, 0)     # #SLOPE [type, jerk, accel, move]
     contact_feed: float | None = None   # G196: F is at the tool's contact point on arcs of radius above
     # this (#TANGFEED RMIN, 0 = all; seed 002 L4298-L4325); None: G197, F at the tool centre
+    path_limits: tuple | None = None   # V.G.MAXACCEL/MAXJERK of the program (mm/s², mm/s³; 0 = none), L36469
 
     def acceleration_factor(self, axis: str, rapid: bool = False) -> float:
         if rapid and self.slope[3] == 1:
@@ -253,7 +254,7 @@ def build(state, block_modes: dict) -> Dynamics:
     return Dynamics(corner, state.roundpar, state.hsc if corner == "HSC" else None,
                     tuple(sorted(state.acceleration.items())), tuple(sorted(state.jerk.items())),
                     adaptation, "G266" in block_modes, state.slope,
-                    state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None)
+                    state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None, state.path_limits)
 
 
 def tangfeed_statement(interp, node) -> None:

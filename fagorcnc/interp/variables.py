@@ -17,6 +17,7 @@ from ..kinematics.variables import axis_variables as kinematics_axis_variables
 from ..kinematics.variables import variables as kinematics_variables
 from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
+from .gvars import ProgramVariables
 from .iso import INCH, whole
 from .mpvars import MachineParameters
 from .state import ChannelState
@@ -186,6 +187,9 @@ class Variables:
             "V.G.M01STOP": (lambda i: 0.0, None),
             "V.G.RAPID": (lambda i: 0.0, None),
         })
+        program = ProgramVariables(self)   # V.G.R/I/J/K/CIRERR, EXTORG, MIRRORn, AXISNAMEn, MAXACCEL, TOR...
+        self.plain_vars.update(program.plain())
+        self.axis_vars.update(program.axis())
         self.plain_vars.update(kinematics_variables(s))   # V.MPK.*, V.G.POSROT*, V.G.TOOLORI*, V.G.TANGFEED
         self.axis_vars.update(kinematics_axis_variables())   # V.A.TANGAN, V.A.TGCTRLST
         for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ":
@@ -352,7 +356,7 @@ class Variables:
 
     def get(self, name: str, index: tuple, col: int = 1) -> float:
         kind, key, extra = self._resolve(name, index, col)
-        if key in EXECUTION_READS:
+        if key in EXECUTION_READS or key in ProgramVariables.EXECUTION:
             self.state.sync = True   # the interpreter stops the motion before this block (see EXECUTION_READS)
         if kind == "user":
             try:
@@ -382,7 +386,13 @@ class Variables:
             setter = self.plain_vars[key][1]
             if setter is None:
                 raise InterpError("INT048", f"{key} is read-only", col)
-            setter(extra, value)
+            if key in ProgramVariables.EXECUTION:
+                self.state.sync = True   # the write of an execution variable stops block preparation (L17437)
+            try:
+                setter(extra, value)
+            except InterpError as exc:
+                exc.col = col
+                raise
             return
         if kind == "mp":
             self.machine_parameters.write(key, extra[0], extra[1], value, col)
