@@ -16,7 +16,7 @@ MACHINE = {
         "X": {"max_velocity": 12000.0, "max_feed": 5000.0, "max_acceleration": 800.0, "max_jerk": 9000.0,
               "min_limit": -10.0, "max_limit": 450.0, "diameter": True, "home": 20.0},
         "Z": {"max_velocity": 15000.0, "min_limit": -900.0, "max_limit": 5.0},
-        "C": {"type": "rotary", "rotary_mode": "normal", "max_velocity": 3600.0},
+        "C": {"type": "rotary", "rotary_mode": "positioning", "max_velocity": 3600.0},
     },
     "spindles": ["S", "S1"],
     "max_feed": 8000.0,
@@ -100,7 +100,7 @@ def test_per_set_parameters():
 
 
 def test_rotary_axis_parameters():
-    # L21555 AXISMODE 0 = module (fagorcnc "normal"), L21625 SHORTESTWAY 1, L21606 UNIDIR 0,
+    # L21555 AXISMODE 0 = module (fagorcnc "positioning"), L21625 SHORTESTWAY 1 (the shortest way), L21606 UNIDIR 0,
     # L27136 MODUPLIM 360 / L27188 MODLOWLIM 0 (module 360 from 0)
     assert values("P1=V.MPA.AXISMODE.C P2=V.MPA.SHORTESTWAY.C P3=V.MPA.UNIDIR.C P4=V.MPA.MODUPLIM[1].C "
                   "P5=V.MPA.MODLOWLIM[1].C", 5) == [0, 1, 0, 360, 0]

@@ -124,7 +124,7 @@ SOURCES: dict[str, Source] = {
     # AXISMODE 0 module (rollover), 1 linearlike (L21555); UNIDIR, SHORTESTWAY (L21606, L21625)
     "axismode": _rotary_mode("linearlike"),
     "unidir": _rotary_mode("unidirectional"),
-    "shortestway": _rotary_mode("normal"),
+    "shortestway": _rotary_mode("positioning"),   # the shortest way (fagorcnc "positioning", spec 02 §3)
     "caxis": lambda ctx, t, i: 1.0 if t in ctx.machine.c_axes or t in ctx.machine.c_axes.values() else 0.0,
     "spdlstop": lambda ctx, t, i: float(ctx.machine.default("SPDLSTOP")),
     "srevm05": lambda ctx, t, i: float(ctx.machine.default("SREVM05")),
