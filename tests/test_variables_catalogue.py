@@ -315,3 +315,9 @@ def test_a_variable_the_manual_defines_is_not_an_unknown_one():
         assert first_error(text, None) == "INT240", text
     for text in ("P1=V.G.DYNOVER", "P1=V.A.FLWACTS.X", "P1=V.PLC.NOPE"):
         assert first_error(text, None) == "INT044", text
+
+
+def test_spindle_feed_forward_and_active_set():
+    # L41441: V.A.FFGAIN.S / V.SP.FFGAIN (master) of a spindle: the machine file's FFGAIN; L32845 ACTIVSET 1
+    machine = {**MACHINE, "machine_parameters": {"MPA.FFGAIN.S": 90}}
+    assert values("P1=V.A.FFGAIN.S P2=V.SP.FFGAIN P3=V.A.ACTIVSET.X P4=V.SP.ACTIVSET", 4, machine) == [90, 90, 1, 1]

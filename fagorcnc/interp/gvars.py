@@ -76,6 +76,16 @@ class ProgramVariables:
         return {
             "V.A.FFGAIN": (lambda st, i, a: self._forward(134, "FFGAIN", a), None),
             "V.A.ACFGAIN": (lambda st, i, a: self._forward(135, "ACFGAIN", a), None),
+            # one parameter set per axis offline: the active one is 1 (L32845; G112 is not computed)
+            "V.A.ACTIVSET": (lambda st, i, a: 1.0, None),
+        }
+
+    def spindle(self) -> dict:
+        """``V.A.FFGAIN.S``, ``V.SP.FFGAIN`` ...: a spindle's percentages are the machine file's (L41441)."""
+        return {
+            "FFGAIN": lambda sp: self._forward(134, "FFGAIN", sp),
+            "ACFGAIN": lambda sp: self._forward(135, "ACFGAIN", sp),
+            "ACTIVSET": lambda sp: 1.0,
         }
 
     #: execution values: their read stops block preparation (L41746, L32747, L36469, L39814, L41441)

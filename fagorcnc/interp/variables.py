@@ -206,6 +206,7 @@ class Variables:
             "SLIMIT": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
             "PRGSL": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
         }
+        self.spindle_vars.update(program.spindle())
 
     # ------------------------------------------------------------------
     def _tool_field(self, fld: str, any_tool: bool = False):
@@ -337,7 +338,7 @@ class Variables:
         if name in self.plain_vars:
             return ("plain", name, index)
         head, _, tail = name.rpartition(".")
-        if head in self.axis_vars and tail:
+        if head in self.axis_vars and tail and tail not in self.state.speeds:   # V.A.x.S: a spindle's, below
             return ("axis", head, (index, self._axis(tail, col)))
         parts = name.split(".")
         if len(parts) in (3, 4) and parts[1] in ("A", "SP") and parts[2] in self.spindle_vars:
