@@ -321,3 +321,13 @@ def test_spindle_feed_forward_and_active_set():
     # L41441: V.A.FFGAIN.S / V.SP.FFGAIN (master) of a spindle: the machine file's FFGAIN; L32845 ACTIVSET 1
     machine = {**MACHINE, "machine_parameters": {"MPA.FFGAIN.S": 90}}
     assert values("P1=V.A.FFGAIN.S P2=V.SP.FFGAIN P3=V.A.ACTIVSET.X P4=V.SP.ACTIVSET", 4, machine) == [90, 90, 1, 1]
+
+
+def test_every_catalogue_source_is_computed():
+    # a catalogue line names a machine-file field the variable layer knows, or the manual's value, or
+    # [machine_parameters] / not implemented / interface only
+    from fagorcnc.interp.mpvars import SOURCES
+
+    for e in entries():
+        assert e.source in SOURCES or e.source[0] == "=" or e.source in ("free", "none", "-"), e
+        assert (e.source == "-") == (e.access == "IF"), e
