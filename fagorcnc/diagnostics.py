@@ -168,13 +168,6 @@ CODES: dict[str, str] = {
     "INT119": "function that needs another channel or an interrupt subroutine (#EXBLK to channel n, #REPOS)",
     "INT170": "manual intervention G200: the program waits for the operator (offline nothing moves by hand)",
     "INT171": "invalid manual intervention (G200-G202 #AXIS, #CONTJOG, #INCJOG, #MPG, #SET OFFSET, #SYNC POS)",
-    # the variable catalogue (issue 26 item 10; seed 002 ch. 22, fagorcnc/interp/mpvars.py, vcatalogue.py)
-    "INT240": "variable defined by the manual that fagorcnc does not implement",
-    "INT241": "variable read by the PLC or the interface only, not by a part program",
-    "INT242": "parameter set of an axis that does not exist (NPARSETS)",
-    "INT243": "variable not valid for this kind of axis or spindle (linear, rotary, spindle)",
-    "INT244": "variable without its index or its axis/spindle selector",
-    "INT245": "machine parameter the machine file does not give ([machine_parameters])",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",
@@ -197,6 +190,13 @@ CODES: dict[str, str] = {
     "CYC010": "influence-zone block that moves the longitudinal axis: run as a plain move, without the cycle",
     "CYC011": "hole cycle with the spindle stopped",
     "CYC012": "canned cycle point positioned by an arc",
+    # the variable catalogue (issue 26 item 10; seed 002 ch. 22, fagorcnc/interp/mpvars.py, vcatalogue.py)
+    "INT240": "variable defined by the manual that fagorcnc does not implement",
+    "INT241": "variable read by the PLC or the interface only, not by a part program",
+    "INT242": "parameter set of an axis that does not exist (NPARSETS)",
+    "INT243": "variable not valid for this kind of axis or spindle (linear, rotary, spindle)",
+    "INT244": "variable without its index or its axis/spindle selector",
+    "INT245": "machine parameter the machine file does not give ([machine_parameters])",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",
