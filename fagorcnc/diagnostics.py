@@ -205,6 +205,13 @@ CODES: dict[str, str] = {
     "CYC012": "canned cycle point positioned by an arc",
     # thread milling G211/G212 and the tapping marks (issue 22, second part; range CYC020-CYC039)
     "CYC020": "thread milling canned cycle with provisional semantics (G211/G212)",
+    # the variable catalogue (issue 26 item 10; seed 002 ch. 22, fagorcnc/interp/mpvars.py, vcatalogue.py)
+    "INT240": "variable defined by the manual that fagorcnc does not implement",
+    "INT241": "variable read by the PLC or the interface only, not by a part program",
+    "INT242": "parameter set of an axis that does not exist (NPARSETS)",
+    "INT243": "variable not valid for this kind of axis or spindle (linear, rotary, spindle)",
+    "INT244": "variable without its index or its axis/spindle selector",
+    "INT245": "machine parameter the machine file does not give ([machine_parameters])",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",

@@ -55,6 +55,7 @@ class Dynamics:
     # this (#TANGFEED RMIN, 0 = all; seed 002 L4298-L4325); None: G197, F at the tool centre
     plc_marks: tuple = ()   # PLC marks the channel holds on during the move: "TAPPING" (a tapping canned
     # cycle, seed 002 L29849), "RIGID" (rigid tapping, L29856); see interp.cycles.drilling.plc_marks
+    path_limits: tuple | None = None   # V.G.MAXACCEL/MAXJERK of the program (mm/s², mm/s³; 0 = none), L36469
 
     def acceleration_factor(self, axis: str, rapid: bool = False) -> float:
         if rapid and self.slope[3] == 1:
@@ -255,7 +256,8 @@ def build(state, block_modes: dict) -> Dynamics:
     return Dynamics(corner, state.roundpar, state.hsc if corner == "HSC" else None,
                     tuple(sorted(state.acceleration.items())), tuple(sorted(state.jerk.items())),
                     adaptation, "G266" in block_modes, state.slope,
-                    state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None)
+                    state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None,
+                    path_limits=state.path_limits)
 
 
 def tangfeed_statement(interp, node) -> None:

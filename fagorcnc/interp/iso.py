@@ -466,6 +466,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         if d != 0 and st.tool != 0 and st.tools.get(st.tool, {}).get(d) is None:
             raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", col)
         st.offset = d
+        st.prep_offset = None   # a new offset: V.G.TOR.. read the table again (L38884-L38943)
 
     def _master(self) -> str | None:
         """The master spindle: the channel's first (seed 002 L5100)."""
@@ -490,6 +491,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         yield self.aux("M", float(m), "before", src, named)
         if m == 6:  # tool change: the preselected tool goes to the spindle (L4700-L4708)
             st.tool = st.next_tool
+            st.prep_offset = None   # V.G.TOR.. of the new tool come from the table (L38884-L38943)
             # the D of this block, or the one programmed with T, or D1 (L4942, L4964-L4966)
             d = bw.offset[0] if bw.offset is not None else st.next_offset if st.next_offset is not None \
                 else (1 if st.tool else 0)
