@@ -68,7 +68,7 @@ def raster(lines: int) -> str:
     return "\n".join(out) + "\n"
 
 
-def run(text: str, speed: float, in_process: bool, marker_every: int, start_lead: float = 0.0) -> str:
+def run(text: str, speed: float, in_process: bool, marker_every: int, start_lead: float = 2.0) -> str:
     t0 = time.perf_counter()
     result = fagorcnc.simulate(text)
     if not result.ok:
@@ -129,7 +129,8 @@ def main() -> None:
     ap.add_argument("--raster", type=int, default=0, help="instead, a zigzag raster of that many short moves")
     ap.add_argument("--speed", type=float, default=10.0, help="emulator speed factor (default 10 x real time)")
     ap.add_argument("--marker-every", type=int, default=16, help="moves sharing a sequence marker (default 16)")
-    ap.add_argument("--start-lead", type=float, default=0.0, help="s of planned motion queued before the card starts")
+    ap.add_argument("--start-lead", type=float, default=2.0,
+                    help="s of planned motion queued before the card starts (the back-end's default: 2)")
     ap.add_argument("--in-process", action="store_true", help="run the emulator in a thread of this process")
     args = ap.parse_args()
     text = raster(args.raster) if args.raster else spiral(args.spiral)

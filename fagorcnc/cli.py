@@ -116,6 +116,11 @@ def build_parser() -> argparse.ArgumentParser:
                       help="do not draw the programmed contour of a compensated path")
     plot.add_argument("--limits", action="store_true", help="draw the soft limits (2D view)")
     plot.add_argument("--block-skip", action="store_true", help="skip blocks that start with '/'")
+    plot.add_argument("--view", choices=("joints", "tip"), default="joints",
+                      help="moves under a kinematics (#RTCP, #TOOL ORI): draw the joints (default) or the tool tip "
+                           "in the part frame")
+    plot.add_argument("--no-tool-axis", action="store_true",
+                      help="do not draw the tool-axis glyphs of the moves made under a kinematics")
     plot.set_defaults(func=plot_command.command)
     expand_command.add_parser(sub)
     diff_command.add_parser(sub)

@@ -181,6 +181,19 @@ CODES: dict[str, str] = {
     "INT210": "coupled slave axis (#LINK) programmed",
     "INT211": "coupled slave axis on an arc of its master's plane (not computed)",
     "INT213": "parked spindle (#PARK) programmed",
+    # curves #POLY, #SPLINE/#ASPLINE and independent moves #MOVE (interp/curves.py, interp/independent.py)
+    "INT220": "invalid #POLY statement (axes and coefficients, SP, EP)",
+    "INT221": "#POLY that cannot run here (G00 active, a transformation, not starting where the tool is)",
+    "INT222": "curve that needs more chords than the sampling allows",
+    "INT223": "invalid #SPLINE or #ASPLINE statement",
+    "INT224": "#SPLINE OFF with too few points (3, or 2 with both tangents defined)",
+    "INT225": "spline with radius compensation and the linear transition G137",
+    "INT226": "move a spline cannot take (#POLY/#MOVE in it, a transformation, G93)",
+    "INT227": "invalid #MOVE statement",
+    "INT228": "#MOVE without F (POSFEED is not in the machine file)",
+    "INT229": "#MOVE on an axis that cannot move independently",
+    "INT230": "#MOVE run before the blocks after it (one interpolator offline)",
+    "INT231": "#MOVE INF runs to the travel limit",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",
@@ -203,6 +216,15 @@ CODES: dict[str, str] = {
     "CYC010": "influence-zone block that moves the longitudinal axis: run as a plain move, without the cycle",
     "CYC011": "hole cycle with the spindle stopped",
     "CYC012": "canned cycle point positioned by an arc",
+    # thread milling G211/G212 and the tapping marks (issue 22, second part; range CYC020-CYC039)
+    "CYC020": "thread milling canned cycle with provisional semantics (G211/G212)",
+    # the variable catalogue (issue 26 item 10; seed 002 ch. 22, fagorcnc/interp/mpvars.py, vcatalogue.py)
+    "INT240": "variable defined by the manual that fagorcnc does not implement",
+    "INT241": "variable read by the PLC or the interface only, not by a part program",
+    "INT242": "parameter set of an axis that does not exist (NPARSETS)",
+    "INT243": "variable not valid for this kind of axis or spindle (linear, rotary, spindle)",
+    "INT244": "variable without its index or its axis/spindle selector",
+    "INT245": "machine parameter the machine file does not give ([machine_parameters])",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",
@@ -248,6 +270,7 @@ CODES: dict[str, str] = {
     "KIN024": "kinematics statement on a machine without rotary axes: the identity kinematics",
     "KIN025": "move that does not continue the transformed moves before it",
     "KIN030": "#CYL without the cylinder radius",
+    # (KIN031 no longer emitted since kin2: #CYL radius 0 is computed, KIN070-KIN072)
     "KIN031": "#CYL with radius 0 (the tool's distance to the centre) not computed",
     "KIN032": "#FACE/#CYL axes: not in the channel, or not one rotary axis and linear ones",
     "KIN033": "#FACE/#CYL kinematics number not of a C-axis type",
@@ -255,6 +278,7 @@ CODES: dict[str, str] = {
     "KIN035": "#FACE/#CYL with a work offset on the C axis active",
     "KIN040": "#ANGAX: transformation number missing or not set up",
     "KIN041": "suspended #ANGAX with scaling, rotation or mirror active",
+    # (KIN042 since kin2: emitted for #ANGAX and axes outside the RTCP only; the rest is computed)
     "KIN042": "G74 homing with #ANGAX, #RTCP (axes outside it) or another transformation active",
     "KIN050": "tangential axis not a modulo rotary axis, or an axis of the plane",
     "KIN051": "tangential control: angle outside ±359.9999, no axis nor F, G145 K not 0 or 1",
@@ -263,6 +287,11 @@ CODES: dict[str, str] = {
     "KIN060": "#CAX: spindle without a C axis in the machine file, or another axis name",
     "KIN061": "C axis of a spindle programmed without #CAX",
     "KIN062": "speed programmed for a spindle working as C axis",
+    # kinematics, second round (kin2: #CYL radius 0, G74 under a transformation): KIN070-KIN099
+    "KIN070": "#CYL with a negative radius",
+    "KIN071": "#CYL radius 0 without a C-axis kinematics (type 43) of that axis to give the rotation line",
+    "KIN072": "#CYL radius 0 with the tool tip on the rotation line",
+    "KIN073": "G74 of the C axis of #FACE (followed over whole turns) not computed",
     # the user's tools (fagorcnc diff, expand, check's CI configuration): CLI001-CLI049
     "CLI001": "fagorcnc diff: the two paths cannot be compared (a rotary axis moves, no motion)",
     "CLI002": "fagorcnc expand --golden: the expansion differs from the golden file",

@@ -32,6 +32,13 @@ N120 G0 X35 Y55 Z30
 N125 G98 G87 X30 Y60 Z2 I-6 J14 K9 B3 C7 L0.5 H400 V150 F600
 N130 G88 X95 Y25 Z2 I-8 J-12 B4 C7 L0.5 H400 F600
 N135 G80
-N140 G0 Z100
+; ---- thread mill: an M26 x 1.5 inside thread in the circular pocket (its wall is the minor diameter)
+N136 T4 D1 M06
+N137 V.TM.TOR=5
+N138 S2500 M03
+N139 G0 X95 Y25 Z30
+N140 G98 G211 Z1.5 I-7.5 J13 K1 B1.5 F300  ; major radius 13, depth 1, 6 turns (provisional: CYC020)
+N141 G80
+N142 G0 Z100
 N145 M05
 N150 M30

@@ -317,6 +317,16 @@ def test_a_coupled_slave_cannot_be_programmed():
     assert _errors("#LINK [X, U]\n#UNLINK\nG1 X1 U5 F100\nM30\n") == []
 
 
+def test_move_follows_the_configuration_and_the_couplings():
+    # #MOVE (seed 002 L16684) moves an axis of the channel: not a freed, parked or coupled slave one (L14549)
+    assert _errors("#FREE AX [W]\n#MOVE [W10, F100]\nM30\n") == [(2, 8, "INT200")]
+    assert _errors("#PARK W\n#MOVE [W10, F100]\nM30\n") == [(2, 8, "INT203")]
+    assert _errors("#LINK [X, U]\n#MOVE [U10, F100]\nM30\n") == [(2, 8, "INT210")]
+    # the master's independent move takes its slave along: U = 0 + (X - 0) = 10
+    r = _run("#LINK [X, U]\n#MOVE [X10, F100]\nM30\n")
+    assert r.ok and [m.end["U"] for m in r.moves if m.kind == "linear"] == [10.0]
+
+
 def test_the_slaves_soft_limits_count():
     # U's upper limit is 100: U at 95 follows X +10 to 105
     assert [c for _l, _c, c in _errors("G0 U95\n#LINK [X, U]\nG1 X10 F100\nM30\n")] == ["INT100"]

@@ -91,7 +91,8 @@ def test_cylinder_g01_with_b_alone_is_one_line():
 @pytest.mark.parametrize(("text", "code"), [
     ("#CYL [Y,B,Z]\n", "KIN030"),
     ("#CYL [Y,B]\n", "KIN030"),
-    ("#CYL [Y,B,Z0]\n", "KIN031"),
+    ("#CYL [Y,B,Z0]\n", "KIN071"),   # radius 0 needs the rotation line (tests/test_cyl_radius.py)
+    ("#CYL [Y,B,Z-5]\n", "KIN070"),
     ("#FACE [X,Y]\n", "KIN032"),
     ("#FACE [X,C]\n", "KIN032"),
     ("#CYL [Y,B,Z20]\n#FACE [X,B]\n", "KIN034"),

@@ -176,7 +176,7 @@ def test_clean_program_passes_with_its_summary(capsys):
 
 def test_fail_on_warning(tmp_path, capsys):
     f = tmp_path / "warn.nc"
-    f.write_text("#ASPLINE STARTTANG [1,0,0]\nG1 X10 F1000\nM30\n")
+    f.write_text("#CD ON [5]\nG1 X10 F1000\nM30\n")
     status, out = _run(capsys, "--format", "json", f)
     doc = json.loads(out)
     assert status == 0 and doc["files"][0]["verdict"] == "pass"

@@ -248,10 +248,6 @@ def test_g93_cannot_drive_a_cycle():
     assert (3, "CYC004") in codes(SPINDLE + "G00 Z20\nG93 G81 Z2 I-5 F2\nM30\n")
 
 
-def test_g211_g212_are_reported_unsupported():
-    assert (2, "INT011") in codes(SPINDLE + "G211 Z2 I-5 J10 B1\nM30\n")
-
-
 def test_inch_programs_give_levels_in_inches():
     # G70: Z0.1 in = 2.54 mm, I-0.5 in = -12.7 mm; F10 in/min = 254 mm/min; Zs = Z1 in = 25.4 mm
     program = SPINDLE + "G70 G00 G90 X0 Y0 Z1\nG98 G81 X1 Z0.1 I-0.5 F10\nM30\n"

@@ -93,10 +93,12 @@ def test_check_text_report_lists_the_cycles(tmp_path, capsys):
 def test_demo_runs_checks_and_plots(tmp_path, capsys):
     assert main(["check", "--format", "json", str(DEMO)]) == 0
     report = json.loads(capsys.readouterr().out)["files"][0]
-    assert report["verdict"] == "pass" and report["counts"]["warning"] == 0
-    # G81 + G160 K4: 4 holes; G83: 1; G81 + G163 K6: 6; G84 + G160: 4; one pocket each
+    # the one warning: G211's provisional semantics (CYC020)
+    assert report["verdict"] == "pass" and report["counts"]["warning"] == 1
+    assert [d["code"] for d in report["diagnostics"]] == ["CYC020"]
+    # G81 + G160 K4: 4 holes; G83: 1; G81 + G163 K6: 6; G84 + G160: 4; one pocket each; one thread
     assert [(c["code"], c["holes"]) for c in report["cycles"]] == [
-        ("G81", 4), ("G83", 1), ("G81", 6), ("G84", 4), ("G87", 1), ("G88", 1)]
+        ("G81", 4), ("G83", 1), ("G81", 6), ("G84", 4), ("G87", 1), ("G88", 1), ("G211", 1)]
     assert main(["run", str(DEMO)]) == 0
     assert "ended by M30" in capsys.readouterr().out
 

@@ -130,7 +130,7 @@ def test_the_campaign_program_has_arcs_outputs_and_dwells():
     machine, segments = plan(text)
     kinds = {s.kind for s in segments}
     assert kinds == {"motion", "aux", "dwell"}
-    backend = InterpCncBackend(machine, outputs=rb.OUTPUTS)
+    backend = InterpCncBackend(machine, start_lead=0, outputs=rb.OUTPUTS)
     assert backend.check(segments) == []                     # every M function is mapped
 
 
@@ -159,7 +159,7 @@ def test_a_move_an_alarm_stops_at_its_very_end_runs_exactly_once(stop_at, resent
     emu = Emulator(port=0, speed=1.0)
     emu.card = rb.JournalCard(speed=1.0, resolution=1000.0, clock=clock)
     with emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=2.0)
+        backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, timeout=2.0)
         backend.open()
         backend.send(segments[0])
         steps = [0.01] * int(stop_at * 10) + [stop_at / 10 - 0.01 * int(stop_at * 10)]
@@ -184,7 +184,7 @@ def test_a_move_an_alarm_stops_at_its_very_end_runs_exactly_once(stop_at, resent
 def test_a_dwell_completed_before_a_fault_runs_once(fault):
     machine, segments = plan("G90 G1 X1 F3000\nG4 K0.05\nG1 X2\nG1 X3\nM30\n")
     with Emulator(port=0, speed=10.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=2.0)
+        backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, timeout=2.0)
         backend.open()
         backend.send(segments[0])
         backend.send(segments[1])                              # the dwell
@@ -204,7 +204,8 @@ def test_a_dwell_completed_before_a_fault_runs_once(fault):
 def test_an_output_action_run_before_a_link_fault_runs_once():
     machine, segments = plan("G90 G1 X1 F3000\nG1 X2\nM8\nG1 X3\nM9\nM30\n")
     with Emulator(port=0, speed=10.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs=rb.OUTPUTS, timeout=2.0)
+        backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, outputs=rb.OUTPUTS,
+                                   timeout=2.0)
         backend.open()
         backend.send(segments[0])
         backend.send(segments[1])
@@ -244,7 +245,8 @@ def test_a_fault_at_any_write_of_a_dwell_or_an_output_runs_it_exactly_once(segme
     first = 2 if segment == "M5" else 3                        # index of the segment under test
     assert segments[first].kind == ("aux" if segment == "M5" else "dwell")
     with Emulator(port=0, speed=10.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs=rb.OUTPUTS, timeout=0.3)
+        backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, outputs=rb.OUTPUTS,
+                                   timeout=0.3)
         backend.open()
         for seg in segments[:first]:
             backend.send(seg)
@@ -261,7 +263,8 @@ def test_an_exception_on_an_output_while_the_card_is_busy_runs_it_exactly_once()
     """The same with the card still moving when the fault strikes: the purge removes what had not run."""
     machine, segments = plan("G90 G1 X20 F600\nM5\nG1 X21\nM30\n")     # 2 s of motion ahead of M5
     with Emulator(port=0, speed=1.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs=rb.OUTPUTS, timeout=0.3)
+        backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, outputs=rb.OUTPUTS,
+                                   timeout=0.3)
         backend.open()
         backend.send(segments[0])
         emu.fail_next(1, after=2)                              # M5's second action refused
@@ -278,7 +281,8 @@ def test_gate_tokens_start_again_at_one_once_the_card_has_passed_the_last_gate(m
     monkeypatch.setattr(backend_module, "GATE_TOKENS", 3)
     machine, segments = plan("G90 G1 X20 F600\nM5\nG4 K0.01\nM5\nM5\nG1 X21\nM30\n")   # 0.2 s move first
     with Emulator(port=0, speed=10.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, outputs=rb.OUTPUTS, timeout=2.0)
+        backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, outputs=rb.OUTPUTS,
+                                   timeout=2.0)
         backend.open()
         for seg in segments[:4]:
             backend.send(seg)
@@ -300,7 +304,7 @@ def test_a_dwell_an_alarm_cuts_short_is_reported_at_its_line_and_runs_again_in_f
     full after resume() (dwelling longer is safe), and the card logs a dwell only when it ends: once."""
     machine, segments = plan("G90 G1 X1 F3000\nG4 K0.6\nG1 X2\nM30\n")
     with Emulator(port=0, speed=1.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=2.0)
+        backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, timeout=2.0)
         backend.open()
         for seg in segments[:2]:
             backend.send(seg)
@@ -314,3 +318,26 @@ def test_a_dwell_an_alarm_cuts_short_is_reported_at_its_line_and_runs_again_in_f
         backend.close()
     assert_exactly_once(segments, backend, log)
     assert [e.args["ms"] for e in log if e.kind == "dwell"] == [600]
+
+
+# ---------------------------------------------------------------- a fault at the start lead's writes
+LEAD_CASES = [(k, kind) for k in range(5) for kind in ("exception", "delay", "drop")]
+
+
+@pytest.mark.parametrize(("k", "kind"), LEAD_CASES, ids=[f"write{k}-{kind}" for k, kind in LEAD_CASES])
+def test_a_fault_at_any_write_of_the_start_lead_runs_every_move_exactly_once(k, kind):
+    """The default start lead (2 s of planned motion) opens the stream with a 1012 wait on M+1 and later writes 1
+    into M+1: a fault at each of the first writes (the wait, the first marker and moves, the opening) must neither
+    lose nor repeat a move.  Four 1 mm moves at F600 are 0.1 s each: the lead is never reached, so the back-end
+    opens the wait when it must wait for the card (finish)."""
+    machine, segments = plan("G90 G1 X1 F600\nG1 X2\nG1 X3\nG1 X4\nM30\n")
+    with Emulator(port=0, speed=10.0, resolution=1000) as emu:
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=0.3)
+        assert backend.options.start_lead == 2.0
+        backend.open()
+        inject(emu, kind, k)
+        errors = stream(backend, segments, operator(backend, emu))
+        assert len(errors) == 1, errors             # the fault surfaced, and was recovered
+        log = emu.executed()
+        backend.close()
+    assert_exactly_once(segments, backend, log)     # (the start wait may be purged by the recovery: it holds nothing)

@@ -1240,8 +1240,6 @@ def test_block_skip_of_an_assignment():
 
 
 @pytest.mark.parametrize(("text", "what"), [
-    ("#SPLINE ON\nG01 X10 Y10 F500\nX20 Y5\nX30 Y10\n#SPLINE OFF\nM30\n", "#SPLINE"),     # L15690: a spline
-    ("#ASPLINE STARTTANG [1,0,0]\nG01 X10 F500\nM30\n", "#ASPLINE"),
     ("#CD ON [5]\nG01 X10 F500\nX0 Y5\n#CD OFF\nM30\n", "#CD"),                            # L15598: loops removed
 ])
 def test_path_treatments_not_computed_are_reported_not_dropped(text, what):

@@ -143,8 +143,8 @@ def test_an_output_and_a_dwell_run_behind_a_gate_the_back_end_opens_once_all_are
     plain write of the token into 3992.  The card holds them until then: a fault before it leaves nothing run
     (tests/test_fault_campaign.py injects one at each write)."""
     machine, segments = plan("M3\nG4 K0.25\n")
-    with Emulator(port=0, speed=1.0) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, outputs={"M3": M3})
+    with Emulator(port=0, speed=1.0) as emu:   # start_lead 0: these words open the stream, no 1012 start wait first
+        backend = InterpCncBackend(machine, port=emu.port, outputs={"M3": M3}, start_lead=0)
         backend.open()
         wait = [1012, 3, 65535, 1, 2]
         gate = [103992 & 0xFFFF, 103992 >> 16]

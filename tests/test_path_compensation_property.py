@@ -483,20 +483,48 @@ def test_concave_arc_offsets():
         assert (arc.center["X"], arc.center["Y"]) == pytest.approx((30.0, 80.0))
 
 
-def test_vertex_start_leaves_the_closing_corner_to_the_spec():
-    # why the contours above start in the middle of an edge: the square of spec 04 §26 started at its corner
-    # (10,10).  The activation (line 3; §19.2, outside corner, G139 + G136) ends at B = (10,13), on the closing
-    # edge X10, and the last move (line 7) ends at its perpendicular point (13,10) (§20), on the first edge: the
-    # closing corner is never trimmed.  Lines 5 and 6 are exact.
+def test_vertex_start_at_an_inside_corner_is_refused():
+    # why the contours above start in the middle of an edge: the square of spec 04 §26, closed at its corner
+    # (10,10), G41 on a CCW square (the tool inside, R = 3).  The activation (line 3, §19.2) ends at B = (10,13),
+    # the first edge's perpendicular point, which is ON the closing edge X10 (y 10..40): distance 0, so the tool
+    # would cut R - 0 = 3 mm into it; the last move (line 7) would end at (13,10), on the first edge (§20).  The
+    # manual leaves that corner untrimmed; fagorcnc refuses the gouge before anything moves (INT086).
     text = "G90 G17 G00 X-10 Y-10\nT1 D1 M6\nG01 G41 X10 Y10 F500\nX40\nY40\nX10\nY10\nG40 X-10 Y-10\nM30\n"
+    r = fagorcnc.simulate(text, machine(3.0))
+    errors = [d for d in r.diagnostics if d.severity == "error"]
+    assert not r.ok and [d.code for d in errors] == ["INT086"], [str(d) for d in r.diagnostics]
+    assert "3.0000 mm into the profile of line 7" in errors[0].message
+    assert "closes at the corner where compensation started" in errors[0].message
+    assert errors[0].line == 4 and not any(m.kind == "linear" and m.line >= 4 for m in r.moves)
+
+
+def test_vertex_start_at_an_outside_corner_runs():
+    # the same square with G42: the tool outside, the untrimmed corner leaves material, it does not gouge.
+    # First edge heading +X, right normal (0,-1): offset Y = 7.  The activation's offset line passes through
+    # (-10,-10) + 3(1,-1)/sqrt2 = (-7.879,-12.121) with direction (1,1) and meets Y = 7 at x = -7.879 + 19.121 =
+    # 11.243 (§19.2).  The closing edge X10 heading -Y has the right normal (-1,0): offset X = 7, and the last
+    # move ends at (7,11.243) by symmetry.  Every point of the path keeps >= 3 mm from the square.
+    text = "G90 G17 G00 X-10 Y-10\nT1 D1 M6\nG01 G42 X10 Y10 F500\nX40\nY40\nX10\nY10\nG40 X-10 Y-10\nM30\n"
     r = fagorcnc.simulate(text, machine(3.0))
     assert r.ok, [str(d) for d in r.diagnostics]
     main = {m.line: m for m in reversed(r.moves) if m.kind == "linear" and 4 <= m.line <= 7}
-    assert (main[4].start["X"], main[4].start["Y"]) == pytest.approx((10.0, 13.0))
-    assert (main[7].end["X"], main[7].end["Y"]) == pytest.approx((13.0, 10.0))
+    assert (main[4].start["X"], main[4].start["Y"]) == pytest.approx((11.2426, 7.0), abs=1e-4)
+    assert (main[7].end["X"], main[7].end["Y"]) == pytest.approx((7.0, 11.2426), abs=1e-4)
     square = [Seg((10, 10), (40, 10)), Seg((40, 10), (40, 40)), Seg((40, 40), (10, 40)), Seg((10, 40), (10, 10))]
-    for line in (5, 6):
-        assert all(abs(min(e.distance(x) for e in square) - 3.0) < EPS for x in samples(main[line], 0.5))
+    for line in (4, 5, 6, 7):
+        assert all(min(e.distance(x) for e in square) >= 3.0 - EPS for x in samples(main[line], 0.5))
+
+
+def test_mid_edge_start_of_the_same_closed_square_runs():
+    # started at (25,10), the middle of the first edge, the closing corner (10,10) is an ordinary inside corner:
+    # offsets Y=13 and X=13 meet at (13,13); lines 5..7 run the inside square 13..37 exactly.
+    text = ("G90 G17 G00 X25 Y-10\nT1 D1 M6\nG01 G41 X25 Y10 F500\nX40\nY40\nX10\nY10\nX25\n"
+            "G40 X25 Y-10\nM30\n")
+    r = fagorcnc.simulate(text, machine(3.0))
+    assert r.ok, [str(d) for d in r.diagnostics]
+    ends = {m.line: (m.end["X"], m.end["Y"]) for m in r.moves if m.kind == "linear" and 4 <= m.line <= 8}
+    assert ends == {4: pytest.approx((37.0, 13.0)), 5: pytest.approx((37.0, 37.0)), 6: pytest.approx((13.0, 37.0)),
+                    7: pytest.approx((13.0, 13.0)), 8: pytest.approx((25.0, 13.0))}
 
 
 # ------------------------------------------------------------------ 2. random polygons

@@ -47,13 +47,13 @@ def test_kinematics_the_card_cannot_reproduce_are_refused_before_anything_is_sen
 
 def test_the_refused_sentences_are_read_from_the_interpreter_warning():
     # #KIN ID on a machine file without kinematics runs as the identity offline (KIN024): refused on a card;
-    # #SPLINE (INT078) runs as programmed; a computed #CS is sent as the machine moves it gives
-    result = fagorcnc.simulate("#KIN ID [1]\n#CS ON [1] [MODE 1, 0, 0, 0, 0, 0, 0]\n#SPLINE ON\nG1 X1 F100\nM30\n")
+    # #CD (INT078) runs as programmed; a computed #CS is sent as the machine moves it gives
+    result = fagorcnc.simulate("#KIN ID [1]\n#CS ON [1] [MODE 1, 0, 0, 0, 0, 0, 0]\n#CD ON [5]\nG1 X1 F100\nM30\n")
     codes = [(d.line, d.code) for d in result.diagnostics if d.code in ("INT078", "KIN024")]
     assert codes == [(1, "KIN024"), (3, "INT078")]
     refused = refused_transformations(result.diagnostics)
     assert [d.line for d in refused][:1] == [1] and all(d.code == "CFG030" for d in refused)
-    assert 3 not in [d.line for d in refused]                # #SPLINE: the moves run as programmed (a warning)
+    assert 3 not in [d.line for d in refused]                # #CD: the moves run as programmed (a warning)
 
 
 class _Seg:

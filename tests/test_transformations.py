@@ -318,11 +318,11 @@ def test_tool_axis_in_the_inclined_plane():
     assert approx(moves(r)[-1].end, X=0, Y=-50, Z=0)
 
 
-def test_homing_under_a_transformation_is_refused():
-    # L13319: under #RTCP only its axes may be homed; homing under a transformation is not computed
-    # (the home point is a joint position): refused before anything moves
-    assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nG74 Z1\nM30\n")) == ["KIN042"]
-    assert codes(run("#RTCP ON\nG74 Z1\nM30\n", HEAD_B)) == ["KIN042"]
+def test_homing_under_a_transformation_moves_the_joints():
+    # L13320 forbids only the axes outside the RTCP (tests/test_home_transformed.py): G74 under a plane or
+    # of the RTCP's own axes moves the joints to the reference point
+    assert codes(run("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nG74 Z1\nM30\n")) == []
+    assert codes(run("#RTCP ON\nG74 Z1\nM30\n", HEAD_B)) == []
 
 
 def test_mcs_moves_inside_an_inclined_plane():

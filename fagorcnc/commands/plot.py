@@ -7,7 +7,10 @@ are the tool-centre path (radius compensation applied); when the program
 compensates, the programmed contour (the same program run with every tool
 radius set to 0) is drawn thin and black under it.  ``XY`` view by default,
 ``XZ``/``YZ`` on request, or a 3D view.  The title names the file and the
-planned cycle time.
+planned cycle time.  Moves made under a kinematics (#RTCP, #TOOL ORI) carry
+tool-axis glyphs, short segments along the tool at sampled points; ``view``
+``"tip"`` draws them at the tool tip in the part frame instead of the joints
+(:mod:`fagorcnc.commands.plot_tool`).
 
 matplotlib is an optional dependency (``pip install 'fagorcnc[plot]'``);
 :func:`plot_program` raises :class:`MatplotlibMissingError` without it.  Only the
@@ -29,6 +32,7 @@ import numpy as np
 
 from ..config.machine import Machine, MachineError, load_machine
 from ._shared import clock, not_a_file
+from .plot_tool import VIEWS, ToolAxes, five_axis, tool_points
 
 #: Output formats by file suffix.
 FORMATS = (".png", ".svg", ".pdf")
@@ -53,6 +57,9 @@ class PlotInfo:
     cycle_time: float         # s, planned
     segments: int             # planned motion segments drawn
     programmed: bool          # the programmed contour was drawn too
+    view: str = "joints"      # "joints" or "tip" (see plot_tool)
+    tool_axes: int = 0        # tool-axis glyphs drawn (moves under a kinematics)
+    tool_axis_segments: np.ndarray | None = None   # the glyphs (k, 2, view axes): foot, other end
 
 
 def _matplotlib():
@@ -107,14 +114,17 @@ def _zero_radius(machine: Machine) -> Machine:
 
 def plot_program(source: str | Path, output: str | Path, machine: Machine | dict | str | Path | None = None, *,
                  three_d: bool = False, plane: str = "XY", programmed: bool = True, limits: bool = False,
-                 block_skip: bool = False, title: str | None = None, dpi: int = 150) -> PlotInfo:
+                 block_skip: bool = False, title: str | None = None, dpi: int = 150, view: str = "joints",
+                 tool_axis: bool = True) -> PlotInfo:
     """Draw the planned tool path of a program into ``output`` (``.png``, ``.svg`` or ``.pdf``).
 
     ``plane`` names the two axes of the 2D view (``"XY"``, ``"XZ"``, ``"ZX"``...);
     ``three_d`` draws X, Y, Z in 3D instead; ``programmed`` adds the programmed
     contour when the program uses radius compensation; ``limits`` draws the
-    soft limits.  Raises :class:`MatplotlibMissingError` without matplotlib,
-    :class:`ValueError` for a bad output suffix or plane,
+    soft limits.  ``view`` ``"joints"`` draws the planned joint positions,
+    ``"tip"`` the tool tip of moves made under a kinematics; ``tool_axis`` draws
+    the tool-axis glyphs of those moves.  Raises :class:`MatplotlibMissingError`
+    without matplotlib, :class:`ValueError` for a bad output suffix, plane or view,
     :class:`~fagorcnc.config.machine.MachineError` for a bad machine.
     """
     from ..simulate import simulate
@@ -122,6 +132,9 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
     output = Path(output)
     if output.suffix.lower() not in FORMATS:
         raise ValueError(f"{output}: the picture must be {', '.join(FORMATS)}")
+    if view not in VIEWS:
+        raise ValueError(f"view {view!r}: one of {', '.join(VIEWS)}")
+    view_mode = view
     _, figure_class = _matplotlib()
     mach = load_machine(machine)
     axes_names = mach.axis_names
@@ -143,6 +156,8 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
         by_record[id(rec)] = tool
     count = 0
     tool = 0
+    tool_axes = ToolAxes()
+    tipped = False   # some move drawn at the tool tip (the tip view of a move under a kinematics)
     if result.moves:
         from ..plan import PlanningError
 
@@ -152,7 +167,14 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
                     continue
                 tool = by_record.get(id(seg.record), tool)
                 rapid = getattr(seg.record, "kind", "") == "rapid" and not seg.blend
-                pts = _piece_points(seg.piece)[:, idx]
+                pts = _piece_points(seg.piece)
+                frame = five_axis(seg.record)
+                if frame is not None:
+                    pts, dirs = tool_points(pts, axes_names, frame, view_mode)
+                    if all(a in frame.linear for a in view):   # (no glyph in a view of a rotary axis)
+                        tool_axes.add(pts[:, idx], dirs[:, idx], seg.record.src)
+                    tipped = tipped or view_mode == "tip"
+                pts = pts[:, idx]
                 if polylines and polylines[-1][1] == rapid and polylines[-1][2] == tool \
                         and np.allclose(polylines[-1][0][-1], pts[0]):
                     polylines[-1] = (np.vstack([polylines[-1][0], pts[1:]]), rapid, tool)
@@ -195,6 +217,15 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
             colour = colours[tools_seen.index(t) % len(colours)] if t in tools_seen else "black"
             ax.plot([hx], [hy], marker="o", markersize=5, fillstyle="none", color=colour, linestyle="none",
                     label="plunge / hole" if i == 0 else None)
+    glyphs = np.empty((0, 2, len(view)))
+    if tool_axis and tool_axes.points:
+        every = np.vstack([p for p, _, _ in polylines])
+        extent = float(np.max(every.max(axis=0) - every.min(axis=0))) or 1.0
+        glyphs = tool_axes.glyphs(extent)
+        gap = np.full((len(glyphs), 1, len(view)), np.nan)   # one line, broken between the glyphs
+        line = np.concatenate([glyphs, gap], axis=1).reshape(-1, len(view))
+        ax.plot(*line.T, color="purple", linewidth=0.7, gid="tool-axis",
+                label=f"tool axis ({'at the tip' if view_mode == 'tip' else 'from the joints'})")
     if polylines:
         start = polylines[0][0][0]
         ax.plot(*([v] for v in start), marker="o", color="green", markersize=4, linestyle="none", label="start")
@@ -204,10 +235,11 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
         ax.plot([lo[0], hi[0], hi[0], lo[0], lo[0]], [lo[1], lo[1], hi[1], hi[1], lo[1]], color="red",
                 linewidth=0.8, linestyle=":", label="soft limits")
 
-    ax.set_xlabel(f"{view[0]} (machine, mm)")
-    ax.set_ylabel(f"{view[1]} (machine, mm)")
+    basis = "tool-tip view, mm" if tipped else "machine, mm"
+    ax.set_xlabel(f"{view[0]} ({basis})")
+    ax.set_ylabel(f"{view[1]} ({basis})")
     if three_d:
-        ax.set_zlabel(f"{view[2]} (machine, mm)")
+        ax.set_zlabel(f"{view[2]} ({basis})")
         _equal_3d(ax, [p for p, _, _ in polylines] + contour)
     else:
         ax.set_aspect("equal", adjustable="datalim")
@@ -221,7 +253,8 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
         ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
     fig.savefig(output, dpi=dpi)
-    return PlotInfo(output, result.ok, result.diagnostics, result.cycle_time, count, bool(contour))
+    return PlotInfo(output, result.ok, result.diagnostics, result.cycle_time, count, bool(contour), view_mode,
+                    len(glyphs), glyphs)
 
 
 def _equal_3d(ax, arrays: list[np.ndarray]) -> None:
@@ -243,7 +276,8 @@ def command(args: argparse.Namespace) -> int:
         return 2
     try:
         info = plot_program(Path(args.file), args.output, args.machine, three_d=args.three_d, plane=args.plane,
-                            programmed=not args.no_programmed, limits=args.limits, block_skip=args.block_skip)
+                            programmed=not args.no_programmed, limits=args.limits, block_skip=args.block_skip,
+                            view=args.view, tool_axis=not args.no_tool_axis)
     except MatplotlibMissingError as exc:
         print(f"fagorcnc: {exc}", file=sys.stderr)
         return 2
@@ -257,5 +291,6 @@ def command(args: argparse.Namespace) -> int:
         if d.severity != "info":
             print(d.render(), file=sys.stderr)
     print(f"{args.output}: {info.segments} planned segments, cycle time {clock(info.cycle_time)}"
-          + (", programmed contour drawn" if info.programmed else ""))
+          + (", programmed contour drawn" if info.programmed else "")
+          + (f", {info.tool_axes} tool-axis glyphs ({info.view} view)" if info.tool_axes else ""))
     return 0 if info.ok else 1

@@ -186,6 +186,8 @@ def _one(n: int, t: dict, axes: dict) -> Kinematics:
     joints = tuple(Joint(a, d, p, r == "H") for a, d, p, r in zip(names, directions, pivots, roles, strict=True))
     if count >= 2 and abs(float(np.dot(directions[0], directions[1]))) > 1.0 - 1e-9:
         raise MachineError(f"{where}.directions: the main and secondary rotation directions are parallel")
+    if count == 3 and abs(float(np.dot(directions[1], directions[2]))) > 1.0 - 1e-9:
+        raise MachineError(f"{where}.directions: the secondary and third rotation directions are parallel")
     tool = _vector(f"{where}.tool_direction", t.get("tool_direction", list(_Z)))
     try:
         tool = tuple(float(x) for x in unit(tool))

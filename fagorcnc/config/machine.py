@@ -152,6 +152,10 @@ class Machine:
     #: CHAXISNAME: the axes of the channel at power-on, in order (slot 1 first); the machine's other axes
     #: are free for #CALL AX / #SET AX (seed 002 L14690).  Empty: all the axes, in the order of ``axes``.
     channel_axes: list[str] = field(default_factory=list)
+    #: [machine_parameters]: values of the manual's parameters fagorcnc does not use, for V.MPG/MPA/MPMAN
+    #: reads: (name, indices, axis or spindle) -> value (fagorcnc.config.mpcatalogue)
+    machine_parameters: dict[tuple, float] = field(default_factory=dict)
+    mtb: list[float] = field(default_factory=list)   # "MTB.P" = [...]: the OEM parameters MTB.P[0..] (L29198)
 
     def default(self, name: str) -> int:
         """Value of a power-on default parameter (``INCHES``, ``IPLANE``...)."""
@@ -414,8 +418,31 @@ def _build(data: dict) -> Machine:
         parameter_file=_parameter_file(data.get("parameter_file")),
         compat=parse_compat(data.get("compat", {})),
         **_kinematics(data, axes),
+        **_machine_parameters(data.get("machine_parameters", {}), axes, data.get("spindles", ["S"])),
         channel_axes=_channel_axes(data.get("channel_axes", []), axes),
     )
+
+
+def _machine_parameters(table: Any, axes: dict, spindles: Any) -> dict:
+    """``[machine_parameters]``: ``"MPA.FFGAIN.X" = 100``, ``"MPG.PRB1MIN" = -10``, ``"MTB.P" = [1.5, 2]``
+    (the manual's names; fagorcnc.config.mpcatalogue)."""
+    from .mpcatalogue import parse_key
+
+    values: dict[tuple, float] = {}
+    mtb: list[float] = []
+    for key, value in _table("machine_parameters", table).items():
+        where = f"machine_parameters.{key}"
+        if key == "MTB.P":
+            mtb = [_number(f"{where}[{i}]", v) for i, v in enumerate(_list(where, value))]
+            continue
+        parsed = parse_key(str(key))
+        if isinstance(parsed, str):
+            raise MachineError(f"{where}: {parsed}")
+        entry, idx, target = parsed
+        if target is not None and target not in axes and target not in [str(x) for x in spindles]:
+            raise MachineError(f"{where}: the machine has no axis or spindle {target}")
+        values[(entry.name, idx, target)] = _number(where, value)
+    return {"machine_parameters": values, "mtb": mtb}
 
 
 def _channel_axes(value: Any, axes: dict) -> list[str]:

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 from ..syntax.ast import ItemList, Keyed, Name, Num
 from .expressions import InterpError, whole
+from .mpvars import name_code
 from .spindle import targets
 
 #: The offsets #SET AX / #CALL AX may apply to the axes they add (L14806-L14815).
@@ -35,7 +36,6 @@ OFFSET_KEYWORDS = frozenset({"ALL", "LOCOF", "FIXOF", "ORGOF", "MEASOF", "MANOF"
 MAX_SLOTS = 32
 _AXIS_NAME = re.compile(r"[XYZUVWABC][1-9]?")
 _SPINDLE_NAME = re.compile(r"S[1-9]?")
-_AXIS_ORDER = "XYZUVWABC"
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,14 +48,6 @@ class Link:
     slave: str
     offset: float
     maxdiff: float | None = None
-
-
-def name_code(name: str | None) -> int:
-    """The axis-name code of the V.G.AXISNAMEn variables: X=10, X1=11 ... C9=99 (seed 002 L32793); 0 for
-    no axis ([CONSTRUCTION]: the manual shows a hole or a parked axis as "?", it gives no number for it)."""
-    if not name or name[0] not in _AXIS_ORDER:
-        return 0
-    return 10 * (_AXIS_ORDER.index(name[0]) + 1) + (int(name[1:]) if name[1:].isdigit() else 0)
 
 
 class ChannelAxes:
@@ -110,6 +102,16 @@ class ChannelAxes:
             return None
         if axis in self.parked:
             raise InterpError("INT203", f"axis {name} is parked (#PARK): it cannot be programmed (L14641)", col)
+        return axis
+
+    def movable(self, name: str, col: int) -> str | None:
+        """The machine axis a statement that moves axis ``name`` moves (#MOVE): :meth:`word_axis`, and not a
+        coupled slave (INT210, L14549)."""
+        axis = self.word_axis(name, col)
+        link = next((k for k in self.links if k.slave == axis), None) if axis is not None else None
+        if link is not None:
+            raise InterpError("INT210", f"axis {name} is coupled to {self.name_of(link.master)} (#LINK): it cannot "
+                              "be programmed until #UNLINK (L14549)", col)
         return axis
 
     def generic(self, k: int, col: int, parked_ok: bool = False) -> str:
@@ -644,31 +646,39 @@ def statement(interp, node) -> None:
 
 
 # ---------------------------------------------------------------------- variables
-def variables(st) -> dict:
-    """The variables of this section (spec 08 §22.26): ``V.G.AXISNAMEn`` (the name code of the axis in slot
-    n, L32964), ``V.G.GAXISNAMEn`` (of logical axis n, an execution value, L32747), both 0 for a hole or a
-    parked axis; ``V.G.LINKACTIVE`` (1 while a coupling is active, L40690)."""
+def slot_name(st, n: int) -> float:
+    """``V.G.AXISNAMEn``: the name code of the axis in slot n, holes counted (L32964); 0 for a hole or a
+    parked axis ([CONSTRUCTION]: the manual shows them as "?", L32990, and gives no number for it), also for
+    the free positions up to the machine's number of axes (the manual's screens show as many, L14818)."""
     ch = st.channel
+    top = max(len(ch.slots), len(ch.machine.axes))
+    if not 1 <= n <= top:
+        raise InterpError("INT045", f"there is no axis index {n} (1..{top})", 1)
+    axis = ch.slots[n - 1] if n <= len(ch.slots) else None
+    return 0.0 if axis is None or axis in ch.parked else name_code(ch.name_of(axis))
 
-    def slot_name(n: int):
-        def get(_index) -> float:
-            axis = ch.slots[n - 1] if n <= len(ch.slots) else None
-            return float(name_code(ch.name_of(axis)) if axis is not None and axis not in ch.parked else 0)
-        return get
 
-    def logical_name(n: int):
-        names = ch.machine.axis_names
+def logical_name(st, n: int) -> float:
+    """``V.G.GAXISNAMEn``: the name code of logical axis n (the machine file's order, L32747), its name in
+    the channel if renamed; 0 when parked (L32762)."""
+    ch = st.channel
+    names = ch.machine.axis_names
+    if not 1 <= n <= len(names):
+        raise InterpError("INT045", f"there is no logical axis {n} (1..{len(names)})", 1)
+    axis = names[n - 1]
+    return 0.0 if axis in ch.parked else name_code(ch.name_of(axis))
 
-        def get(_index) -> float:
-            st.sync = True   # an execution value: its reading stops the preparation (L32749)
-            axis = names[n - 1]
-            return float(0 if axis in ch.parked else name_code(ch.name_of(axis)))
-        return get
 
-    out = {f"V.G.AXISNAME{n}": (slot_name(n), None) for n in range(1, MAX_SLOTS + 1)}
-    out.update({f"V.G.GAXISNAME{n}": (logical_name(n), None) for n in range(1, len(ch.machine.axis_names) + 1)})
-    out["V.G.LINKACTIVE"] = (lambda _index: 1.0 if ch.links else 0.0, None)
-    return out
+def axis_count(st, holes: bool) -> float:
+    """``V.G.AXIS`` (the channel's axes) and ``V.G.NAXIS`` (counting the holes of the axes given away), L32908-L32925;
+    also ``MPG.CHNAXIS``, which #SET AX, #FREE AX and #CALL AX change (L19375)."""
+    slots = st.channel.slots
+    return float(len(slots) if holes else sum(a is not None for a in slots))
+
+
+def variables(st) -> dict:
+    """``V.G.LINKACTIVE``: 1 while a coupling is active (L40690)."""
+    return {"V.G.LINKACTIVE": (lambda _index: 1.0 if st.channel.links else 0.0, None)}
 
 
 def axis_variables() -> dict:

@@ -53,6 +53,9 @@ class Dynamics:
     slope: tuple = (1, 0, 0, 0)     # #SLOPE [type, jerk, accel, move]
     contact_feed: float | None = None   # G196: F is at the tool's contact point on arcs of radius above
     # this (#TANGFEED RMIN, 0 = all; seed 002 L4298-L4325); None: G197, F at the tool centre
+    plc_marks: tuple = ()   # PLC marks the channel holds on during the move: "TAPPING" (a tapping canned
+    # cycle, seed 002 L29849), "RIGID" (rigid tapping, L29856); see interp.cycles.drilling.plc_marks
+    path_limits: tuple | None = None   # V.G.MAXACCEL/MAXJERK of the program (mm/s², mm/s³; 0 = none), L36469
     links: tuple = ()   # the #LINK couplings (interp.axes.Link) the slaves follow in this block (L14515)
 
     def acceleration_factor(self, axis: str, rapid: bool = False) -> float:
@@ -254,7 +257,8 @@ def build(state, block_modes: dict) -> Dynamics:
     return Dynamics(corner, state.roundpar, state.hsc if corner == "HSC" else None,
                     tuple(sorted(state.acceleration.items())), tuple(sorted(state.jerk.items())),
                     adaptation, "G266" in block_modes, state.slope,
-                    state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None, state.channel.links)
+                    state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None,
+                    path_limits=state.path_limits, links=state.channel.links)
 
 
 def tangfeed_statement(interp, node) -> None:

@@ -164,8 +164,8 @@ _TABLE = [
       for n, what in ((160, "in a line"), (161, "in a parallelogram"), (162, "in a grid"), (163, "in a circle"),
                       (164, "in an arc"), (165, "by a chord"))],
     _g(210, "cycle", "default", "bore milling canned cycle", "L1483"),
-    _g(211, "cycle", "default", "inside thread milling canned cycle", "L1485", "no"),
-    _g(212, "cycle", "default", "outside thread milling canned cycle", "L1487", "no"),
+    _g(211, "cycle", "default", "inside thread milling canned cycle", "L1485"),
+    _g(212, "cycle", "default", "outside thread milling canned cycle", "L1487"),
 ]
 # Probing and the lathe-model cycles are described in other manuals (seed 002 L1433-L1522).
 _OTHER_MANUAL = {89, 100, 101, 102, 103, 104, 66, 68, 69}

@@ -25,6 +25,7 @@ from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
 from . import axes, compat
+from .curves import CurveSettings, splines
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
 from .files import SubroutineFiles, is_stream
@@ -99,6 +100,7 @@ class Interpreter(FlowMixin):
         self.variables.spindle_vars.update(self.spindle_modes.variables(self.state))
         self.variables.plain_vars.update(axes.variables(self.state))   # V.G.AXISNAMEn, V.G.LINKACTIVE
         self.variables.axis_vars.update(axes.axis_variables())          # V.A.ACTCH.Xn
+        self.curves = CurveSettings()   # #ASPLINE state, #SPLINE on/off (interp/curves.py)
         self.cam = compat.CamState()   # CAM constructs and lint (interp/compat.py)
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None
@@ -121,8 +123,9 @@ class Interpreter(FlowMixin):
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
-            records = compensate(apply_aids(with_frames(follow(self._guarded(), self), self.state), self._aid_error),
-                                 self._path_warning)
+            # (#SPLINE: the spline's chords first, interp/curves.py)
+            moves = follow(splines(self._guarded(), self), self)
+            records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
             # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
             for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
                 self.cycle_time += record_time(machine, record)

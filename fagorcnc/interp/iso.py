@@ -467,6 +467,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         if d != 0 and st.tool != 0 and st.tools.get(st.tool, {}).get(d) is None:
             raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", col)
         st.offset = d
+        st.prep_offset = None   # a new offset: V.G.TOR.. read the table again (L38884-L38943)
 
     def _master(self) -> str | None:
         """The master spindle: the channel's first (seed 002 L5100)."""
@@ -491,6 +492,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         yield self.aux("M", float(m), "before", src, named)
         if m == 6:  # tool change: the preselected tool goes to the spindle (L4700-L4708)
             st.tool = st.next_tool
+            st.prep_offset = None   # V.G.TOR.. of the new tool come from the table (L38884-L38943)
             # the D of this block, or the one programmed with T, or D1 (L4942, L4964-L4966)
             d = bw.offset[0] if bw.offset is not None else st.next_offset if st.next_offset is not None \
                 else (1 if st.tool else 0)
@@ -562,14 +564,23 @@ class IsoExecutor(MotionMixin, WordsMixin):
             groups.setdefault(int(v), []).append(axis)
         bw.axes.clear()
         for order in sorted(groups):
-            start = dict(st.machine_pos)
-            end = dict(start)
-            for axis in groups[order]:
-                end[axis] = self.machine.axes[axis].home
-            st.machine_pos = dict(end)
-            yield Line("rapid", start, end, st.to_part(end), None, "G94", src, dyn=st.dynamics())
+            homes = {axis: self.machine.axes[axis].home for axis in groups[order]}
+            if st.kin.frame is not None:
+                # the reference point is a joint position: under a transformation the joints go there
+                # (a joint move, as #MCS) and the position in the frame is worked out from them again
+                yield st.kin.raw_move(st, lambda h=homes: self._home_group(h, src))
+            else:
+                yield self._home_group(homes, src)
         if st.modes["motion"] in (2, 3):
             st.modes["motion"] = 1 if self.machine.default("IMOVE") else 0
+
+    def _home_group(self, homes: dict[str, float], src: Source) -> Line:
+        """One group of G74: a rapid of its axes to their reference points (machine coordinates)."""
+        st = self.state
+        start = dict(st.machine_pos)
+        end = {**start, **homes}
+        st.machine_pos = dict(end)
+        return Line("rapid", start, end, st.to_part(end), None, "G94", src, dyn=st.dynamics())
 
     def _polar_preset(self, col: int, bw: BlockWords) -> None:
         """G30 [I J]: polar origin (seed 002 L3945-L3967)."""

@@ -8,6 +8,7 @@ import math
 
 from ..path import arcs
 from .expressions import InterpError
+from .gvars import arc_data
 from .records import Arc, Line, Source
 from .units import INCH
 from .words import BlockWords
@@ -92,6 +93,8 @@ class MotionMixin:
         st = self.state
         if not st.offset or not st.tool:
             return None
+        if st.prep_offset is not None:   # V.G.TOR.. written: the offset of the blocks in preparation (L39204)
+            return st.prep_offset
         off = st.tools.get(st.tool, {}).get(st.offset)
         if off is None or not off.declared:
             raise InterpError("INT123", f"{use} needs the offset D{st.offset} of tool T{st.tool}, which the "
@@ -239,8 +242,10 @@ class MotionMixin:
         r0 = math.dist(sp, center)
         if r0 < 1e-9:
             raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
+        programmed = center
         if given_centre:
             center = self._radius_check(sp, ep, center, col)
+        arc_data(st, sp, programmed, center, ep, (a, o, n))   # V.G.R, I, J, K, CIRERR (L40454)
         delta = arcs.sweep(sp, ep, center, ccw)
         turns = 0
         if pitch is not None:

@@ -57,9 +57,31 @@ class Line:
         return self.kind == "rapid"
 
     @property
+    def plc_marks(self) -> tuple:
+        """PLC marks the channel holds on during the move (``Dynamics.plc_marks``; TAPPING, RIGID)."""
+        return self.dyn.plc_marks if self.dyn is not None else ()
+
+    @property
     def length(self) -> float:
         """Length of the move over all axes that change (mm; degrees count as mm)."""
         return math.sqrt(sum((self.end[a] - self.start[a]) ** 2 for a in self.end))
+
+
+@dataclass(frozen=True, slots=True)
+class CurveLine(Line):
+    """A chord of a sampled curve (#POLY, #SPLINE; interp/curves.py): ``curve`` is one object for
+    all the chords of one curve, which the planner joins without a corner."""
+
+    curve: object = None
+
+
+@dataclass(frozen=True, slots=True)
+class IndependentMove(Line):
+    """A #MOVE positioning of one axis (seed 002 L16684-L16747): ``link`` is how it ends, PRESENT
+    (at its own feed), NEXT (at the next #MOVE's feed), NULL (at rest) or WAITINPOS (at rest, in
+    position)."""
+
+    link: str = "NULL"
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,6 +122,11 @@ class Arc:
     def rapid(self) -> bool:
         """Run at rapid: an arc inserted before a G00 carries no feed."""
         return self.feed is None
+
+    @property
+    def plc_marks(self) -> tuple:
+        """PLC marks the channel holds on during the move (``Dynamics.plc_marks``; TAPPING, RIGID)."""
+        return self.dyn.plc_marks if self.dyn is not None else ()
 
     @property
     def sweep(self) -> float:
@@ -144,6 +171,7 @@ class Dwell(_AtPosition):
     seconds: float
     position: dict
     src: Source
+    plc_marks: tuple = ()   # PLC marks on during the dwell (a tapping cycle's: TAPPING, RIGID)
 
 
 @dataclass(frozen=True, slots=True)
@@ -163,6 +191,7 @@ class Aux(_AtPosition):
     position: dict
     src: Source
     spindle: str | None = None
+    plc_marks: tuple = ()   # PLC marks on while it runs (a tapping cycle's spindle reversal: TAPPING)
 
 
 Record = Line | Arc | Dwell | Aux

@@ -17,18 +17,16 @@ from __future__ import annotations
 
 from ..kinematics import statements as kinematics
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import axes, dynamics, laser, macros, manual
+from . import axes, curves, dynamics, independent, laser, macros, manual
 from .expressions import InterpError
 from .records import Dwell
 
 #: Sentences kept as state for the planner / path stages.
 RECORDED = frozenset({"ESBLK", "DSBLK", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
-#: path treatments that change the path run, so that a user is told: #SPLINE/#ASPLINE (a spline
-#: through the points, L15690), #CD (loops removed, L15598).
-NOT_YET = frozenset({"TOOL", "POLY",
-                     "SPLINE", "ASPLINE", "CD",
-                     "VIRTAX", "MOVE", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "RPT"})
+#: path treatments that change the path run, so that a user is told: #CD (loops removed, L15598).
+NOT_YET = frozenset({"TOOL", "CD",
+                     "VIRTAX", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "RPT"})
 
 
 def _text_of(args) -> str:
@@ -115,12 +113,24 @@ _HANDLERS = {
     "TANGFEED": _without_sub(dynamics.tangfeed_statement),
 }
 
+#: Curves and independent moves: keyword -> handler(interp, node, first keyword, source), records or None.
+_CURVES = {
+    "POLY": lambda interp, node, sub, src: curves.poly_statement(interp, node, src),
+    "SPLINE": curves.spline_statement,
+    "ASPLINE": lambda interp, node, sub, src: curves.aspline_statement(interp, node, sub),
+    "MOVE": independent.move_statement,
+}
+
 
 def execute_sentence(interp, node, src):
     kw = node.keyword
     st = interp.state
     first = node.args[0] if node.args else None
     sub = first.name if type(first) in (Name, Keyed) else None
+    curve = _CURVES.get(kw)
+    if curve is not None:   # #POLY, #SPLINE, #ASPLINE (interp/curves.py), #MOVE (interp/independent.py)
+        yield from curve(interp, node, sub, src) or ()
+        return
     handler = _HANDLERS.get(kw)
     if handler is not None:
         handler(interp, node, sub)

@@ -86,6 +86,11 @@ class ChannelState:
         self.programmed_override = 0.0
         self.call_letters: list[frozenset] = [frozenset()]  # V.C.PCALLP_x per call level
         self.cycles = CycleState()             # the active canned cycle, V.C.x (interp/cycles)
+        self.arc_data: tuple | None = None     # the last prepared arc: V.G.R/I/J/K/CIRERR (interp/gvars.py)
+        self.path_limits: tuple[float, float] | None = None   # V.G.MAXACCEL/MAXJERK written by the program
+        self.manual_feeds: dict[int, float] = {}   # V.G.FMAN (94), V.G.MANFPR (95)
+        self.prep_offset = None                # V.G.TOR..TOK written: the offset of the blocks in preparation
+        self.mtb: list[float] = list(machine.mtb)   # V.MTB.P[i] (written by the program, L29198)
         self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)
         self.channel = channel_axes.ChannelAxes(machine)   # #SET AX, #RENAME AX, #PARK, #LINK (interp/axes.py)
 
@@ -213,6 +218,8 @@ class ChannelState:
         self.roundpar = default_roundpar(self.machine)
         self.slope = (self.machine.planner.slope_type, 0, 0, 0)
         self.acceleration = {}        # L4447, L4495: 100 % after reset
+        if event != "M02":
+            self.path_limits = None   # V.G.MAXACCEL/MAXJERK: the machine parameters again at M30 and reset (L36478)
         self.jerk = {}
         self._dynamics = None
         self.path = None

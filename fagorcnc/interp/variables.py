@@ -17,8 +17,11 @@ from ..kinematics.variables import axis_variables as kinematics_axis_variables
 from ..kinematics.variables import variables as kinematics_variables
 from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
+from .gvars import ProgramVariables
 from .iso import INCH, whole
+from .mpvars import MachineParameters
 from .state import ChannelState
+from .vcatalogue import manual_defined
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
 Setter = Callable[[ChannelState, tuple, str | None, float], None]
@@ -60,6 +63,7 @@ EXECUTION_READS = frozenset({
     "V.G.FEED", "V.G.FPREV", "V.G.FREAL", "V.G.PATHFEED", "V.G.FRO", "V.G.CNCFRO", "V.G.RAPID",
     "V.G.CYTIME", "V.G.CLOCK", "V.G.PARTC", "V.G.STATUS", "V.G.FULLSTATUS", "V.G.FIRST", "V.G.M01STOP",
     "V.G.SBLOCK", "V.G.SBOUT",
+    "V.PLC.TAPPING", "V.PLC.TAPPINGC1", "V.PLC.RIGID", "V.PLC.RIGIDC1",   # L29844-L29857 (cycles/variables.py)
 })
 
 
@@ -69,6 +73,7 @@ class Variables:
     def __init__(self, state: ChannelState) -> None:
         self.state = state
         s = state
+        self.machine_parameters = MachineParameters(state)   # V.MPG, V.MPA, V.SP, V.MPMAN, V.MPM, V.TM, V.MTB
         # name -> (getter, setter or None); axis variables take the axis as 3rd argument
         self.axis_vars: dict[str, tuple[Getter, Setter | None]] = {
             "V.A.PPOS": (lambda st, i, a: st.part_pos()[a], None),          # L35650
@@ -183,6 +188,9 @@ class Variables:
             "V.G.M01STOP": (lambda i: 0.0, None),
             "V.G.RAPID": (lambda i: 0.0, None),
         })
+        program = ProgramVariables(self)   # V.G.R/I/J/K/CIRERR, EXTORG, MIRRORn, AXISNAMEn, MAXACCEL, TOR...
+        self.plain_vars.update(program.plain())
+        self.axis_vars.update(program.axis())
         self.plain_vars.update(kinematics_variables(s))   # V.MPK.*, V.G.POSROT*, V.G.TOOLORI*, V.G.TANGFEED
         self.axis_vars.update(kinematics_axis_variables())   # V.A.TANGAN, V.A.TGCTRLST
         for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ":
@@ -199,6 +207,7 @@ class Variables:
             "SLIMIT": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
             "PRGSL": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
         }
+        self.spindle_vars.update(program.spindle())
 
     # ------------------------------------------------------------------
     def _tool_field(self, fld: str, any_tool: bool = False):
@@ -323,7 +332,8 @@ class Variables:
         raise InterpError("INT046", f"axis {token} does not exist in this channel", col)
 
     def _resolve(self, name: str, index: tuple, col: int):
-        if name.startswith("V.[]."):
+        channel = name.startswith("V.[].")
+        if channel:
             if index and index[0] != 1:
                 raise InterpError("INT047", f"channel {index[0]:g} does not exist (one channel offline)", col)
             name, index = "V." + name[5:], index[1:]
@@ -332,7 +342,7 @@ class Variables:
         if name in self.plain_vars:
             return ("plain", name, index)
         head, _, tail = name.rpartition(".")
-        if head in self.axis_vars and tail:
+        if head in self.axis_vars and tail and tail not in self.state.speeds:   # V.A.x.S: a spindle's, below
             return ("axis", head, (index, self._axis(tail, col)))
         parts = name.split(".")
         if len(parts) in (3, 4) and parts[1] in ("A", "SP") and parts[2] in self.spindle_vars:
@@ -340,11 +350,18 @@ class Variables:
                 raise InterpError("INT044", f"{name} needs the spindle: {name}.S", col)
             spindle = self._spindle(parts[3] if len(parts) == 4 else None, col)
             return ("spindle", parts[2], spindle)
+        found = self.machine_parameters.find(name, index, channel, col)
+        if found is not None:
+            return ("mp", found[0], found[1:])
+        defined = manual_defined(name)
+        if defined is not None:
+            raise InterpError("INT240", f"{name.replace('[]', '[..]')} is a variable of the manual (seed 002 "
+                              f"{defined}) that fagorcnc does not implement", col)
         raise InterpError("INT044", f"unknown variable {name.replace('[]', '[..]')}", col)
 
     def get(self, name: str, index: tuple, col: int = 1) -> float:
         kind, key, extra = self._resolve(name, index, col)
-        if key in EXECUTION_READS:
+        if key in EXECUTION_READS or key in ProgramVariables.EXECUTION:
             self.state.sync = True   # the interpreter stops the motion before this block (see EXECUTION_READS)
         if kind == "user":
             try:
@@ -353,6 +370,8 @@ class Variables:
                 raise InterpError("INT043", f"variable {key} has no value yet (use EXIST[{key}])", col) from None
         if kind == "plain":
             return self.plain_vars[key][0](extra)
+        if kind == "mp":
+            return self.machine_parameters.read(key, extra[0], extra[1], col)
         if kind == "spindle":
             entry = self.spindle_vars[key]
             return entry[0](extra) if type(entry) is tuple else entry(extra)
@@ -372,7 +391,16 @@ class Variables:
             setter = self.plain_vars[key][1]
             if setter is None:
                 raise InterpError("INT048", f"{key} is read-only", col)
-            setter(extra, value)
+            if key in ProgramVariables.EXECUTION:
+                self.state.sync = True   # the write of an execution variable stops block preparation (L17437)
+            try:
+                setter(extra, value)
+            except InterpError as exc:
+                exc.col = col
+                raise
+            return
+        if kind == "mp":
+            self.machine_parameters.write(key, extra[0], extra[1], value, col)
             return
         if kind == "spindle":
             entry = self.spindle_vars[key]

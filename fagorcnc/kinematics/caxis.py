@@ -17,6 +17,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .frame import AxisFrame
 
 
@@ -158,9 +160,10 @@ def statement(interp, node, tokens: list) -> None:
         raise InterpError("KIN035", f"#{kw}: a work offset with a {c} component is active; the CNC drops that "
                           "component (L11567), which fagorcnc does not compute: cancel it first", col)
     if kw == "CYL":
-        if radius <= 0:
-            raise InterpError("KIN031", "#CYL with radius 0 (the tool's own distance to the centre) is not "
-                              "computed by fagorcnc: give the cylinder's radius", col)
+        if radius < 0:
+            raise InterpError("KIN070", f"#CYL: the cylinder's radius is negative ({radius:g})", col)
+        if radius == 0:
+            radius = tip_radius(st, c, number, col)
         frame = CylinderFrame(names[0], names[1], long_axis, c, radius)
     else:
         if st.machine.axes[other].rotary:
@@ -175,6 +178,38 @@ def statement(interp, node, tokens: list) -> None:
     st.modes["diameter"], st.modes["feed"] = 152, 94
     kin.rebuild(st)
     interp.plane_changed()
+
+
+def tip_radius(st, axis: str, number: int | None, col: int) -> float:
+    """#CYL radius 0: the distance from the tool tip to the rotation line of ``axis`` when #CYL is given
+    (seed 002 L11748: "on prendra comme rayon du cylindre la distance entre le centre de rotation et
+    la pointe de l'outil").  The line is the joint of kinematics ``number`` or of the first type-43
+    kinematics turning ``axis`` (L11752: the first one valid for this machining).  The radius is
+    taken once, at the activation, and kept while #CYL is active [reading: the manual's example
+    L11789 keeps its radius while Z moves 4 mm; "cylindres à rayon variable" read as parts of
+    different radii run by one program].  The tool tip is the axes' position less the tool length
+    offset (as ``V.A.TIPPOS``)."""
+    from ..interp.expressions import InterpError
+
+    kins = st.kin.kinematics
+    cands = [kins[number - 1]] if number is not None else [k for k in kins if k.type == 43]
+    kin = next((k for k in cands if k.type == 43 and k.joints[0].axis == axis), None)
+    if kin is None:
+        which = f"kinematics {number}" if number is not None else "no type-43 kinematics of the machine file"
+        raise InterpError("KIN071", f"#CYL with radius 0 takes the tool tip's distance to the {axis} axis' "
+                          f"rotation line, but {which} turns {axis}: give the radius, or the line in the "
+                          "machine file ([[kinematics]] type = 43, axes, directions, pivots)", col)
+    joint = kin.joints[0]
+    lin = [a for a in st.axes if not st.machine.axes[a].rotary][:3]
+    tip = np.array([st.machine_pos.get(a, 0.0) - st.length_offset.get(a, 0.0) for a in lin]
+                   + [0.0] * (3 - len(lin)))
+    d = np.asarray(joint.direction, dtype=float)
+    rel = tip - np.asarray(joint.pivot, dtype=float)
+    radius = float(np.linalg.norm(rel - d * float(d @ rel)))
+    if radius < 1e-6:
+        raise InterpError("KIN072", f"#CYL with radius 0: the tool tip is on the rotation line of {axis}, the "
+                          "cylinder would have no radius", col)
+    return radius
 
 
 def _off(kin, st) -> None:

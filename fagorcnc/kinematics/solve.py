@@ -14,6 +14,7 @@ direction in the part frame is ``W_rot^-1 H_rot t0``.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -90,11 +91,13 @@ def orientations(kin: Kinematics, direction, current: Mapping[str, float] | None
     """
     current = current or {}
     js = kin.joints
+    v = np.asarray(direction, dtype=float)
+    v = v / np.linalg.norm(v)
+    if len(js) == 3 and all(j.head for j in js):
+        return _three(kin, v, current)
     if len(js) != 2:
         raise KinematicsError(f"the tool orientation of a {kin.family} (type {kin.type}) is not solved by "
                               "fagorcnc: program the rotary axes themselves")
-    v = np.asarray(direction, dtype=float)
-    v = v / np.linalg.norm(v)
     t0 = np.asarray(kin.tool_direction, dtype=float)
     first, second = js
     # v = Rt2^-1 Rt1^-1 Rh1 Rh2 t0, written as rot(a, f1) rot(b, f2) t0 = v
@@ -121,4 +124,58 @@ def orientations(kin: Kinematics, direction, current: Mapping[str, float] | None
     # solution 1: the main axis least far from 0; between equals, the secondary axis nearest where it is
     sols.sort(key=lambda s: (round(abs(s[main]), 9), round(abs(wrap(s[other] - current.get(other, 0.0))), 9),
                              s[main] < 0))
+    return sols
+
+
+def _three(kin: Kinematics, v: np.ndarray, current: Mapping[str, float]) -> list[dict[str, float]]:
+    """The orientations of a three-rotary head (types 17-24): ``rot(d1, t1) rot(d2, t2) rot(d3, t3) t0 = v``.
+
+    One angle is more than a direction needs.  The manual's rule for the two solutions (the main axis
+    least / most far from 0, seed 002 L13030-L13040) is carried over one axis further [CONSTRUCTION,
+    seed 002 says nothing of these heads but their names, L28831-L28845]: the main axis turns as
+    little from 0 as the direction allows (``t1 = 0`` whenever the last two axes reach ``v`` alone),
+    then solution 1 is the one whose secondary axis turns least from 0, solution 2 the one that
+    turns it most.  An axis left free by a singular pose keeps its ``current`` value.
+    """
+    j1, j2, j3 = kin.joints
+    d1, d2, d3 = (np.asarray(j.direction, dtype=float) for j in (j1, j2, j3))
+    t0 = np.asarray(kin.tool_direction, dtype=float)
+    # z = rot(d3, t3) t0 runs over a cone about d3, and rot(d2, t2) keeps z.d2: the last two axes reach
+    # q when q.d2 lies within the cone's range of .d2, [m - r, m + r]
+    along = d3 * float(d3 @ t0)
+    m = float(d2 @ along)
+    r = float(np.linalg.norm(t0 - along)) * float(np.linalg.norm(d2 - d3 * float(d3 @ d2)))
+    lo, hi = m - r, m + r
+    # q(t1) = rot(d1, -t1) v, so q.d2 = a + b cos t1 + c sin t1 (Rodrigues)
+    par = d1 * float(d1 @ v)
+    a, b, c = float(d2 @ par), float(d2 @ (v - par)), -float(d2 @ np.cross(d1, v))
+    eps = 1e-12
+    if lo - eps <= a + b <= hi + eps:
+        mains = [0.0]
+    else:
+        bound = hi if a + b > hi else lo
+        amp = math.hypot(b, c)
+        ratio = (bound - a) / amp if amp > eps else math.inf
+        if abs(ratio) > 1.0 + 1e-12:
+            raise KinematicsError(f"no position of {j1.axis}, {j2.axis} and {j3.axis} points the tool along "
+                                  f"({v[0]:.4f}, {v[1]:.4f}, {v[2]:.4f})")
+        phi, half = math.atan2(c, b), math.acos(max(-1.0, min(1.0, ratio)))
+        cands = [wrap(math.degrees(phi + half)), wrap(math.degrees(phi - half))]
+        least = min(abs(t) for t in cands)
+        mains = sorted({round(t, 12) for t in cands if abs(t) - least < 1e-9})
+    sols: list[dict[str, float]] = []
+    for t1 in mains:
+        q = rot(d1, -t1) @ v
+        for f2, f3 in two_angles(d2, d3, t0, q):
+            sol = {j1.axis: wrap(t1),
+                   j2.axis: wrap(f2) if f2 is not None else current.get(j2.axis, 0.0),
+                   j3.axis: wrap(f3) if f3 is not None else current.get(j3.axis, 0.0)}
+            if sol not in sols:
+                sols.append(sol)
+    if not sols:   # (the boundary of the reach, lost to rounding)
+        raise KinematicsError(f"no position of {j1.axis}, {j2.axis} and {j3.axis} points the tool along "
+                              f"({v[0]:.4f}, {v[1]:.4f}, {v[2]:.4f})")
+    sols.sort(key=lambda s: (round(abs(s[j1.axis]), 9), round(abs(s[j2.axis]), 9),
+                             round(abs(wrap(s[j3.axis] - current.get(j3.axis, 0.0))), 9),
+                             s[j1.axis] < 0, s[j2.axis] < 0))
     return sols

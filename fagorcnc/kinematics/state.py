@@ -122,8 +122,10 @@ class KinState:
         self.tangential = {}   # tangential control is cancelled by M02/M30 and reset (L12056)
 
     def check_home(self, axes, col: int) -> None:
-        """G74: refused with an angular transformation active (L11867), under #RTCP for axes that are
-        not the RTCP's (L13319), and under a plane, #TLC, #FACE/#CYL (not computed)."""
+        """G74: refused with an angular transformation active (L11867) and under #RTCP for axes that are
+        not the RTCP's (L13320).  Under any other transformation (a plane, #TLC, #TOOL ORI, #FACE/#CYL,
+        the RTCP's own axes) the manual does not forbid it: the interpreter moves the joints to the
+        reference point (``raw_move``); only the C axis of #FACE is refused (not computed, KIN073)."""
         from ..interp.expressions import InterpError
 
         if self.angax:
@@ -134,10 +136,15 @@ class KinState:
             other = [a for a in axes if a not in mine]
             if other:
                 raise InterpError("KIN042", f"G74 of {', '.join(other)} while #RTCP is active: only the RTCP's "
-                                  "axes may be homed (L13319)", col)
-        if self.frame is not None:   # (the RTCP's own axes too: the home point is a joint position)
-            raise InterpError("KIN042", f"G74 homing with {self.frame.description} active is not computed by "
-                              "fagorcnc: switch the transformation off first", col)
+                                  "axes may be homed (L13320)", col)
+        wrapped = getattr(self.frame, "wrapped", ())
+        homed = [a for a in axes if a in wrapped]
+        if homed:
+            # the C axis of #FACE is followed over whole turns by the joint-space stage: its reference
+            # point would be reached on a turn fagorcnc does not know here
+            raise InterpError("KIN073", f"G74 of {', '.join(homed)}, the C axis of #FACE, is not computed by "
+                              "fagorcnc (the axis stands whole turns from the angle the program knows): "
+                              "#FACE OFF first", col)
 
     def spindle_order(self, spindle: str | None) -> None:
         """M3/M4/M5 on the spindle working as C axis: it is a spindle again, as #CAX OFF (L11617)."""

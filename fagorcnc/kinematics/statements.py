@@ -303,7 +303,7 @@ def _activate(interp, kin: KinState, kind: str, n, cs, col: int) -> None:
     kin.active.append((kind, n, cs, saved))
     kin.sol2 = cs.sol2
     kin.rebuild(st)
-    if kin.current is not None and len(kin.current.joints) == 2:
+    if kin.current is not None and len(kin.current.joints) >= 2:   # (a three-rotary head: main, secondary)
         _toolori_values(kin, st)
 
 

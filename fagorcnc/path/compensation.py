@@ -385,25 +385,35 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
 
     exiting: _Move | None = None   # the last move before a G40: its joins are the exit transition
     follows_activation = False     # the move handed on last was the activation
+    opening = None                 # the record of the first move after the activation
+
+    def _why(rec) -> str:
+        if rec is opening or (exiting is not None and rec is exiting.rec):
+            return ("(the contour closes at the corner where compensation started: the activation and the last "
+                    "move end on the perpendiculars of that corner and leave it untrimmed, spec 04 §19.2, §20; "
+                    "start the contour in the middle of an edge or approach it tangentially)")
+        return f"(a part of the contour narrower than the tool diameter {2 * comp[1]:g})"
 
     def emit(move: _Move) -> Iterator:
         """Hand a move on, after the no-gouge watch has seen its path (spec 04 §16.2): not the approach
         (the activation move and its transition) nor the exit transition, which reach the profile's ends
-        on purpose (G139/G138, spec 04 §18.3, §19.1), nor the first move's stretch and the last move (below)."""
-        nonlocal follows_activation
-        first, follows_activation = follows_activation, move.activation
-        if clear is not None and not move.activation and move is not exiting:
-            # the last move before G40 ends at its perpendicular point (spec 04 §20): at a corner of a closed
-            # contour that is on the first edge, as the manual's square of spec 04 §26 shows
-            pieces = _pieces(move, move.inserted, a, o)
-            # the first move starts where the activation ends (spec 04 §19.2): at a corner of a closed contour
-            # that is on the closing edge, which the manual leaves untrimmed (spec 04 §26)
-            for piece in pieces[1:] if first else pieces:
+        on purpose (G139/G138, spec 04 §18.3, §19.1).  The first move's stretch and the last move are watched
+        like any other: a closed contour started at one of its corners leaves that corner untrimmed (the
+        activation ends on the first move's perpendicular, spec 04 §19.2, the last move on its own, §20), and
+        at an inside corner that cuts into the closing edge and the first edge (spec 04 §26's square closed):
+        refused, the contour must start in the middle of an edge or with a tangent approach."""
+        nonlocal follows_activation, opening
+        if follows_activation:
+            opening = move.rec
+        follows_activation = move.activation
+        if clear is not None and not move.activation:
+            pieces = _pieces(move, [] if move is exiting else move.inserted, a, o)
+            for piece in pieces:
                 hit = clear.path(piece, move.rec)
                 if hit is not None:
                     raise CompensationError(move.rec, f"the tool does not fit here: its path would come "
-                                            f"{hit[0]:.4f} mm into the profile of line {hit[1].line} (a part of "
-                                            f"the contour narrower than the tool diameter {2 * comp[1]:g})")
+                                            f"{hit[0]:.4f} mm into the profile of line {hit[1].line} "
+                                            f"{_why(move.rec)}")
         yield from _emit(move, a, o)
 
     def watch(rec) -> None:
@@ -411,8 +421,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
         hit = clear.profile(_element(rec, a, o), rec) if clear is not None else None
         if hit is not None:
             raise CompensationError(rec, f"the tool does not fit here: the path of line {hit[1].line} would come "
-                                    f"{hit[0]:.4f} mm into this block's profile (a part of the contour narrower "
-                                    f"than the tool diameter {2 * comp[1]:g})")
+                                    f"{hit[0]:.4f} mm into this block's profile {_why(hit[1])}")
 
     def drop(rec, code: str, message: str) -> None:
         if warn is None or _off_plane(rec, a, o) or len(dropped) >= MAX_DROPS:

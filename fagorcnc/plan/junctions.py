@@ -13,6 +13,7 @@ from itertools import islice, pairwise
 
 import numpy as np
 
+from . import links
 from .corner_batch import make_blends
 from .corners import (
     CURVATURE_EPS,
@@ -59,6 +60,8 @@ class CornerMixin:
         corner = dyn.corner if dyn is not None else "G50"
         if prev.record is nxt.record or _pieces_of_one_move(prev.record, nxt.record):
             return None   # parts of one block (a long arc, a feed ramp): no corner between them
+        if links.decided(prev, nxt):
+            return None   # chords of one curve, #MOVE links (plan/links.py)
         if prev.rapid or nxt.rapid or corner in ("G07", "G50"):
             prev.stop_after = True
             return None

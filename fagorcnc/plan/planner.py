@@ -164,8 +164,11 @@ class Planner(CornerMixin):
             raise PlanningError("the feed override is 0 %: nothing moves", rec.src.line, rec)
         # an arc's limits wait until the corners at its ends are decided (``later``: settled in
         # _corners; positional, as keywords cost a little on every block)
-        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn,
-                    cfg.max_path_acceleration, cfg.max_path_jerk, False, piece.curved)
+        # the program's V.G.MAXACCEL/MAXJERK replace the machine parameters until M30/reset (seed 002 L36469)
+        path = dyn.path_limits if dyn is not None and dyn.path_limits is not None else \
+            (cfg.max_path_acceleration, cfg.max_path_jerk)
+        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1], False,
+                    piece.curved)
 
     def _rapid_speed(self, piece: Piece, rec) -> float:
         """Path speed (mm/s) of a rapid at which its fastest axis reaches its max_velocity: on a line

@@ -297,6 +297,8 @@ class AstBuilder(Transformer):
     def sentence(self, c):
         kw = c[0]
         keyword = " ".join(kw.value[1:].split())
+        if keyword == "MOVE ABS":
+            keyword = "MOVE"   # "#MOVE ABS [X50]" is "#MOVE [X50]": ABS is the default form (L16690)
         node = Sentence(keyword, tuple(c[1:]), kw.column)
         for col, code, message in check_sentence(node):
             self._problem(col, code, message)

@@ -56,7 +56,8 @@ sets G back to 0 (once per 65535 dwells and outputs).  The wait raises
 alarm 18 if the gate stays shut for 65.535 s (a link lost for that long):
 the card stops rather than run an output nobody confirmed.
 
-**The start lead.**  With ``start_lead`` > 0 the stream's first command is
+**The start lead** (default 2 s of planned motion; 0 turns it off).  With ``start_lead`` > 0 the stream's
+first command is
 a 1012 wait until M+1 is above 0 (no alarm on its timeout); the back-end
 writes 1 into M+1 once that many seconds of planned motion are queued (or
 as soon as it must wait for the card), so that the card starts with a

@@ -13,7 +13,7 @@ Example (TOML)::
     marker_every = 16                # straight moves sharing one sequence marker (1: one per segment)
     stall_timeout = 30               # s: the card consumes nothing although it holds commands -> stop (BCK001)
     stop_timeout = 10                # s: an axis still reported moving once the buffers are empty -> stop (BCK002)
-    start_lead = 0.2                 # s of planned motion queued before the card starts (default 0: at once)
+    start_lead = 2                   # s of planned motion queued before the card starts (default 2; 0: at once)
 
     [backends.interpcnc.outputs]     # auxiliary functions -> synchronised actions (command 1010)
     M3 = { type = 1, output = 0, value = 1 }               # OUT0 on
@@ -96,7 +96,7 @@ class Options:
     marker_every: int = 16                   # straight moves sharing one sequence marker at most (see markers.py)
     stall_timeout: float = 30.0              # s without progress while the card holds commands -> error (BCK001)
     stop_timeout: float = 10.0               # s the axes may keep moving once the buffers are empty (BCK002)
-    start_lead: float = 0.0                  # s of planned motion queued before the card may start (0: at once)
+    start_lead: float = 2.0                  # s of planned motion queued before the card may start (0: at once)
 
 
 _KEYS = {

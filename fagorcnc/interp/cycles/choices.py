@@ -10,8 +10,8 @@ when the cycles manual is found.
 
 The [CONSTRUCTION] tool paths are algorithms rather than constants; they live in one function
 each: ``pockets._rectangles`` / ``pockets._finish_contour`` (G87, §2.7.1-§2.7.2),
-``pockets._circles`` (G88, §2.8), ``milling.ops`` (G210, §2.9), and the point orders of
-``patterns`` (§2.10).  Where spec 09 is silent this implementation chose (and says so here):
+``pockets._circles`` (G88, §2.8), ``milling.ops`` (G210, §2.9), ``threads.ops`` (G211/G212, §2.9),
+and the point orders of ``patterns`` (§2.10).  Where spec 09 is silent this implementation chose (and says so here):
 
 * G87 with the pocket taller than long (b > a): the pocket axes are turned by 90 degrees rather
   than swapped, so the machining direction (sign of J) is kept (a swap would mirror it);
@@ -23,6 +23,18 @@ each: ``pockets._rectangles`` / ``pockets._finish_contour`` (G87, §2.7.1-§2.7.
 * G83 with |I| below the 1 mm approach: the re-approach stops at the reference plane;
 * G163/G164 C2/C3 arcs follow the C letter literally (C2 clockwise, C3 counter-clockwise), whatever
   the sign of I;
+* G211/G212 (§2.9 gives only the radii and "one helix turn per pitch B between Zr and Zb"):
+  J is read as the radius the tooth tip reaches (the thread's root: the major radius inside, the minor
+  radius outside -- with a "nominal" major radius the G212 pass at ``|J| + r`` would cut nothing); one
+  radial pass (no source gives several); the approach is a rapid from the axis to the clearance radius at
+  Zr (C1: then a rapid down to Zb there); the entry semicircle (radius K/2, flat at the start level) is
+  tangent to the helix, so it turns with the helix inside (G211) and against it outside (G212); a partial
+  last turn ends off the start angle and the exit semicircle leaves from there (no flat finishing circle,
+  which would cut a groove across the thread); after the exit G211 goes to the axis and then up, G212 up
+  at the clearance radius (to the return level, at least Zr) and then to the axis, so the tool never
+  crosses the stud; a right-hand helix turns counter-clockwise (seen from +l) while it rises along +l, so
+  a right-hand thread milled top-down turns G02; H has no meaning and is refused; J <= 0 is refused (the
+  hand is B's sign);
 * V.C writes with no cycle active change the stored values only (read back by V.C.x);
 * a #MCALL programmed while a cycle is active is cancelled by the next hole: the seed says a cycle's
   activation cancels #MCALL (L10570) and its execution cancels an OEM modal subroutine (L10807);
@@ -60,6 +72,9 @@ POCKET_STARTS_SPINDLE = 3
 #: §1.4: radius compensation G41/G42 active at a cycle is an error (cancel it with G40 first).
 RADIUS_COMP_IS_ERROR = True
 
+#: §1.4 [UNVERIFIED]: the PLC mark RIGID (seed 002 L29856: "rigid tapping (G63)") is also on during G84 R1.
+RIGID_MARK_IN_G84_R1 = True
+
 #: §1.2: V.G.CYCLETYPEON (PLC and interface only, seed 002 L40300) is the active cycle's G number, 0 when none.
 NO_CYCLE_TYPE = 0
 
@@ -87,8 +102,11 @@ POCKET_PLUNGE_OF_F = 0.5
 
 #: §2.9: G210 semantics are provisional (no source gives its parameters); a warning says so each time.
 G210_PROVISIONAL = True
-# §2.9: G211/G212 thread milling: no source gives the thread-mill geometry, so they stay unsupported
-# (INT011, support "no" in interp/gtable.py): a wrong thread is worse than an error.
+#: §2.9: G211/G212 semantics are provisional too (recommended meanings of the digest, path
+#: [CONSTRUCTION]); warning CYC020 at each definition.
+THREAD_PROVISIONAL = True
+#: §2.9: the sign of B that means a right-hand thread (B+ right-hand, B- left-hand).
+THREAD_RIGHT_HAND_B = 1
 
 #: §2.10: G160-G162 move between points in rapid.
 PATTERN_LINE_RAPID = True

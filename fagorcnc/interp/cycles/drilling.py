@@ -149,6 +149,16 @@ def _prepare_g84(cyc, rn) -> tuple:
     return bool(r), b
 
 
+def plc_marks(cyc, plan) -> tuple:
+    """The PLC marks on while the hole of ``cyc`` runs (its records from the approach to Zr to the return):
+    TAPPING during a tapping canned cycle (seed 002 L29849), RIGID during rigid tapping (L29856: "G63";
+    G84 R1 too, digest §1.4 [UNVERIFIED], ``choices.RIGID_MARK_IN_G84_R1``)."""
+    if cyc.code != 84:
+        return ()
+    rigid = plan[2][0]
+    return ("TAPPING", "RIGID") if rigid and choices.RIGID_MARK_IN_G84_R1 else ("TAPPING",)
+
+
 # ------------------------------------------------------------------ one hole
 def ops(cyc, plan, rn, point) -> list:
     lv, k, extra = plan

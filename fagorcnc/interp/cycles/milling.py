@@ -1,7 +1,6 @@
 """G210 bore milling (digest §2.9, provisional: no source gives its parameters).
 
-G211/G212 (thread milling) are refused before this module is reached (see
-``choices.THREAD_MILLING_SUPPORTED``).
+G211/G212 (thread milling) are in :mod:`.threads`.
 """
 
 from __future__ import annotations

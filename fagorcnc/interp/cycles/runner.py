@@ -19,11 +19,12 @@ is handed on: an error leaves the tool where the previous hole left it.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from ..dynamics import build as _dynamics
 from ..expressions import InterpError
 from ..records import Arc, Dwell, Line, Source
-from . import choices, drilling, milling, patterns, pockets
+from . import choices, drilling, milling, patterns, pockets, threads
 from .model import CYCLE_CODES, PATTERN_CODES, ActiveCycle
 
 INCH = 25.4
@@ -31,7 +32,8 @@ INCH = 25.4
 #: Parameter letters of each cycle (digest §2; the plane axes may also position).
 LETTERS: dict[int, str] = {
     81: "ZIK", 82: "ZIBCDHJKLR", 83: "ZIJ", 84: "ZIKRB", 85: "ZIK", 86: "ZIK",
-    87: "ZIDAJKMQBCLHV", 88: "ZIDJBCLHV", 210: "ZIDJKBCH", 211: "ZIDJKBCH", 212: "ZIDJKBCH",
+    87: "ZIDAJKMQBCLHV", 88: "ZIDJBCLHV", 210: "ZIDJKBCH",
+    211: "ZIDJKBCH", 212: "ZIDJKBCH",   # H: read so that it is refused as a parameter (threads.prepare)
     160: "AXIKPQRSTUV", 161: "ABXIKYJDPQRSTUV", 162: "ABXIKYJDPQRSTUV",
     163: "XYIKCFPQRSTUV", 164: "XYBIKCFPQRSTUV", 165: "XYAICF",
 }
@@ -41,7 +43,7 @@ LETTERS: dict[int, str] = {
 MAX_MOVES_PER_HOLE = 100_000
 
 FAMILIES = {81: drilling, 82: drilling, 83: drilling, 84: drilling, 85: drilling, 86: drilling,
-            87: pockets, 88: pockets, 210: milling, 211: milling, 212: milling}
+            87: pockets, 88: pockets, 210: milling, 211: threads, 212: threads}
 
 
 class CycleRunner:
@@ -163,6 +165,10 @@ class CycleRunner:
         if code == 210 and choices.G210_PROVISIONAL:
             self.interp.message("CYC009", "warning", "G210 uses provisional cycle semantics (the 8065 cycles "
                                 "manual is not available): check the path in the plot", g_col)
+        if code in (211, 212) and choices.THREAD_PROVISIONAL:
+            self.interp.message("CYC020", "warning", f"G{code} uses provisional thread-milling semantics (the 8065 "
+                                "cycles manual is not available; J thread radius at the tooth tip, K radial depth, "
+                                "B pitch, B- left-hand): check the path in the plot", g_col)
 
     def _cancel_modal_call(self) -> None:
         interp = self.interp
@@ -219,7 +225,8 @@ class CycleRunner:
         a, o, _ln = cyc.plane
         here = st.programmed_pos()
         ops = FAMILIES[cyc.code].ops(cyc, cyc.plan, self, (here[a], here[o]))
-        records = self.emit(ops, src, col)
+        marks = drilling.plc_marks(cyc, cyc.plan) if cyc.code == 84 else ()
+        records = self.emit(ops, src, col, marks)
         st.cycles.count()
         return records
 
@@ -274,27 +281,31 @@ class CycleRunner:
         self.interp.message(code, "warning", message, col)
 
     # ------------------------------------------------------------ records
-    def emit(self, ops: list, src: Source, col: int) -> list:
+    def emit(self, ops: list, src: Source, col: int, marks: tuple = ()) -> list:
         """Turn cycle operations (programmed coordinates of the plane and the longitudinal axis) into
         motion records; zero-length moves are left out (digest §0.2).
 
         Operations: ``("R", point)`` rapid, ``("F", point, feed)`` feed move, ``("T", point, feed)``
         tapping move (feed override locked at 100 %), ``("A", point, centre, ccw, feed)`` arc in the
         plane (helix when the longitudinal level changes), ``("D", seconds)`` dwell, ``("M", n)``
-        spindle function.  ``point`` is ``{axis: value}`` for some of the channel axes.
+        spindle function.  ``point`` is ``{axis: value}`` for some of the channel axes.  ``marks``: the PLC
+        marks on during these records (``record.plc_marks``: the moves' ``Dynamics.plc_marks``, a field of the
+        dwells and spindle functions; see :func:`.drilling.plc_marks`).
         """
         st, iso, interp = self.state, self.iso, self.interp
         out: list = []
         lcomp = None
         cur = None   # the programmed position: computed once, then the end of each move
+        base = None  # the dynamics of the moves without modes of their own (with the PLC marks)
         for op in ops:
             kind = op[0]
             if kind == "D":
                 if op[1] > 0:
-                    out.append(Dwell("dwell", op[1], dict(st.machine_pos), src))
+                    out.append(Dwell("dwell", op[1], dict(st.machine_pos), src, marks))
                 continue
             if kind == "M":
-                out.append(iso.aux("M", float(op[1]), "before", src))
+                aux = iso.aux("M", float(op[1]), "before", src)
+                out.append(replace(aux, plc_marks=marks) if marks else aux)
                 for s in st.spindle_state:   # the master spindle, as an M03/M04/M05 block does
                     st.spindle_state[s] = op[1]
                     break
@@ -314,17 +325,27 @@ class CycleRunner:
             interp.check_limits(end, col, start)
             st.machine_pos = dict(end)
             if kind == "R":
-                out.append(Line("rapid", start, end, end_part, None, "G94", src, None, st.dynamics()))
+                if base is None:
+                    base = self._marked(None, marks)
+                out.append(Line("rapid", start, end, end_part, None, "G94", src, None, base))
                 continue
             modes = op[-1] if type(op[-1]) is dict and len(op) > (3 if kind != "A" else 5) else None
             if kind == "T":
                 modes = {"G266": True}   # tapping: feed override locked at 100 % (digest §2.4)
-            dyn = _dynamics(st, {**st.block_modes, **modes}) if modes else st.dynamics()
+            if modes:
+                dyn = self._marked(_dynamics(st, {**st.block_modes, **modes}), marks)
+            else:
+                dyn = base = base if base is not None else self._marked(None, marks)
             if kind == "A":
                 out.append(self._arc(op, target, start, end, end_part, src, dyn))
             else:
                 out.append(Line("linear", start, end, end_part, op[2], f"G{st.modes['feed']}", src, None, dyn))
         return out
+
+    def _marked(self, dyn, marks: tuple):
+        """``dyn`` (the block's dynamics when None) with the PLC marks of the moves."""
+        dyn = dyn if dyn is not None else self.state.dynamics()
+        return replace(dyn, plc_marks=marks) if marks else dyn
 
     def _length_compensation(self, target: dict, cur: dict) -> bool:
         """Tool length compensation takes effect on the first move of the longitudinal axis."""

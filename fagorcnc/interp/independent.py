@@ -1,0 +1,131 @@
+"""#MOVE: positioning of one axis by its independent interpolator (seed 002 ch. 21.1.19, L16684-L16747).
+
+``#MOVE [X50, F500, PRESENT]`` (absolute, also ``#MOVE ABS``), ``#MOVE ADD [X10 ...]`` (incremental) and
+``#MOVE INF [X+ ...]`` (endless, up to the travel limit) become one
+:class:`~fagorcnc.interp.records.IndependentMove` each, at the positioning feed F, with the link that
+says how it ends: PRESENT at its own feed, NEXT at the feed of the next #MOVE, NULL at rest,
+WAITINPOS at rest and in position (L16722-L16740).  Without a link, ICORNER decides: G05 -> PRESENT,
+G50 -> NULL, G07 -> WAITINPOS (L16741-L16747).  The planner honours the links (plan/links.py).
+
+[CONSTRUCTION] offline there is one interpolator: the positioning runs before the blocks after it,
+where the machine runs it alongside them and adds both (L16620-L16623); the end positions are the
+same, the time and the way there are not, which a note (INT230) says once per program.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..syntax.ast import Direction, ItemList, Keyed, Name, Param
+from .expressions import InterpError
+from .records import IndependentMove, Source
+
+LINKS = ("PRESENT", "NEXT", "NULL", "WAITINPOS")
+#: The link a #MOVE takes without one, from ICORNER (0 = G50, 1 = G05, 2 = G07) (L16741-L16747).
+ICORNER_LINK = {0: "NULL", 1: "PRESENT", 2: "WAITINPOS"}
+#: Planning context of each link: the corner mode (G07: the in-position wait) and the feed adaptation
+#: giving the speed at the end (G108: the next block starts at this one's feed; G109: this block
+#: reaches the next one's feed at its end).
+_LINK_DYNAMICS = {"PRESENT": ("G05", "G108"), "NEXT": ("G05", "G109"), "NULL": ("G50", None),
+                  "WAITINPOS": ("G07", None)}
+
+
+def _fail(message: str, col: int):
+    return InterpError("INT227", message, col)
+
+
+def move_statement(interp, node, sub, src: Source):
+    """``#MOVE <ABS|ADD|INF> [axis target <, F feed> <, link>]`` -> one :class:`IndependentMove`."""
+    st = interp.state
+    kind = sub if sub in ("ABS", "ADD", "INF") else "ABS"
+    arg = node.args[0] if len(node.args) == 1 else None
+    value = arg.value if type(arg) is Keyed and sub in ("ABS", "ADD", "INF") else arg
+    if type(value) is not ItemList:
+        raise _fail("#MOVE takes the axis, the feed and the link in brackets: #MOVE [X50, F500, PRESENT] (L16692)",
+                    node.col)
+    items = [i for seq in value.items for i in seq]
+    axis, target, feed, link = None, None, None, None
+    for item in items:
+        t = type(item)
+        col = getattr(item, "col", node.col)
+        if t is Name and item.name in LINKS:
+            if link is not None:
+                raise _fail("#MOVE: one link (PRESENT, NEXT, NULL or WAITINPOS)", col)
+            link = item.name
+        elif t is Keyed and item.name[0] == "F" and item.name[1:] in ("", "P"):
+            expr = item.value if item.name == "F" else Param(int(interp.evaluator.value(item.value)), col)
+            feed = interp.evaluator.value(expr)   # "FP100": the feed is P100 (example L16806)
+        elif (t is Keyed and kind != "INF") or (t is Direction and kind == "INF"):
+            if axis is not None:
+                raise _fail("#MOVE moves one axis: one #MOVE per axis (L16692)", col)
+            axis = st.channel.movable(item.name, col)   # the axis configuration, #PARK, #LINK (interp/axes.py)
+            if axis is None:
+                raise InterpError("INT229", f"#MOVE: {item.name} is not an axis of the channel (a spindle moves "
+                                  "independently only in #CAX mode, L16649)", col)
+            target = item.sign if t is Direction else interp.evaluator.value(item.value)
+        else:
+            form = "X+ or X-" if kind == "INF" else "X50"
+            raise _fail(f"#MOVE {kind}: the items are the axis ({form}), F and the link (L16692)", col)
+    if axis is None:
+        raise _fail("#MOVE needs the axis and its position: #MOVE [X50] (L16692)", node.col)
+    if feed is None:
+        raise InterpError("INT228", "#MOVE without F: the positioning feed POSFEED is a machine parameter the "
+                          "machine file does not give fagorcnc; program F (L16714-L16720)", node.col)
+    if feed <= 0:
+        raise _fail(f"#MOVE: the feed F{feed:g} must be positive", node.col)
+    if link is None:
+        link = ICORNER_LINK[interp.machine.default("ICORNER")]
+    yield _record(interp, node, src, kind, axis, target, feed, link)
+
+
+def _record(interp, node, src: Source, kind: str, axis: str, target, feed: float, link: str) -> IndependentMove:
+    st = interp.state
+    iso = interp.iso
+    ax = interp.machine.axes[axis]
+    start = dict(st.machine_pos)
+    part = st.part_pos()
+    if kind == "INF":
+        if ax.rotary and ax.rotary_mode != "linearlike":
+            raise InterpError("INT229", f"#MOVE INF on the rotary axis {axis}: it turns without end, the move "
+                              "never finishes offline", node.col)
+        end_machine = st.upper_limits[axis] if target == "+" else st.lower_limits[axis]
+        interp.message("INT231", "warning", f"#MOVE INF [{axis}{target}]: offline nothing interrupts it; it runs "
+                       f"to the travel limit {end_machine:g} (L16709)", node.col)
+        end = dict(start)
+        end[axis] = end_machine
+    else:
+        value = iso.length(target, axis)
+        if kind == "ADD":
+            if ax.rotary and ax.rotary_mode == "unidirectional" and value * ax.direction < 0:
+                raise InterpError("INT026", f"{axis} only turns in one direction", node.col)
+            goal = part[axis] + value
+        elif ax.rotary and ax.rotary_mode != "linearlike":
+            goal = _rotary_target(ax, part[axis], value)
+        else:
+            goal = value
+        end = dict(start)
+        end[axis] = st.to_machine({axis: goal})[axis]
+    interp.check_limits(end, node.col, start)
+    st.machine_pos = dict(end)
+    corner, adaptation = _LINK_DYNAMICS[link]
+    dyn = replace(st.dynamics(), corner=corner, adaptation=adaptation)
+    speed = iso.length(feed, axis)   # inch/min under G70 (L16716)
+    _note(interp, node)
+    return IndependentMove("linear", start, end, st.to_part(end), speed, "G94", src, dyn=dyn, link=link)
+
+
+def _rotary_target(ax, here: float, value: float) -> float:
+    """A rotary target: the shortest way (normal), or the preset direction (unidirectional) (L16698-L16701)."""
+    m = ax.module
+    d = (value % m - here % m) % m
+    if ax.rotary_mode == "unidirectional":
+        return here + (d if ax.direction > 0 else d - m if d else 0.0)
+    return here + (d if d <= m / 2 else d - m)
+
+
+def _note(interp, node) -> None:
+    cs = interp.curves
+    cs.moves += 1
+    if cs.moves == 1:
+        interp.message("INT230", "info", "#MOVE runs here before the blocks after it (one interpolator offline); "
+                       "on the machine the independent axis moves alongside them (L16623)", node.col)
