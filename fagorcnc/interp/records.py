@@ -12,7 +12,9 @@ when there is none; the joint-space stage (:mod:`fagorcnc.kinematics.stage`) has
 
 ``feed`` is always the programmed feed along the path in **mm/min** (after
 MAXFEED); ``feed_mode`` says how it was programmed: ``"G94"`` mm/min,
-``"G95"`` mm/rev times the spindle speed, ``"G93"`` the move's time.
+``"G95"`` mm/rev times the spindle speed, ``"G93"`` the move's time,
+``"G33"``/``"G63"`` a thread or a rigid tap whose :class:`Thread` says how the
+feed follows the spindle.
 """
 
 from __future__ import annotations
@@ -33,6 +35,27 @@ class Source:
 
 
 @dataclass(frozen=True, slots=True)
+class Thread:
+    """The spindle synchronisation of a G33 thread or a G63 rigid tap (seed 002 ch. 8.7-8.8).
+
+    ``pitch`` is in mm per spindle revolution along ``axis`` (G33: the axis of the pitch letter,
+    L7326; G63: the pitch F/S of the whole move, L7562); ``speed`` the spindle speed in rpm the
+    feed was computed from, negative when the spindle turns against M03 (a G63 return, L7567);
+    ``entry`` the G33 entry angle Q1 in degrees when the block synchronises on it, None for a
+    thread joined to the one before (L7436-L7441) and for G63.  ``rigid`` is True for G63: the
+    CNC interpolates the spindle with the axes and the feed override applies (L7633); a G33
+    runs at 100 % of pitch x speed (L7449).
+    """
+
+    rigid: bool
+    spindle: str
+    speed: float
+    pitch: float
+    axis: str
+    entry: float | None
+
+
+@dataclass(frozen=True, slots=True)
 class Line:
     """A straight move; ``kind`` is ``"rapid"`` (G00) or ``"linear"`` (G01)."""
 
@@ -47,6 +70,7 @@ class Line:
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
     frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
     joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
+    thread: Thread | None = None  # G33/G63: the feed follows the spindle
 
     @property
     def line(self) -> int:
