@@ -168,6 +168,15 @@ CODES: dict[str, str] = {
     "INT119": "function that needs another channel or an interrupt subroutine (#EXBLK to channel n, #REPOS)",
     "INT170": "manual intervention G200: the program waits for the operator (offline nothing moves by hand)",
     "INT171": "invalid manual intervention (G200-G202 #AXIS, #CONTJOG, #INCJOG, #MPG, #SET OFFSET, #SYNC POS)",
+    # threading G33 and rigid tapping G63 (issue 26 item 1): INT180-INT189
+    "INT180": "G33 thread pitch missing or invalid",
+    "INT181": "G33 thread does not advance along the axis of its pitch",
+    "INT182": "threading or tapping without the spindle turning at a known speed",
+    "INT183": "thread or tap feed above what the axes can run: the pitch cannot be kept",
+    "INT184": "G33 entry angle Q1 invalid",
+    "INT185": "invalid G63 rigid tapping block",
+    "INT186": "threading or tapping combined with a function fagorcnc does not compute with it",
+    "INT187": "joined threads meet at a corner: the pitch is not kept while the axes stop there",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",

@@ -32,6 +32,7 @@ class MotionMixin:
             return None
         if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
             return None
+        prepared = self.sync.prepare(mode, bw) if mode in (33, 63) else None   # refused before anything moves
         if st.mcs_on or self.interp.mcs_block:
             return self._mcs_move(gs, bw, src)
         cur_part = st.programmed_pos()   # computations are in programmed coordinates
@@ -51,6 +52,8 @@ class MotionMixin:
         if a is not None and o is not None:   # a lathe in G17 or a rotary-only machine has no plane to track
             st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
                 or st.tangent
+        if prepared is not None:   # G33 thread, G63 rigid tap: the feed follows the spindle
+            return self.sync.record(mode, prepared, start, end, end_part, src)
         comp = self._compensation()
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics(), joins=self._joins(comp))
