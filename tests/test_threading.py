@@ -235,3 +235,33 @@ def test_the_interpcnc_card_refuses_a_thread_before_the_start():
 
 class _Stub:
     name = "interpcnc"
+
+
+# ------------------------------------------------------------------ G95 feed per revolution in the planner
+def test_g95_under_g96_follows_the_radius_along_a_facing_move():
+    # seed 002 L5406-L5464: G96 S100 m/min -> rpm = 100000 / (2 pi r), limited to 3000 rpm by G192 below
+    # r = 100000 / (2 pi 3000) = 5.305 mm; F0.2 mm/rev.  Facing X50 -> X5: time = integral of dr / (0.2 rpm(r))
+    # = pi (50^2 - 5.305^2) / 20000 min + (5.305 - 5) / (0.2 * 3000) min = 0.38828 + 0.00051 min = 23.328 s
+    # (the feed of the start alone, 0.2 * 318.3 = 63.7 mm/min, would make it 42.4 s)
+    from fagorcnc.interp.records import record_time
+
+    r = _ok("G192 S3000\nG0 X50 Z0\nG96 S100 M3\nG95 G1 X5 F0.2\nM30\n", LATHE)
+    face = next(m for m in r.moves if m.kind == "linear")
+    rc = 100000 / (2 * math.pi * 3000)
+    expected = (math.pi * (50**2 - rc**2) / 20000 + (rc - 5) / 600) * 60
+    assert record_time(r.machine, face) == pytest.approx(expected, rel=1e-3)
+    planned = sum(s.duration for s in r.segments(keep_profiles=False) if s.kind == "motion" and s.line == 4)
+    # the planner's parts run at the lowest feed over each (at most 2 % below it) plus the ramps
+    assert expected <= planned <= expected * 1.03
+    # the speed rises toward the centre, far above the start's 0.2 * 318.3 / 60 = 1.06 mm/s, never above
+    # the G192 limit's 0.2 * 3000 / 60 = 10 mm/s
+    speeds = [s.v0 for s in r.segments(keep_profiles=False) if s.kind == "motion" and s.line == 4]
+    assert 5 * 1.061 < max(speeds) <= 10.0 + 1e-9
+
+
+def test_g95_at_constant_speed_is_the_speed_times_f_in_the_planner():
+    # S1000 G97, F0.15 mm/rev -> 150 mm/min; 30 mm take 12 s plus the ramps, also in check's cycle time
+    r = _ok("S1000 M3\nG95 G1 Z-30 F0.15\nM30\n", LATHE)
+    (m,) = [m for m in r.moves if m.kind == "linear"]
+    assert m.feed == pytest.approx(150.0) and m.css is None
+    assert 12.0 <= r.cycle_time < 12.1

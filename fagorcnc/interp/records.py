@@ -71,6 +71,7 @@ class Line:
     frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
     joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
     thread: Thread | None = None  # G33/G63: the feed follows the spindle
+    css: tuple | None = None      # G95 under G96: the feed follows the radius (see :func:`css_rpm`)
 
     @property
     def line(self) -> int:
@@ -115,6 +116,7 @@ class Arc:
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
     frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
     joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
+    css: tuple | None = None    # G95 under G96: the feed follows the radius (see :func:`css_rpm`)
 
     @property
     def line(self) -> int:
@@ -191,6 +193,45 @@ class Aux(_AtPosition):
 
 Record = Line | Arc | Dwell | Aux
 
+#: Samples along a G95/G96 move for its time (midpoint rule; the feed varies smoothly with the radius).
+CSS_SAMPLES = 64
+
+
+def css_rpm(css: tuple, radius: float) -> float:
+    """Spindle speed (rpm) under G96 at ``radius`` (mm) from the axis: ``css = (mm/rev, surface m/min,
+    G192 limit rpm or 0, radius axis, machine - part offset of that axis)``; seed 002 L5406-L5464:
+    rpm = 1000 S / (2 pi r), at most the G192 limit (infinite at the centre without one)."""
+    _per_rev, surface, limit, _axis, _offset = css
+    rpm = surface * 1000.0 / (2.0 * math.pi * radius) if radius > 1e-9 else math.inf
+    return min(rpm, limit) if limit > 0 else rpm
+
+
+def css_feed(css: tuple, machine_coordinate: float, max_feed: float) -> float:
+    """The G95 feed (mm/min) at a machine coordinate of the radius axis, within MAXFEED (L4072)."""
+    feed = css[0] * css_rpm(css, abs(machine_coordinate - css[4]))
+    return min(feed, max_feed) if max_feed > 0 else feed
+
+
+def axis_at(record, axis: str, t: float) -> float:
+    """The machine coordinate of ``axis`` at the fraction ``t`` of a line's or an arc's sweep."""
+    if record.kind == "arc" and axis in record.plane[:2]:
+        a, o = record.plane[0], record.plane[1]
+        c = (record.center[a], record.center[o])
+        angle = math.atan2(record.start[o] - c[1], record.start[a] - c[0]) + t * math.radians(record.sweep)
+        r = math.dist((record.start[a], record.start[o]), c)
+        return c[0] + r * math.cos(angle) if axis == a else c[1] + r * math.sin(angle)
+    return record.start[axis] + t * (record.end[axis] - record.start[axis])
+
+
+def _css_time(machine, record) -> float:
+    """Seconds of a G95 move under G96: the feed follows the radius along it (midpoint rule)."""
+    axis = record.css[3]
+    total = 0.0
+    for i in range(CSS_SAMPLES):
+        feed = css_feed(record.css, axis_at(record, axis, (i + 0.5) / CSS_SAMPLES), machine.max_feed)
+        total += 0.0 if math.isinf(feed) else record.length / CSS_SAMPLES / feed
+    return total * 60.0
+
 
 def record_time(machine, record) -> float:
     """Seconds a record takes at its programmed feed, without acceleration
@@ -214,4 +255,6 @@ def record_time(machine, record) -> float:
         if machine.rapid_feed > 0:
             speed = min(speed, machine.rapid_feed)
         return length / speed * 60.0
+    if record.css is not None:
+        return _css_time(machine, record)
     return length / record.feed * 60.0 if record.feed else 0.0
