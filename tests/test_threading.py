@@ -265,3 +265,10 @@ def test_g95_at_constant_speed_is_the_speed_times_f_in_the_planner():
     (m,) = [m for m in r.moves if m.kind == "linear"]
     assert m.feed == pytest.approx(150.0) and m.css is None
     assert 12.0 <= r.cycle_time < 12.1
+
+
+def test_expand_names_the_thread_and_the_tap_as_their_motion_mode():
+    from fagorcnc.commands.expand import _modes
+
+    r = _ok("S100 M03\nG33 Z-10 K1\nF300\nG63 Z0 S-200\nM30\n")
+    assert [_modes(t) for t in _threads(r)] == ["G33 G50 G40", "G63 G50 G40"]
