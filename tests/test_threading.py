@@ -147,6 +147,8 @@ def test_the_pitch_letter_names_the_axis_in_every_plane(setup, block):
     ("S100 M03\nG33 Z-30 K1.5 Q1=400\nM30\n", "INT184"),     # entry angle beyond 359.9999
     ("S3000 M03\nG33 Z-30 K10\nM30\n", "INT183"),            # 30000 mm/min: above the axis maximum
     ("T1 D1 M6\nS100 M03\nG41 G01 X10 F100\nG33 Z-30 K1\nM30\n", "INT186"),   # under radius compensation
+    ("S100 M03\nG33 G01 Z-30 K1\nM30\n", "INT012"),       # L7404: G33 excludes G00-G03 and G63
+    ("S100 M03\nF100\nG33 G63 Z-30 K1\nM30\n", "INT012"),
 ])
 def test_threading_errors(program, code):
     machine = {"tools": {"1": {"1": {"radius": 3.0}}}}
@@ -272,3 +274,13 @@ def test_expand_names_the_thread_and_the_tap_as_their_motion_mode():
 
     r = _ok("S100 M03\nG33 Z-10 K1\nF300\nG63 Z0 S-200\nM30\n")
     assert [_modes(t) for t in _threads(r)] == ["G33 G50 G40", "G63 G50 G40"]
+
+
+def test_no_corner_curve_cuts_into_the_start_of_a_thread():
+    # under G05 the G01 before the thread would be blended into it; the thread starts at its programmed
+    # point (X30 Y30 Z0) at rest instead
+    r = _ok("S100 M03\nG05 G01 G90 X30 Y30 Z0 F500\nG33 Z-30 K1.5\nG00 X40\nM30\n")
+    segs = [s for s in r.segments(keep_profiles=False) if s.kind == "motion"]
+    assert not any(s.blend for s in segs)
+    approach = next(s for s in segs if s.line == 2)
+    assert approach.v1 == 0.0 and list(approach.piece.end) == pytest.approx([30.0, 30.0, 0.0])

@@ -59,7 +59,8 @@ class CornerMixin:
         corner = dyn.corner if dyn is not None else "G50"
         if prev.record is nxt.record or _pieces_of_one_move(prev.record, nxt.record):
             return None   # parts of one block (a long arc, a feed ramp): no corner between them
-        if prev.rapid or nxt.rapid or corner in ("G07", "G50"):
+        if prev.rapid or nxt.rapid or corner in ("G07", "G50") or getattr(nxt.record, "thread", None) is not None:
+            # no curve cuts into the start of a thread or a tap either (under G05 or HSC before it)
             if corner == "G50" and _thread_runs_on(prev, nxt):
                 return None
             prev.stop_after = True
