@@ -188,7 +188,7 @@ class Planner(CornerMixin):
                 span = self._span(rec)
                 if span is None:
                     continue
-                if getattr(rec, "css", None) is not None and not span.rapid:   # G95 under G96: the feed follows the radius
+                if getattr(rec, "css", None) is not None and not span.rapid:   # G95 under G96 (feed follows r)
                     yield from self._css_parts(span, rec)
                     continue
                 parts = math.ceil(abs(span.piece.w) * span.length / ARC_PART) if kind == "arc" else 1
