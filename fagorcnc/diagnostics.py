@@ -177,6 +177,7 @@ CODES: dict[str, str] = {
     "INT185": "invalid G63 rigid tapping block",
     "INT186": "threading or tapping combined with a function fagorcnc does not compute with it",
     "INT187": "joined threads meet at a corner: the pitch is not kept while the axes stop there",
+    "INT188": "passes of one thread begin at different spindle speeds",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",

@@ -284,3 +284,14 @@ def test_no_corner_curve_cuts_into_the_start_of_a_thread():
     assert not any(s.blend for s in segs)
     approach = next(s for s in segs if s.line == 2)
     assert approach.v1 == 0.0 and list(approach.piece.end) == pytest.approx([30.0, 30.0, 0.0])
+
+
+def test_passes_of_one_thread_at_different_speeds_are_warned():
+    # L7392-L7400: all passes of a thread begin at the same speed (the CNC does not check: a warning here).
+    # Two passes from Z0 with K1.5, the second at S120 instead of S100; a third at a new Z is another thread
+    prog = ("S100 M03\nG00 X10 Z0\nG33 Z-30 K1.5\nG00 X12\nZ0\nX9.5\nS120\nG33 Z-30 K1.5\n"
+            "G00 X12\nZ5\nX9.5\nG33 Z-30 K1.5\nM30\n")
+    r = fagorcnc.simulate(prog, LATHE)
+    assert r.ok and [(d.line, d.code) for d in r.diagnostics] == [(8, "INT188")]
+    # the manual's three starts, all at S100: no warning
+    assert not fagorcnc.simulate(prog.replace("S120\n", ""), LATHE).diagnostics

@@ -41,6 +41,7 @@ class Synchroniser:
         self.tap_speed: dict[str, float] = {}     # signed S of the last G63 block per spindle (L7637)
         self._dyn: tuple = (None, None, None)     # (base dynamics, rigid, thread dynamics)
         self._direction: tuple | None = None      # unit direction of the last G33 block
+        self._passes: dict[tuple, float] = {}     # (pitch axis, its start, pitch) -> speed of the first pass
 
     # ------------------------------------------------------------ spindle words of the block
     def speed_word(self, spindle: str, value: float, col: int) -> float:
@@ -178,9 +179,23 @@ class Synchroniser:
                                    "within their acceleration while the spindle turns, so the pitch is not kept "
                                    "over the slow-down and the start again", 1)
             self._direction = direction
+            if entry is not None:
+                self._same_speed(axis, start[axis], pitch, rpm)
         thread = Thread(mode == 63, spindle, speed, pitch, axis, entry)
         return Line("linear", start, end, end_part, feed, f"G{mode}", src, None, self._dynamics(mode == 63),
                     joins=iso._joins(None), thread=thread)
+
+    def _same_speed(self, axis: str, begin: float, pitch: float, rpm: float) -> None:
+        """Every pass of a thread, and every start of a multi-start thread, must begin at the same spindle speed
+        (seed 002 L7392-L7400), or the entry points or the angles between the starts do not match; the CNC does
+        not check it.  A synchronised G33 that begins where an earlier one began on its pitch axis, with the
+        same pitch, at another speed is warned about (INT188) [CONSTRUCTION: how a pass is recognised]."""
+        key = (axis, round(begin, 6), round(pitch, 9))
+        first = self._passes.setdefault(key, rpm)
+        if abs(first - rpm) > 1e-9:
+            self.iso.interp.message("INT188", "warning", f"this pass of the thread begins at {rpm:g} rpm, an "
+                                    f"earlier one at {first:g} rpm: the passes (and the starts) of one thread must "
+                                    "begin at the same speed (L7392-L7400)", 1)
 
     def pitch_axis(self, letter: str) -> str:
         """The axis of a pitch letter (seed 002 L7330-L7333): G17/G18/G19 I, J, K are the channel's first,
