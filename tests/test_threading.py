@@ -223,10 +223,10 @@ def test_check_reports_nothing_unsupported_for_threads(tmp_path, capsys):
     from fagorcnc.cli import main
 
     f = tmp_path / "thread.nc"
-    f.write_text(MILL + "")
+    f.write_text(MILL.replace("M30\n", "G94 F400\nG01 G90 X30 Y30 Z0\nG63 Z-30 S100\nG63 Z0 S-100\nM30\n"))
     assert main(["check", "--format", "json", str(f)]) == 0
     out = capsys.readouterr().out
-    assert "INT011" not in out and "INT078" not in out
+    assert "INT011" not in out and "INT078" not in out and '"verdict": "pass"' in out
 
 
 def test_the_interpcnc_card_refuses_a_thread_before_the_start():
