@@ -98,13 +98,21 @@ def test_inch_feed_and_position():
     assert (moves[0].end["X"], moves[0].feed) == pytest.approx((25.4, 254.0))
 
 
+def test_without_f_the_axis_moves_at_its_posfeed():
+    # L16714-L16720: #MOVE without F runs at the axis's POSFEED; [machine_parameters] "MPA.POSFEED.X" = 400
+    # (mm/min, machine-file units) gives it: 50 mm at 400 mm/min
+    machine = {"machine_parameters": {"MPA.POSFEED.X": 400.0}}
+    moves = _moves("#MOVE [X50]\nM30\n", machine)
+    assert (moves[0].end["X"], moves[0].feed) == pytest.approx((50.0, 400.0))
+
+
 def test_sequencing_note_once_and_no_int078():
     codes = _codes(EXAMPLE)
     assert codes.count("INT230") == 1 and "INT078" not in codes
 
 
 @pytest.mark.parametrize(("program", "code"), [
-    ("#MOVE [X50]\n", "INT228"),                      # no F: POSFEED is not in the machine file
+    ("#MOVE [X50]\n", "INT228"),                      # no F, and no POSFEED in the machine file
     ("#MOVE [X50, Y10, F100]\n", "INT227"),           # one axis
     ("#MOVE [F100]\n", "INT227"),                     # no axis
     ("#MOVE [X50, F0]\n", "INT227"),

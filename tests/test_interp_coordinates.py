@@ -557,8 +557,8 @@ def test_an_unknown_g_is_reported_before_the_words_it_makes_meaningless():
 
 
 def test_unsupported_g_function_is_int011():
-    # G33 threading is not computed by fagorcnc yet: reported, never dropped
-    r = run("G33 Z-30 K1.5\nM30\n")
+    # G112 (axis parameter sets) is not computed by fagorcnc yet: reported, never dropped
+    r = run("G112 N1\nM30\n")
     assert error_codes(r) == ["INT011"]
 
 

@@ -98,12 +98,15 @@ def _modes(rec) -> str:
     kind = rec.kind
     if kind in ("aux", "dwell"):
         return ""
-    out = ["G00" if kind == "rapid" else "G01" if kind == "linear" else "G02" if rec.direction == "cw" else "G03"]
+    if getattr(rec, "thread", None) is not None:   # a G33 thread or a G63 tap: that is its motion mode
+        out = [rec.feed_mode]
+    else:
+        out = ["G00" if kind == "rapid" else "G01" if kind == "linear" else "G02" if rec.direction == "cw" else "G03"]
     if kind == "arc":
         plane = _PLANES.get(tuple(rec.plane[:2]))
         if plane is not None:
             out.append(f"G{plane}")
-    if kind != "rapid" and rec.feed_mode:
+    if kind != "rapid" and rec.feed_mode and out[0] != rec.feed_mode:
         out.append(rec.feed_mode)
     dyn = rec.dyn
     corner = dyn.corner if dyn is not None else "G50"

@@ -68,9 +68,13 @@ def move_statement(interp, node, sub, src: Source):
             raise _fail(f"#MOVE {kind}: the items are the axis ({form}), F and the link (L16692)", col)
     if axis is None:
         raise _fail("#MOVE needs the axis and its position: #MOVE [X50] (L16692)", node.col)
-    if feed is None:
-        raise InterpError("INT228", "#MOVE without F: the positioning feed POSFEED is a machine parameter the "
-                          "machine file does not give fagorcnc; program F (L16714-L16720)", node.col)
+    if feed is None:   # L16714-L16720: without F the axis moves at its POSFEED, a machine parameter
+        given = interp.machine.machine_parameters
+        feed = given.get(("POSFEED", (), axis), given.get(("POSFEED", (1,), axis)))
+        if feed is None:
+            raise InterpError("INT228", f"#MOVE without F: the positioning feed POSFEED of {axis} is a machine "
+                              f"parameter the machine file does not give ([machine_parameters] "
+                              f"\"MPA.POSFEED.{axis}\" = mm/min); program F (L16714-L16720)", node.col)
     if feed <= 0:
         raise _fail(f"#MOVE: the feed F{feed:g} must be positive", node.col)
     if link is None:

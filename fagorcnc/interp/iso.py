@@ -28,6 +28,7 @@ from .motion import MotionMixin
 from .records import Aux, Dwell, Line, Source
 from .spindle import directions, orientation, targets
 from .state import ChannelState
+from .threading import Synchroniser
 from .units import INCH
 from .words import BlockWords, WordsMixin
 
@@ -44,6 +45,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         self.machine = interp.machine
         self.ev = interp.evaluator
         self.cycles = CycleRunner(self)
+        self.sync = Synchroniser(self)   # G33 threading, G63 rigid tapping
 
     # ------------------------------------------------------------ units
     def plane(self, what: str, col: int) -> tuple[str, str, str | None]:
@@ -114,6 +116,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         st, interp = self.state, self.interp
         self.check_g(bw)
         gs = {n: (col, eq) for n, col, eq in bw.g}
+        self.sync.previous_motion = st.modes["motion"]   # G33 joins the thread of the block before (L7366)
         # 2. modal functions take effect for this block
         previous_plane = st.modes["plane"]
         block_modes = {}
@@ -180,11 +183,12 @@ class IsoExecutor(MotionMixin, WordsMixin):
         for spindle, (v, col) in bw.speeds.items():
             if spindle in orient:
                 continue
-            if v < 0:
-                raise InterpError("INT027", f"spindle speed {v:g} is negative", col)
+            v = self.sync.speed_word(spindle, v, col)   # a negative S only under G63 (L7568)
             st.kin.speed_check(spindle, col)   # not for a spindle working as C axis (#CAX, L11601)
             st.speeds[spindle] = v
-            if spindle in modes.positioning:   # L5705: kept as the speed of the M03/M04 that ends positioning
+            if spindle in modes.positioning and st.modes["motion"] != 63:
+                # L5705: kept as the speed of the M03/M04 that ends positioning; G63 starts the spindle
+                # itself whatever M3/M4/M5/M19 is active (L7567-L7568)
                 modes.new_speed.add(spindle)
                 continue
             yield self.aux("S", v, "before", src, spindle)
@@ -245,7 +249,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
                 rec = self._motion(gs, bw, src)
                 if rec is not None:
                     moved = True
-                    if rec.kind != "rapid" and rec.feed_mode != "G95":
+                    if rec.kind != "rapid" and rec.feed_mode not in ("G95", "G33", "G63"):
                         compat.spindle_lint(self.interp, rec, 1)
                     yield rec
                     if bw.nr is None or bw.nr[0] != 0:
@@ -477,6 +481,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         st = self.state
         named = bw.m_target.get(index, (None, None))[0] if bw.m else None
         if m in (3, 4, 5, 19):
+            self.sync.cancel_by_m(m, bw, col)   # M3/M4/M5/M19 cancel G63 (L7642)
             modes = self.interp.spindle_modes
             for s in targets(bw, index, self._master()) if bw.m else []:
                 if m == 19:

@@ -33,6 +33,7 @@ class MotionMixin:
             return None
         if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
             return None
+        prepared = self.sync.prepare(mode, bw) if mode in (33, 63) else None   # refused before anything moves
         if st.mcs_on or self.interp.mcs_block:
             return self._mcs_move(gs, bw, src)
         cur_part = st.programmed_pos()   # computations are in programmed coordinates
@@ -52,12 +53,14 @@ class MotionMixin:
         if a is not None and o is not None:   # a lathe in G17 or a rotary-only machine has no plane to track
             st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
                 or st.tangent
+        if prepared is not None:   # G33 thread, G63 rigid tap: the feed follows the spindle
+            return self.sync.record(mode, prepared, start, end, end_part, src)
         comp = self._compensation()
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics(), joins=self._joins(comp))
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
         return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
-                    comp, st.dynamics(), joins=self._joins(comp))
+                    comp, st.dynamics(), joins=self._joins(comp), css=self._css())
 
     def _null_move(self, bw: BlockWords, cur_part: dict) -> bool:
         """A G02/G03 block with no centre, radius or polar word whose target is where the tool stands:
@@ -154,6 +157,17 @@ class MotionMixin:
                 raise InterpError("INT065", "G96 at the spindle centre without a G192 speed limit", 1)
             return rpm
         return s
+
+    def _css(self) -> tuple | None:
+        """What the planner needs for a G95 move under G96, whose spindle speed follows the radius along it
+        (seed 002 L5406-L5464): ``(mm/rev, m/min, G192 limit or 0, radius axis, machine - part offset)``;
+        None otherwise (the feed of the record is then the feed of the whole move)."""
+        st = self.state
+        if st.modes["feed"] != 95 or st.modes["css"] != 96 or not st.speeds or st.kin.frame is not None:
+            return None
+        axis = st.axes[0]
+        limit = float(st.planner.get("G192", 0.0) or 0.0)
+        return (st.feed, st.speeds[next(iter(st.speeds))], limit, axis, st.axis_offset(axis))
 
     def _polar(self, bw: BlockWords, cur_part: dict, end_part: dict, origin=None) -> None:
         """R/Q polar end point in the plane (spec 02 §6.3, seed 002 L2639-L2672).
@@ -268,7 +282,7 @@ class MotionMixin:
         comp = self._compensation()
         return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
                    (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src,
-                   comp, st.dynamics(), joins=self._joins(comp))
+                   comp, st.dynamics(), joins=self._joins(comp), css=self._css())
 
     def _radius_check(self, s, e, c, col: int):
         """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""

@@ -12,7 +12,9 @@ when there is none; the joint-space stage (:mod:`fagorcnc.kinematics.stage`) has
 
 ``feed`` is always the programmed feed along the path in **mm/min** (after
 MAXFEED); ``feed_mode`` says how it was programmed: ``"G94"`` mm/min,
-``"G95"`` mm/rev times the spindle speed, ``"G93"`` the move's time.
+``"G95"`` mm/rev times the spindle speed, ``"G93"`` the move's time,
+``"G33"``/``"G63"`` a thread or a rigid tap whose :class:`Thread` says how the
+feed follows the spindle.
 """
 
 from __future__ import annotations
@@ -33,6 +35,27 @@ class Source:
 
 
 @dataclass(frozen=True, slots=True)
+class Thread:
+    """The spindle synchronisation of a G33 thread or a G63 rigid tap (seed 002 ch. 8.7-8.8).
+
+    ``pitch`` is in mm per spindle revolution along ``axis`` (G33: the axis of the pitch letter,
+    L7326; G63: the pitch F/S of the whole move, L7562); ``speed`` the spindle speed in rpm the
+    feed was computed from, negative when the spindle turns against M03 (a G63 return, L7567);
+    ``entry`` the G33 entry angle Q1 in degrees when the block synchronises on it, None for a
+    thread joined to the one before (L7436-L7441) and for G63.  ``rigid`` is True for G63: the
+    CNC interpolates the spindle with the axes and the feed override applies (L7633); a G33
+    runs at 100 % of pitch x speed (L7449).
+    """
+
+    rigid: bool
+    spindle: str
+    speed: float
+    pitch: float
+    axis: str
+    entry: float | None
+
+
+@dataclass(frozen=True, slots=True)
 class Line:
     """A straight move; ``kind`` is ``"rapid"`` (G00) or ``"linear"`` (G01)."""
 
@@ -47,6 +70,8 @@ class Line:
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
     frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
     joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
+    thread: Thread | None = None  # G33/G63: the feed follows the spindle
+    css: tuple | None = None      # G95 under G96: the feed follows the radius (see :func:`css_rpm`)
 
     @property
     def line(self) -> int:
@@ -113,6 +138,7 @@ class Arc:
     dyn: object = None          # planning context (interp.dynamics.Dynamics); None = defaults
     frame: object = None        # active transformation (kinematics.frame.Frame): #CS/#ACS, #RTCP, #TLC
     joins: tuple | None = None  # without compensation: (G136/G137, G138/G139) in force, for a cancellation
+    css: tuple | None = None    # G95 under G96: the feed follows the radius (see :func:`css_rpm`)
 
     @property
     def line(self) -> int:
@@ -196,6 +222,45 @@ class Aux(_AtPosition):
 
 Record = Line | Arc | Dwell | Aux
 
+#: Samples along a G95/G96 move for its time (midpoint rule; the feed varies smoothly with the radius).
+CSS_SAMPLES = 64
+
+
+def css_rpm(css: tuple, radius: float) -> float:
+    """Spindle speed (rpm) under G96 at ``radius`` (mm) from the axis: ``css = (mm/rev, surface m/min,
+    G192 limit rpm or 0, radius axis, machine - part offset of that axis)``; seed 002 L5406-L5464:
+    rpm = 1000 S / (2 pi r), at most the G192 limit (infinite at the centre without one)."""
+    _per_rev, surface, limit, _axis, _offset = css
+    rpm = surface * 1000.0 / (2.0 * math.pi * radius) if radius > 1e-9 else math.inf
+    return min(rpm, limit) if limit > 0 else rpm
+
+
+def css_feed(css: tuple, machine_coordinate: float, max_feed: float) -> float:
+    """The G95 feed (mm/min) at a machine coordinate of the radius axis, within MAXFEED (L4072)."""
+    feed = css[0] * css_rpm(css, abs(machine_coordinate - css[4]))
+    return min(feed, max_feed) if max_feed > 0 else feed
+
+
+def axis_at(record, axis: str, t: float) -> float:
+    """The machine coordinate of ``axis`` at the fraction ``t`` of a line's or an arc's sweep."""
+    if record.kind == "arc" and axis in record.plane[:2]:
+        a, o = record.plane[0], record.plane[1]
+        c = (record.center[a], record.center[o])
+        angle = math.atan2(record.start[o] - c[1], record.start[a] - c[0]) + t * math.radians(record.sweep)
+        r = math.dist((record.start[a], record.start[o]), c)
+        return c[0] + r * math.cos(angle) if axis == a else c[1] + r * math.sin(angle)
+    return record.start[axis] + t * (record.end[axis] - record.start[axis])
+
+
+def _css_time(machine, record) -> float:
+    """Seconds of a G95 move under G96: the feed follows the radius along it (midpoint rule)."""
+    axis = record.css[3]
+    total = 0.0
+    for i in range(CSS_SAMPLES):
+        feed = css_feed(record.css, axis_at(record, axis, (i + 0.5) / CSS_SAMPLES), machine.max_feed)
+        total += 0.0 if math.isinf(feed) else record.length / CSS_SAMPLES / feed
+    return total * 60.0
+
 
 def record_time(machine, record) -> float:
     """Seconds a record takes at its programmed feed, without acceleration
@@ -219,4 +284,6 @@ def record_time(machine, record) -> float:
         if machine.rapid_feed > 0:
             speed = min(speed, machine.rapid_feed)
         return length / speed * 60.0
+    if record.css is not None:
+        return _css_time(machine, record)
     return length / record.feed * 60.0 if record.feed else 0.0

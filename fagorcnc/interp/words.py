@@ -148,6 +148,9 @@ class WordsMixin:
                     bw.roles.append((axis, ev.value(w.value), col))
                     continue
                 self._axis_word(bw, axis, ev.value(w.value), col)
+            elif addr == "Q1" and (st.modes["motion"] in (33, 63) or any(
+                    x.address == "G" and x.value in (33.0, 63.0) for x in words)):
+                bw.params["Q1"] = (ev.value(w.value), col)   # G33 entry angle (seed 002 L7358)
             elif addr == "R1":   # modal arc radius R1= (seed 002 L6418)
                 bw.params["R1"] = (ev.value(w.value), col)
             elif addr in _PARAM_LETTERS or (len(addr) == 1 and addr not in _AXIS_LETTERS):

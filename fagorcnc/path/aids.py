@@ -285,7 +285,8 @@ def _arc_record(template, plane, s: Point, e: Point, c: Point, ccw: bool, feed):
     shift = {x: template.end_part[x] - template.end[x] for x in template.end}
     return Arc("arc", start, end, {x: v + shift[x] for x, v in end.items()}, {a: c[0], o: c[1]},
                {a: c[0] + shift[a], o: c[1] + shift[o]}, "ccw" if ccw else "cw", tuple(plane),
-               math.dist(s, c), 0, feed, template.feed_mode, template.src, dyn=template.dyn, frame=template.frame)
+               math.dist(s, c), 0, feed, template.feed_mode, template.src, template.comp, template.dyn, template.frame,
+               template.joins)
 
 
 def _line_record(template, plane, s: Point, e: Point, feed, kind: str):
@@ -296,7 +297,7 @@ def _line_record(template, plane, s: Point, e: Point, feed, kind: str):
     end = {**template.end, a: e[0], o: e[1]}
     shift = {x: template.end_part[x] - template.end[x] for x in template.end}
     return Line(kind, start, end, {x: v + shift[x] for x, v in end.items()}, feed, template.feed_mode,
-                template.src, dyn=template.dyn, frame=template.frame)
+                template.src, template.comp, template.dyn, template.frame, template.joins)
 
 
 def apply_aids(records: Iterable, on_error) -> Iterator:
@@ -344,6 +345,19 @@ def apply_aids(records: Iterable, on_error) -> Iterator:
     yield from after
 
 
+def _radius_above_tool(aid: Aid, prev, nxt) -> None:
+    """G37/G38 under radius compensation: the entry (exit) radius must be greater than the tool radius
+    (seed 002 L8626-L8628 for G37, L8672-L8674 for G38): the arc is part of the programmed contour and its
+    offset, of radius I - R on the inside, would vanish or turn back."""
+    for rec in (prev, nxt):
+        comp = getattr(rec, "comp", None)
+        if comp is not None and comp[1] > 0 and not aid.size > comp[1]:
+            what = "entry" if aid.aid == "entry" else "exit"
+            raise AidError(f"G{37 if aid.aid == 'entry' else 38}: the tangential {what} radius {aid.size:g} must "
+                           f"be greater than the tool radius {comp[1]:g} while radius compensation is active "
+                           f"(L{8628 if aid.aid == 'entry' else 8674})")
+
+
 def _apply(aid: Aid, prev, nxt):
     plane = aid.plane
     el1, el2 = _element(prev, plane), _element(nxt, plane)
@@ -364,6 +378,8 @@ def _apply(aid: Aid, prev, nxt):
         cut = _line_record(prev, plane, c1, c2, feed if feed is not None else prev.feed,
                            "rapid" if nxt.kind == "rapid" else "linear")
         return _moved(prev, plane, end=c1), [cut], _moved(nxt, plane, start=c2)
+    if aid.aid in ("entry", "exit"):
+        _radius_above_tool(aid, prev, nxt)
     if aid.aid == "entry":
         got = entry(el1, el2, aid.size)
         if got is None:

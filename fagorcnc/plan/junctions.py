@@ -62,7 +62,10 @@ class CornerMixin:
             return None   # parts of one block (a long arc, a feed ramp): no corner between them
         if links.decided(prev, nxt):
             return None   # chords of one curve, #MOVE links (plan/links.py)
-        if prev.rapid or nxt.rapid or corner in ("G07", "G50"):
+        if prev.rapid or nxt.rapid or corner in ("G07", "G50") or getattr(nxt.record, "thread", None) is not None:
+            # no curve cuts into the start of a thread or a tap either (under G05 or HSC before it)
+            if corner == "G50" and _thread_runs_on(prev, nxt):
+                return None
             prev.stop_after = True
             return None
         p, q = prev.piece, nxt.piece
@@ -542,6 +545,17 @@ def _pieces_of_one_move(a, b) -> bool:
     """Joint-space lines of one transformed move (fagorcnc.kinematics.stage gives them one frame)."""
     f = getattr(a, "frame", None)
     return f is not None and f is getattr(b, "frame", None) and getattr(f, "pieces", False)
+
+
+def _thread_runs_on(prev: Span, nxt: Span) -> bool:
+    """A G33 thread joined to the one before in the same direction runs on without stopping (seed 002
+    L7366-L7370: joined threads are not synchronised again); at any other joint the thread's G50 context
+    stops the axes at the programmed corner, nothing is rounded inside a thread."""
+    t = getattr(nxt.record, "thread", None)
+    if t is None or t.rigid or t.entry is not None or getattr(prev.record, "thread", None) is None:
+        return False
+    p, q = prev.piece, nxt.piece
+    return not p.curved and not q.curved and math.dist(p.ul, q.ul) <= TANGENT_EPS
 
 
 def _roundpar(params: tuple, feed: float) -> tuple[float, float | None, float | None, tuple | None]:

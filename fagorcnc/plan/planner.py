@@ -19,6 +19,7 @@ from itertools import accumulate, islice
 import numpy as np
 
 from ..config.machine import Machine, load_machine
+from ..interp.records import css_feed
 from .geometry import ArcPiece, LinePiece, Piece
 from .junctions import MIN_LENGTH, CornerMixin
 from .limits import AxisLimits
@@ -28,6 +29,10 @@ from .span import Event, Group, Span
 
 #: Arcs are planned in parts of at most this sweep (radians).
 ARC_PART = math.radians(30.0)
+#: A G95 move under G96 (feed following the radius) is planned in parts whose feed changes by at most this
+#: ratio, and in at most so many parts.
+CSS_STEP = 1.02
+CSS_PARTS = 64
 #: Grouping of short spans into one motion: span length, group length (mm) and members at most.
 GROUP_SPAN = 2.0
 GROUP_LENGTH = 20.0
@@ -186,6 +191,9 @@ class Planner(CornerMixin):
                 span = self._span(rec)
                 if span is None:
                     continue
+                if getattr(rec, "css", None) is not None and not span.rapid:   # G95 under G96 (feed follows r)
+                    yield from self._css_parts(span, rec)
+                    continue
                 parts = math.ceil(abs(span.piece.w) * span.length / ARC_PART) if kind == "arc" else 1
                 if parts <= 1:
                     yield span
@@ -198,6 +206,29 @@ class Planner(CornerMixin):
                 yield Event(rec, rec.seconds)
             elif kind == "aux":
                 yield Event(rec, 0.0)
+
+    def _css_parts(self, span: Span, rec) -> Iterator[Span]:
+        """A G95 move under G96 in parts, each capped at the lowest feed the spindle gives over it (seed 002
+        L5406-L5464: the speed follows the radius, and F mm/rev with it): never above the real feed, and
+        where the radius changes monotonically over a part at most :data:`CSS_STEP` below it (the
+        :data:`CSS_PARTS`-th root of the move's whole feed ratio when that is larger: 3.6 % for a facing
+        move from r = 50 to the G192 radius 5.3)."""
+        css, mf = rec.css, self.machine.max_feed
+        i = self.index[css[3]]
+        probe = span.piece.derivatives(np.linspace(0.0, span.length, 33))[0][:, i]
+        feeds = [css_feed(css, float(x), mf) for x in probe]
+        low, high = min(feeds), max(feeds)
+        n = CSS_PARTS if not math.isfinite(high) or low <= 0 else math.ceil(math.log(high / low) / math.log(CSS_STEP))
+        if span.piece.curved:
+            n = max(n, math.ceil(abs(span.piece.w) * span.length / ARC_PART))
+        n = max(1, min(n, CSS_PARTS, int(span.length / 0.5)))
+        factor = span.feed * 60.0 / rec.feed if rec.feed else 1.0   # the feed override (or 100 %)
+        cuts = [span.length * k / n for k in range(n + 1)]
+        mids = [(cuts[k] + cuts[k + 1]) / 2 for k in range(n)]
+        at = span.piece.derivatives(np.array(cuts + mids))[0][:, i].tolist()
+        for k in range(n):
+            feed = min(css_feed(css, at[k], mf), css_feed(css, at[k + 1], mf), css_feed(css, at[n + 1 + k], mf))
+            yield span.part(cuts[k], cuts[k + 1], feed / 60.0 * factor, later=span.piece.curved)
 
     # ------------------------------------------------------------ look-ahead and timing
     def segments(self, records: Iterable) -> Iterator[Segment]:

@@ -398,6 +398,11 @@ class InterpCncBackend(Polling, Recovery, Watchdog):
         run asks it of every planned segment, so that a stream never stops half-way on one."""
         if segment.kind != "motion":
             return None
+        thread = getattr(segment.record, "thread", None)
+        if thread is not None:   # seed 000: the card moves axes only, it has no spindle-synchronised motion
+            what = "G63 rigid tap" if thread.rigid else "G33 thread"
+            return (f"a {what} needs the axes synchronised with the spindle encoder; the {self.name} card has "
+                    f"no spindle-synchronised motion, so the pitch would not be kept")
         try:
             segment_moves(segment, self.xy, self.options.chordal_tolerance, self.rapid_feed)
         except TranslationError as exc:
