@@ -56,6 +56,7 @@ class Axis:
     module: float = 360.0           # rotary module (MODUPLIM - MODLOWLIM)
     direction: int = 1              # unidirectional rotary: +1 or -1
     home: float = 0.0               # machine coordinate of the reference point (G74)
+    exchange: int = 1               # AXISEXCH: 0 may not change channel, 1 temporary, 2 permanent (L14694)
 
     @property
     def rotary(self) -> bool:
@@ -148,6 +149,9 @@ class Machine:
     kinematics_tolerance: float = 0.001   # mm: tool-tip deviation of transformed moves cut into joint lines
     angular_axes: list = field(default_factory=list)   # [[angular_axes]]: fagorcnc.config.kinematics (#ANGAX)
     c_axes: dict[str, str] = field(default_factory=dict)   # c_axis = { S = "C" }: spindle -> its C axis (#CAX)
+    #: CHAXISNAME: the axes of the channel at power-on, in order (slot 1 first); the machine's other axes
+    #: are free for #CALL AX / #SET AX (seed 002 L14690).  Empty: all the axes, in the order of ``axes``.
+    channel_axes: list[str] = field(default_factory=list)
     #: [machine_parameters]: values of the manual's parameters fagorcnc does not use, for V.MPG/MPA/MPMAN
     #: reads: (name, indices, axis or spindle) -> value (fagorcnc.config.mpcatalogue)
     machine_parameters: dict[tuple, float] = field(default_factory=dict)
@@ -281,6 +285,11 @@ def _axis(name: Any, spec: Any) -> Axis:
             kwargs[key] = _flag(where, value)
         elif key == "direction":
             kwargs[key] = 1 if _number(where, value) >= 0 else -1
+        elif key == "exchange":
+            if isinstance(value, bool) or value not in (0, 1, 2):
+                raise MachineError(f"{where} (AXISEXCH) must be 0 (no change of channel), 1 (temporary) or "
+                                   f"2 (permanent), got {value!r}")
+            kwargs[key] = int(value)
         else:
             kwargs[key] = _number(where, value)
     axis = Axis(name=name, **kwargs)
@@ -410,6 +419,7 @@ def _build(data: dict) -> Machine:
         compat=parse_compat(data.get("compat", {})),
         **_kinematics(data, axes),
         **_machine_parameters(data.get("machine_parameters", {}), axes, data.get("spindles", ["S"])),
+        channel_axes=_channel_axes(data.get("channel_axes", []), axes),
     )
 
 
@@ -433,6 +443,18 @@ def _machine_parameters(table: Any, axes: dict, spindles: Any) -> dict:
             raise MachineError(f"{where}: the machine has no axis or spindle {target}")
         values[(entry.name, idx, target)] = _number(where, value)
     return {"machine_parameters": values, "mtb": mtb}
+
+
+def _channel_axes(value: Any, axes: dict) -> list[str]:
+    """``channel_axes = ["X", "Y", "Z"]``: the channel's axes at power-on (CHAXISNAME)."""
+    out = []
+    for i, a in enumerate(_list("channel_axes", value)):
+        if not isinstance(a, str) or a not in axes:
+            raise MachineError(f"channel_axes[{i}]: the machine has no axis {a!r} (axes: {' '.join(axes)})")
+        if a in out:
+            raise MachineError(f"channel_axes[{i}]: axis {a} is listed twice")
+        out.append(a)
+    return out
 
 
 #: the built-in behaviours a G500..G599 may be mapped to (fagorcnc.interp.compat)

@@ -56,6 +56,7 @@ class Dynamics:
     plc_marks: tuple = ()   # PLC marks the channel holds on during the move: "TAPPING" (a tapping canned
     # cycle, seed 002 L29849), "RIGID" (rigid tapping, L29856); see interp.cycles.drilling.plc_marks
     path_limits: tuple | None = None   # V.G.MAXACCEL/MAXJERK of the program (mm/s², mm/s³; 0 = none), L36469
+    links: tuple = ()   # the #LINK couplings (interp.axes.Link) the slaves follow in this block (L14515)
 
     def acceleration_factor(self, axis: str, rapid: bool = False) -> float:
         if rapid and self.slope[3] == 1:
@@ -257,7 +258,7 @@ def build(state, block_modes: dict) -> Dynamics:
                     tuple(sorted(state.acceleration.items())), tuple(sorted(state.jerk.items())),
                     adaptation, "G266" in block_modes, state.slope,
                     state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None,
-                    path_limits=state.path_limits)
+                    path_limits=state.path_limits, links=state.channel.links)
 
 
 def tangfeed_statement(interp, node) -> None:

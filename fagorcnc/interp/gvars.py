@@ -16,6 +16,7 @@ from __future__ import annotations
 import copy
 import math
 
+from .axes import axis_count, logical_name, slot_name
 from .expressions import InterpError, whole
 from .mpvars import name_code
 from .units import INCH
@@ -49,8 +50,8 @@ class ProgramVariables:
             "V.G.CIRERR[]": (self._cirerr, None),
             "V.G.EXTORG": (self._extorg, None),
             "V.G.NUMCH": (lambda i: 1.0, None),
-            "V.G.AXIS": (lambda i: float(len(s.axes)), None),
-            "V.G.NAXIS": (lambda i: float(len(s.axes)), None),
+            "V.G.AXIS": (lambda i: axis_count(s, False), None),   # the axis configuration (interp/axes.py)
+            "V.G.NAXIS": (lambda i: axis_count(s, True), None),
             "V.G.NSPDL": (lambda i: float(len(s.speeds)), None),
             "V.G.MASTERSP": (self._master, None),
             "V.G.MAXACCEL": (lambda i: self._path_limit(0), lambda i, v: self._set_path_limit(0, v)),
@@ -61,9 +62,8 @@ class ProgramVariables:
         for k in (1, 2, 3):
             out[f"V.G.MIRROR{k}"] = (lambda i, k=k: self._mirror(k), None)
         for n in range(1, 29):   # at most 28 axes (L2162)
-            out[f"V.G.AXISNAME{n}"] = (lambda i, n=n: name_code(self._pick(list(s.axes), n, "axis index")), None)
-            out[f"V.G.GAXISNAME{n}"] = (
-                lambda i, n=n: name_code(self._pick(list(s.machine.axes), n, "logical axis")), None)
+            out[f"V.G.AXISNAME{n}"] = (lambda i, n=n: slot_name(s, n), None)   # holes, #RENAME AX, #PARK
+            out[f"V.G.GAXISNAME{n}"] = (lambda i, n=n: logical_name(s, n), None)
         for n in range(1, 10):
             out[f"V.G.SPDLNAME{n}"] = (lambda i, n=n: name_code(self._pick(list(s.speeds), n, "spindle index")), None)
         for n in range(1, 38):

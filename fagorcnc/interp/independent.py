@@ -58,10 +58,10 @@ def move_statement(interp, node, sub, src: Source):
         elif (t is Keyed and kind != "INF") or (t is Direction and kind == "INF"):
             if axis is not None:
                 raise _fail("#MOVE moves one axis: one #MOVE per axis (L16692)", col)
-            if item.name not in st.axes:
+            axis = st.channel.movable(item.name, col)   # the axis configuration, #PARK, #LINK (interp/axes.py)
+            if axis is None:
                 raise InterpError("INT229", f"#MOVE: {item.name} is not an axis of the channel (a spindle moves "
                                   "independently only in #CAX mode, L16649)", col)
-            axis = item.name
             target = item.sign if t is Direction else interp.evaluator.value(item.value)
         else:
             form = "X+ or X-" if kind == "INF" else "X50"

@@ -24,7 +24,7 @@ from ..path.compensation import CompensationError, compensate
 from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
-from . import compat
+from . import axes, compat
 from .curves import CurveSettings, splines
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
@@ -98,6 +98,8 @@ class Interpreter(FlowMixin):
         self.variables.axis_vars.update(self.manual.variables())
         self.spindle_modes = SpindleModes()   # M19 positioning, directions, S.POS, PRGSSO (seed 002 ch. 7)
         self.variables.spindle_vars.update(self.spindle_modes.variables(self.state))
+        self.variables.plain_vars.update(axes.variables(self.state))   # V.G.AXISNAMEn, V.G.LINKACTIVE
+        self.variables.axis_vars.update(axes.axis_variables())          # V.A.ACTCH.Xn
         self.curves = CurveSettings()   # #ASPLINE state, #SPLINE on/off (interp/curves.py)
         self.cam = compat.CamState()   # CAM constructs and lint (interp/compat.py)
         self.ended: str | None = None
@@ -124,7 +126,8 @@ class Interpreter(FlowMixin):
             # (#SPLINE: the spline's chords first, interp/curves.py)
             moves = follow(splines(self._guarded(), self), self)
             records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
-            for record in joint_space(records, self):
+            # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
+            for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
                 self.cycle_time += record_time(machine, record)
                 handed = cpu_time()
                 yield record
@@ -298,6 +301,8 @@ class Interpreter(FlowMixin):
     def _block(self, block: Block):
         self._current_block = block
         self.state.line = block.line
+        if self.state.channel.links:   # the coupled slaves where their masters took them (interp/axes.py)
+            axes.sync_slaves(self.state)
         items = block.items
         if not items:
             return
@@ -573,6 +578,10 @@ class _Clock:
 
     def expired(self) -> bool:
         return cpu_time() > self.deadline
+
+
+def _stage_error(record, code: str, message: str) -> None:
+    raise StageError(record, code, message)
 
 
 def _is_on_off(node: Sentence) -> bool:

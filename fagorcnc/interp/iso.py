@@ -365,8 +365,9 @@ class IsoExecutor(MotionMixin, WordsMixin):
         if 10 in gs:
             tr.mirror = set()
         for n, axis in ((11, 0), (12, 1), (13, 2)):
-            if n in gs and axis < len(st.axes):
-                tr.mirror = tr.mirror | {st.axes[axis]}
+            slots = st.channel.slots   # the first three axes of the configuration (L14730)
+            if n in gs and axis < len(slots) and slots[axis] is not None:
+                tr.mirror = tr.mirror | {slots[axis]}
         if 14 in gs:
             for axis, (v, c) in list(bw.axes.items()):
                 if v not in (-1.0, 1.0):
@@ -417,7 +418,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
         longitudinal axis is also the abscissa or the ordinate.
         """
         st = self.state
-        trihedron = st.axes[:3]
+        trihedron = [a for a in st.channel.slots[:3] if a is not None]
         roles: dict[int, str] = {}
         direction = -1
         for axis, v, c in bw.roles:

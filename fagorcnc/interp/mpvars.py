@@ -88,7 +88,7 @@ Source = Callable[[object, str | None, tuple], float | None]
 SOURCES: dict[str, Source] = {
     "naxis": lambda ctx, t, i: float(len(ctx.machine.axes)),
     "nspdl": lambda ctx, t, i: float(len(ctx.machine.spindles)),
-    "chnaxis": lambda ctx, t, i: float(len(ctx.state.axes)),
+    "chnaxis": lambda ctx, t, i: float(sum(a is not None for a in ctx.state.channel.slots)),   # #SET AX changes it
     # two channel axes make a "plane" configuration (0), more a trihedron (1), L19400-L19500
     "geoconfig": lambda ctx, t, i: 0.0 if len(ctx.state.axes) == 2 else 1.0,
     "nogroup": _none("multi-axis group"),

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from ..kinematics import statements as kinematics
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import curves, dynamics, independent, laser, macros, manual
+from . import axes, curves, dynamics, independent, laser, macros, manual
 from .expressions import InterpError
 from .records import Dwell
 
@@ -26,7 +26,7 @@ RECORDED = frozenset({"ESBLK", "DSBLK", "ESTOP", "DSTOP", "EFHOLD", "DFHOLD"})
 #: Geometric transformations the later stages will compute (issue: path / kinematics); also the
 #: path treatments that change the path run, so that a user is told: #CD (loops removed, L15598).
 NOT_YET = frozenset({"TOOL", "CD",
-                     "VIRTAX", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "LINK", "UNLINK", "RPT"})
+                     "VIRTAX", "FOLLOW", "TFOLLOW", "CAM", "TCAM", "RPT"})
 
 
 def _text_of(args) -> str:
@@ -134,6 +134,9 @@ def execute_sentence(interp, node, src):
     handler = _HANDLERS.get(kw)
     if handler is not None:
         handler(interp, node, sub)
+        return
+    if axes.handles(kw, sub):   # the axis configuration, #PARK, #LINK (interp/axes.py)
+        axes.statement(interp, node)
         return
     if kw == "REPOS":
         # seed 002 L11114: "#REPOS is only allowed in interrupt subroutines", which the PLC starts

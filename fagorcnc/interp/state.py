@@ -17,6 +17,7 @@ import copy
 from ..config.machine import Machine
 from ..kinematics.state import KinState
 from ..path.transform import Transform
+from . import axes as channel_axes
 from .cycles.model import CycleState
 from .dynamics import Dynamics, build, default_roundpar
 from .gtable import power_on_modes
@@ -91,6 +92,7 @@ class ChannelState:
         self.prep_offset = None                # V.G.TOR..TOK written: the offset of the blocks in preparation
         self.mtb: list[float] = list(machine.mtb)   # V.MTB.P[i] (written by the program, L29198)
         self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)
+        self.channel = channel_axes.ChannelAxes(machine)   # #SET AX, #RENAME AX, #PARK, #LINK (interp/axes.py)
 
     # ------------------------------------------------------------ planning context
     def dynamics_changed(self) -> None:
@@ -146,13 +148,14 @@ class ChannelState:
     def plane_axes(self) -> tuple[str, str, str]:
         """(abscissa, ordinate, longitudinal) of the active plane (seed 002 L2961-L3012).
 
-        Planes are defined by the order of the first three channel axes.
+        Planes are defined by the first three slots of the channel's axis configuration (L14730).
         """
-        a = list(self.axes) + [None] * max(0, 3 - len(self.axes))
+        slots = self.channel.slots
+        a = slots[:3] + [None] * max(0, 3 - len(slots))
         plane = self.modes["plane"]
         if plane == 20 and self.g20_plane is not None:
             return self.g20_plane
-        if len(self.axes) == 2:
+        if len(slots) == 2 and None not in slots:
             # seed 002 L3013-L3016, L3043: a lathe with a "plane" axis configuration (two axes) always
             # works in G18, formed by the second axis (abscissa) and the first (X, Z: the plane ZX)
             return a[1], a[0], None
@@ -207,6 +210,7 @@ class ChannelState:
             self.transform.mirror = set()
         self.tool_axis = None
         self.cycles.reset()           # M02/M30/reset cancel the canned cycle (digest 09 §1.1)
+        channel_axes.reset(self)      # #LINK ends, temporary changes of the axis configuration go back
         self.kin.reset()              # a suspended #ANGAX is active again (L11950)
         self.aid_size = None
         self.planner = {}

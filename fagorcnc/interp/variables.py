@@ -322,6 +322,9 @@ class Variables:
 
     def _axis(self, token: str, col: int) -> str:
         axes = self.state.axes
+        renamed = self.state.channel.by_name.get(token)   # after #RENAME AX the program uses the new name (L15025)
+        if renamed is not None:
+            return renamed
         if token in axes:
             return token
         if token.isdigit() and 1 <= int(token) <= len(axes):

@@ -57,7 +57,8 @@ class WordsMixin:
     def _classify(self, words: list[Word]) -> BlockWords:
         ev, st = self.ev, self.state
         bw = BlockWords()
-        axes = st.axes
+        channel = st.channel
+        by_name = channel.by_name
         g157 = any(w.address == "G" and w.value == 157.0 for w in words)
         g20 = any(w.address == "G" and w.value == 20.0 for w in words)
         skip = 0
@@ -138,16 +139,15 @@ class WordsMixin:
                 bw.h.append((ev.integer(w.value, "H", col, 0, 65535, floor=True), col))
             elif addr == "NR":
                 bw.nr = (ev.integer(w.value, "NR", col), col)
-            elif addr[0] == "?":
-                k = int(addr[1:])
-                if not 1 <= k <= len(axes):  # seed 002 L1211: ?n on a hole or beyond the channel
-                    raise InterpError("INT022", f"generic axis {addr} does not designate an axis", col)
-                self._axis_word(bw, axes[k - 1], ev.value(w.value), col)
-            elif addr in st.machine.axes:
+            elif addr[0] == "?":   # seed 002 L1211: ?n on a hole or beyond the channel is an error
+                self._axis_word(bw, channel.generic(int(addr[1:]), col), ev.value(w.value), col)
+            elif (axis := by_name.get(addr)) is not None or addr in st.machine.axes:   # its name in the channel
+                if axis is None or channel.parked:
+                    axis = channel.word_axis(addr, col)   # not in the channel, or parked: the error (interp/axes.py)
                 if g20:
-                    bw.roles.append((addr, ev.value(w.value), col))
+                    bw.roles.append((axis, ev.value(w.value), col))
                     continue
-                self._axis_word(bw, addr, ev.value(w.value), col)
+                self._axis_word(bw, axis, ev.value(w.value), col)
             elif addr == "Q1" and (st.modes["motion"] in (33, 63) or any(
                     x.address == "G" and x.value in (33.0, 63.0) for x in words)):
                 bw.params["Q1"] = (ev.value(w.value), col)   # G33 entry angle (seed 002 L7358)
@@ -162,6 +162,8 @@ class WordsMixin:
                 raise InterpError("INT024", f"axis {addr} does not exist on this machine", col)
             else:
                 raise InterpError("INT025", f"'{addr}' is not meaningful here", col)
+        if channel.busy:   # a coupled slave programmed, a parked spindle (interp/axes.py)
+            channel.check_block(bw, frozenset(n for n, _c, _e in bw.g), next(iter(st.speeds), None))
         return bw
 
     @staticmethod
