@@ -328,7 +328,7 @@ def _syntax(source: Source, file: str, compat=None) -> tuple[list[Diagnostic], s
             yield pair
 
     try:
-        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file, compat)), file,
+        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file, compat, structure_only=True)), file,
                                     keep_body=False).diagnostics)
     finally:
         getattr(lines, "close", lambda: None)()
