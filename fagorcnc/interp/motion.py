@@ -35,7 +35,7 @@ class MotionMixin:
         if st.mcs_on or self.interp.mcs_block:
             return self._mcs_move(gs, bw, src)
         cur_part = st.programmed_pos()   # computations are in programmed coordinates
-        start = dict(st.machine_pos)
+        start = st.move_start()
         if mode in (8, 9) or (mode in (2, 3) and not self._null_move(bw, cur_part)):
             return self._arc(mode, gs, bw, src, cur_part, start)
         end_part = self.target(bw, cur_part)
@@ -45,9 +45,9 @@ class MotionMixin:
         self._length_compensation(bw)
         end_prog = end_part
         end_part = st.transform.apply(end_prog)
-        end = st.to_machine(end_part)
+        end = st.shared_end(st.to_machine(end_part), end_part)
         self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
-        st.machine_pos = dict(end)
+        st.moved_to(end)
         if a is not None and o is not None:   # a lathe in G17 or a rotary-only machine has no plane to track
             st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
                 or st.tangent
@@ -250,9 +250,9 @@ class MotionMixin:
         tr = st.transform
         st.tangent = arcs.end_tangent(sp, ep, center, ccw)
         end_part = tr.apply(end_part)
-        end = st.to_machine(end_part)
+        end = st.shared_end(st.to_machine(end_part), end_part)
         self.interp.check_limits(end, col, start)
-        st.machine_pos = dict(end)
+        st.moved_to(end)
         center_part = tr.apply({a: center[0], o: center[1]})
         center_m = st.to_machine(center_part)
         scale = tr.scale if a in tr.linear else 1.0
