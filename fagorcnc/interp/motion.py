@@ -8,7 +8,7 @@ import math
 
 from ..path import arcs
 from .expressions import InterpError
-from .records import Arc, Line, Source
+from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
 
@@ -55,7 +55,7 @@ class MotionMixin:
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics(), joins=self._joins(comp))
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
-        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
+        return Line("linear", start, end, end_part, self._active_feed(length, start), feed_mode(st.modes["feed"]), src,
                     comp, st.dynamics(), joins=self._joins(comp))
 
     def _null_move(self, bw: BlockWords, cur_part: dict) -> bool:
@@ -105,7 +105,7 @@ class MotionMixin:
         if comp is not None:
             return None
         modes = self.state.modes
-        return (modes["transition"], modes["comp_start"])
+        return shared_tuple((modes["transition"], modes["comp_start"]))
 
     def _active_feed(self, length: float, start: dict) -> float:
         """Feed along the path in mm/min (seed 002 L4127-L4192).
@@ -262,7 +262,7 @@ class MotionMixin:
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
         comp = self._compensation()
         return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
-                   (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src,
+                   (a, o, n), math.dist(ep, center) * scale, turns, feed, feed_mode(st.modes["feed"]), src,
                    comp, st.dynamics(), joins=self._joins(comp))
 
     def _radius_check(self, s, e, c, col: int):
@@ -353,11 +353,11 @@ class MotionMixin:
             center_m = {a: center[0], o: center[1]}
             center_part = {x: v for x, v in st.to_part({**end, **center_m}).items() if x in (a, o)}
             return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if mode == 3 else "cw", (a, o, n),
-                       radius, 0, feed, f"G{st.modes['feed']}", src, None, st.dynamics())
+                       radius, 0, feed, feed_mode(st.modes["feed"]), src, None, st.dynamics())
         if mode != 1:
             raise InterpError("INT063", "#MCS moves are G00, G01, G02 or G03", 1)
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
-        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
+        return Line("linear", start, end, end_part, self._active_feed(length, start), feed_mode(st.modes["feed"]), src,
                     dyn=st.dynamics())
 
     def _mcs_arc(self, gs: dict, bw: BlockWords, start: dict, end: dict, inch: bool) -> tuple:
