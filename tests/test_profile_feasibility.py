@@ -66,19 +66,3 @@ def test_too_short_only_where_ruckig_finds_no_profile():
         assert not found, (length, v0, v1, acc, jerk, traj.duration)
     assert refused > 1000
 
-
-def test_structure_only_lines_keep_the_diagnostics_of_the_whole_file():
-    # the syntax pre-pass of a dry run skips the items of plain word blocks without an M, but not
-    # the M17 that ends a local subroutine: the same diagnostics with and without structure_only
-    from fagorcnc.syntax import iter_lines
-    from fagorcnc.syntax.structure import assemble
-
-    for text in ("%L SUB\nG1 X1 Y2 F100\nM17\n%MAIN\nN10 G1 X1\nN10 G1 X2\nL SUB\nM30\n",
-                 "%L SUB\nG1 X1 Y2 F100\n%MAIN\nG1 X1\nM30\n",
-                 "G1 X1 F100\n$IF P1 == 1\nG1 X2\nM30\n"):
-        full = assemble(iter_lines(text), "<t>", keep_body=False).diagnostics
-        quick = assemble(iter_lines(text, structure_only=True), "<t>", keep_body=False).diagnostics
-        assert [(d.line, d.code) for d in quick] == [(d.line, d.code) for d in full]
-    codes = {d.code for d in assemble(iter_lines("%L SUB\nG1 X1 Y2 F100\n%MAIN\nG1 X1\nM30\n",
-                                                 structure_only=True), "<t>", keep_body=False).diagnostics}
-    assert "STR003" in codes   # the subroutine without M17 is still found
