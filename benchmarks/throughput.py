@@ -38,6 +38,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from parse_speed import program_lines
 from plan_speed import contour, raster
 
+ROOT = Path(__file__).resolve().parents[1]   # the checkout whose fagorcnc "this tree" measures
+
 CHECK = """
 import json, resource, sys
 from fagorcnc.commands.check import check_file
@@ -45,7 +47,8 @@ from fagorcnc.runtime import keep_freed_memory
 keep_freed_memory()   # as the fagorcnc command does
 report = check_file(sys.argv[1])
 assert report.verdict() == "pass", [str(d) for d in report.diagnostics][:5]
-print(json.dumps({"moves": report.moves, "cycle": report.cycle_time,
+import fagorcnc
+print(json.dumps({"package": fagorcnc.__file__, "moves": report.moves, "cycle": report.cycle_time,
                   "rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 
@@ -72,8 +75,10 @@ result = fagorcnc.simulate(sys.argv[1])
 assert result.ok, [str(d) for d in result.diagnostics][:5]
 gc.collect()
 kept = rss() - base
+package = fagorcnc.__file__
 peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - base
-print(json.dumps({"moves": len(result.moves), "cycle": result.cycle_time, "kept": kept, "peak": peak}))
+print(json.dumps({"package": package, "moves": len(result.moves), "cycle": result.cycle_time, "kept": kept,
+                  "peak": peak}))
 """
 
 
@@ -83,13 +88,16 @@ def run_timed(code: str, path: Path, tree: str | None) -> dict:
 
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     env = dict(os.environ)
-    if tree is not None:
-        env["PYTHONPATH"] = str(Path(tree).resolve())
-    done = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True, text=True, env=env)
+    # -P: without it "-c" puts the working directory first on sys.path, ahead of PYTHONPATH, and a
+    # run from a checkout would measure that checkout whatever --tree says
+    env["PYTHONPATH"] = str(Path(tree).resolve()) if tree is not None else str(ROOT)
+    done = subprocess.run([sys.executable, "-P", "-c", code, str(path)], capture_output=True, text=True, env=env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode:
         raise RuntimeError(f"child failed ({done.returncode}): {done.stderr.strip()[-2000:]}")
     result = json.loads(done.stdout)
+    if "package" in result and not result["package"].startswith(env["PYTHONPATH"] + os.sep):
+        raise RuntimeError(f"measured {result['package']}, not the checkout {env['PYTHONPATH']}")
     result["cpu"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return result
 
@@ -132,6 +140,7 @@ def main() -> None:
 
         peer = run_timed(GCODEPARSER, programs[0][1], None)
         peer_rate = sizes["iso"] / peer["cpu"]
+        print(f"this tree: {ROOT}; old: {args.tree}")
         print(f"gcodeparser parse only, iso ({sizes['iso']} lines): {peer['cpu']:.2f} s CPU, {peer_rate:,.0f} lines/s")
         head = "| program | lines | check CPU | lines/s | ÷ gcodeparser | cycle time | peak RSS |"
         if args.tree:
