@@ -158,6 +158,8 @@ def simulate(source: str | os.PathLike | None = None, machine: Machine | dict | 
     ``machine`` is a :class:`~fagorcnc.config.machine.Machine`, a dict or a TOML
     path (see :func:`~fagorcnc.config.machine.load_machine`); ``None`` is the default
     machine.  Never raises on a bad program: problems are in ``diagnostics``.
+    A program without syntax errors is streamed through the interpreter (only its records are
+    kept; ``Result.program`` is parsed again on first use).
     """
     program_source = resolve(source, text)
     try:
