@@ -87,6 +87,26 @@ class FinalState:
         return self._state.feed
 
 
+class _ParsedOnUse:
+    """The ``program`` of a :class:`Result`: a :class:`Program`, or a callable that parses it, called
+    on first use (simulate() streams a clean program, so the tree of every block is not kept
+    alongside the records while it runs; it is parsed again when asked for)."""
+
+    def __set_name__(self, owner, name: str) -> None:
+        self._slot = "_" + name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return None   # the dataclass default
+        value = obj.__dict__.get(self._slot)
+        if callable(value):
+            value = obj.__dict__[self._slot] = value()
+        return value
+
+    def __set__(self, obj, value) -> None:
+        obj.__dict__[self._slot] = value
+
+
 @dataclass
 class Result:
     """What :func:`simulate` returns."""
@@ -96,7 +116,7 @@ class Result:
     moves: list
     state: FinalState | None
     cycle_time: float
-    program: Program | None
+    program: Program | None = _ParsedOnUse()   # type: ignore[assignment]
     ended_by: str | None = None     # "M30" or "M02" when the program ended that way (see ``ending``)
     machine: Machine | None = None
     ending: Ending = field(default_factory=lambda: Ending("not started"))
@@ -138,6 +158,8 @@ def simulate(source: str | os.PathLike | None = None, machine: Machine | dict | 
     ``machine`` is a :class:`~fagorcnc.config.machine.Machine`, a dict or a TOML
     path (see :func:`~fagorcnc.config.machine.load_machine`); ``None`` is the default
     machine.  Never raises on a bad program: problems are in ``diagnostics``.
+    A program without syntax errors is streamed through the interpreter (only its records are
+    kept; ``Result.program`` is parsed again on first use).
     """
     program_source = resolve(source, text)
     try:
@@ -160,14 +182,43 @@ def _empty(program: Program) -> bool:
 
 
 def _simulate(source: Source, mach: Machine, block_skip: bool) -> Result:
-    program = parse_file(source, mach.compat) if _is_file(source) else parse_text(str(source), compat=mach.compat)
-    if _empty(program):
-        program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))
-    interp = Interpreter(program, mach, block_skip=block_skip)
-    attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
-    moves = list(interp.run())
-    diagnostics = [*program.diagnostics, *interp.diagnostics]
-    # the dry run executes the plan on the embedded simulator back-end (segments not kept)
+    file = source_name(source)
+    syntax, encoding = _syntax(source, file, mach.compat)
+    if not any(d.is_error for d in syntax):
+        return _simulate_streamed(source, file, encoding, mach, block_skip, syntax)
+    return _simulate_whole(source, mach, block_skip)
+
+
+def _parse(source: Source, mach: Machine) -> Program:
+    return parse_file(source, mach.compat) if _is_file(source) else parse_text(str(source), compat=mach.compat)
+
+
+def _simulate_streamed(source: Source, file: str, encoding: str, mach: Machine, block_skip: bool,
+                       syntax: list[Diagnostic]) -> Result:
+    """A program without syntax errors, streamed through the interpreter as :func:`dry_run` runs it: only
+    its records are kept (the program's tree is parsed again if :attr:`Result.program` is asked for)."""
+    from .interp.source import stream_program
+
+    lines = _lines_of(source, encoding)
+    try:
+        head, body = stream_program(lines, file, mach.compat)
+        interp = Interpreter(head, mach, block_skip=block_skip, stream=body)
+        attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
+        moves = list(interp.run())
+    finally:
+        getattr(lines, "close", lambda: None)()
+    diagnostics = [*syntax, *interp.diagnostics]
+    cycle_time, planning = _planned(mach, moves, diagnostics, file)
+    ending = program_ending(interp.ended, stopping_error(interp.diagnostics, planning), file)
+    diagnostics.sort(key=lambda d: (d.file, d.line, d.col))
+    ok = not any(d.is_error for d in diagnostics)
+    return Result(ok, diagnostics, moves, FinalState(interp), cycle_time, lambda: _parse(source, mach),
+                  ending.program_end, mach, ending)
+
+
+def _planned(mach: Machine, moves: list, diagnostics: list, file: str) -> tuple[float, Diagnostic | None]:
+    """The cycle time of ``moves`` on the embedded simulator back-end (segments not kept), and the PLN001
+    added to ``diagnostics`` when planning fails."""
     from .backends.sim import SimulatorBackend
 
     sim = SimulatorBackend(mach, keep_segments=False)
@@ -176,10 +227,21 @@ def _simulate(source: Source, mach: Machine, block_skip: bool) -> Result:
         for seg in Planner(mach).segments(moves):
             sim.send(seg)
     except PlanningError as exc:
-        file = exc.record.src.file if exc.record is not None else program.file
-        diagnostics.append(Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc)))
-    cycle_time = sim.cycle_time
-    planning = next((d for d in diagnostics if d.code == "PLN001"), None)
+        where = exc.record.src.file if exc.record is not None else file
+        diagnostics.append(Diagnostic(where, exc.line, 1, "PLN001", "error", str(exc)))
+    return sim.cycle_time, next((d for d in diagnostics if d.code == "PLN001"), None)
+
+
+def _simulate_whole(source: Source, mach: Machine, block_skip: bool) -> Result:
+    """A program with a syntax error (not started) or without a block: parsed whole, as it always was."""
+    program = _parse(source, mach)
+    if _empty(program):
+        program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))
+    interp = Interpreter(program, mach, block_skip=block_skip)
+    attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
+    moves = list(interp.run())
+    diagnostics = [*program.diagnostics, *interp.diagnostics]
+    cycle_time, planning = _planned(mach, moves, diagnostics, program.file)
     if not program.ok:
         ending = not_started(program.diagnostics, program.file)
     else:
@@ -328,7 +390,7 @@ def _syntax(source: Source, file: str, compat=None) -> tuple[list[Diagnostic], s
             yield pair
 
     try:
-        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file, compat)), file,
+        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file, compat, structure_only=True)), file,
                                     keep_body=False).diagnostics)
     finally:
         getattr(lines, "close", lambda: None)()

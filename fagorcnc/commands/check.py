@@ -84,7 +84,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import math
 import os
 import sys
 import tempfile
@@ -100,6 +99,8 @@ from ..diagnostics import CODES, Diagnostic
 from ..program_files import PROGRAM_EXTENSIONS, program_files
 from ..summary import Ending, RunSummary
 from ._shared import STDIN_NAME, clock, command_machine, stdin_copy
+from .extents import Box, OriginUse, ToolBox, ToolUse, _round, arc_points  # noqa: F401 - public names
+from .extents import MoveSummary as _Summary
 from .recovery import BUDGET_CODES, MAX_PER_CODE, recovery_pass  # noqa: F401 - BUDGET_CODES: public name
 
 #: Codes of the warnings that say fagorcnc does not model something.
@@ -114,67 +115,6 @@ CHECK_MAX_SECONDS = 120.0
 SCHEMA = "fagorcnc-check/1"
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 
-
-# ----------------------------------------------------------------------------- report data
-@dataclass
-class Box:
-    """An axis-aligned box: ``lo``/``hi`` per axis (mm, degrees)."""
-
-    lo: dict[str, float] = field(default_factory=dict)
-    hi: dict[str, float] = field(default_factory=dict)
-
-    def add(self, point: dict[str, float]) -> None:
-        for axis, v in point.items():
-            if axis not in self.lo:
-                self.lo[axis] = self.hi[axis] = v
-            elif v < self.lo[axis]:
-                self.lo[axis] = v
-            elif v > self.hi[axis]:
-                self.hi[axis] = v
-
-    def __bool__(self) -> bool:
-        return bool(self.lo)
-
-    def to_dict(self) -> dict[str, dict[str, float]]:
-        return {"min": {a: _round(v) for a, v in self.lo.items()}, "max": {a: _round(v) for a, v in self.hi.items()}}
-
-    def text(self) -> str:
-        return "  ".join(f"{a} {_num(self.lo[a])}..{_num(self.hi[a])}" for a in self.lo)
-
-
-@dataclass
-class ToolUse:
-    """A tool the program selected (T), whether M06 loaded it, the offsets D used with it."""
-
-    tool: int
-    loaded: bool = False
-    offsets: list[int] = field(default_factory=list)
-    lines: list[int] = field(default_factory=list)
-
-
-@dataclass
-class OriginUse:
-    """An absolute origin active while moves ran: ``"G54"``, ``"G159=7"``, ``"G92"``, ``"G53"``."""
-
-    origin: str
-    first_line: int
-    moves: int = 0
-
-
-@dataclass
-class ToolBox:
-    """Extent of the motion while ``tool`` was in the spindle (all moves, and feeds alone)."""
-
-    tool: int
-    machine: Box = field(default_factory=Box)
-    part: Box = field(default_factory=Box)
-    feed_machine: Box = field(default_factory=Box)
-    feed_part: Box = field(default_factory=Box)
-
-    def to_dict(self) -> dict[str, Any]:
-        feed = {"machine": self.feed_machine.to_dict(), "part": self.feed_part.to_dict()} if self.feed_machine \
-            else None
-        return {"tool": self.tool, "machine": self.machine.to_dict(), "part": self.part.to_dict(), "feed": feed}
 
 
 @dataclass
@@ -258,14 +198,6 @@ def _diagnostic_dict(d: Diagnostic, recovered: bool) -> dict[str, Any]:
             "message": d.message, "source": d.source.rstrip("\r\n"), "recovered": recovered}
 
 
-def _round(v: float) -> float:
-    return round(v, 6) + 0.0   # + 0.0 turns -0.0 into 0.0
-
-
-def _num(v: float) -> str:
-    text = f"{_round(v):.4f}".rstrip("0").rstrip(".")
-    return "0" if text == "-0" else text
-
 
 # ----------------------------------------------------------------------------- checking one file
 def check_file(path: str | Path, machine: Machine | dict | str | Path | None = None, *, block_skip: bool = False,
@@ -343,128 +275,6 @@ def _check(report: FileReport, path: Path, machine: Machine, block_skip: bool, r
         listed[d.code] = n + 1
         report.diagnostics.append(d)
         report.recovered.append(recovered)
-
-
-class _Summary:
-    """Tools, origins and per-tool boxes, from the motion records as the interpreter makes them
-    (:meth:`add`; the absolute origin in force is read from its state at that moment)."""
-
-    def __init__(self) -> None:
-        self._tools: dict[int, ToolUse] = {}
-        self._used: dict[str, OriginUse] = {}
-        self._boxes: dict[int, ToolBox] = {}
-        self._tool = self._next_tool = 0
-        self._part_here: dict[str, float] | None = None
-        self._interp = None
-
-    def add(self, rec, interp) -> None:
-        self._interp = interp
-        tools = self._tools
-        kind = rec.kind
-        if kind == "aux":
-            f, value = rec.function, int(rec.value)
-            if f == "T":
-                self._next_tool = value
-                use = tools.setdefault(value, ToolUse(value))
-                if rec.line not in use.lines:
-                    use.lines.append(rec.line)
-            elif f == "M" and value == 6:   # the preselected tool goes to the spindle (seed 002 L4700)
-                self._tool = self._next_tool
-                tools.setdefault(self._tool, ToolUse(self._tool)).loaded = True
-            elif f == "D":
-                use = tools.setdefault(self._tool, ToolUse(self._tool))
-                if value not in use.offsets:
-                    use.offsets.append(value)
-            return
-        end_part = getattr(rec, "end_part", None)
-        if kind == "dwell" or end_part is None:
-            return
-        label = getattr(interp.state, "origin_source", "?")
-        used = self._used
-        if label not in used:
-            used[label] = OriginUse(label, rec.line)
-        used[label].moves += 1
-        part_here = self._part_here
-        start_part = part_here if part_here is not None else \
-            {a: rec.start.get(a, 0.0) - (rec.end.get(a, 0.0) - end_part[a]) for a in end_part}
-        machine_pts = [rec.start, rec.end]
-        part_pts = [start_part, end_part]
-        if kind == "arc":
-            machine_pts += arc_points(rec.start, rec.end, rec.center, rec.plane, rec.sweep)
-            part_pts += arc_points(start_part, end_part, getattr(rec, "center_part", None) or {}, rec.plane,
-                                   rec.sweep * _orientation(rec, start_part, end_part))
-        box = self._boxes.setdefault(self._tool, ToolBox(self._tool))
-        for p in machine_pts:
-            box.machine.add(p)
-        for p in part_pts:
-            box.part.add(p)
-        if not rec.rapid:
-            for p in machine_pts:
-                box.feed_machine.add(p)
-            for p in part_pts:
-                box.feed_part.add(p)
-        self._part_here = end_part
-
-    def tools(self) -> list[ToolUse]:
-        return list(self._tools.values())
-
-    def origins(self) -> list[OriginUse]:
-        return list(self._used.values())
-
-    def cycles(self) -> list[dict[str, Any]]:
-        """The canned cycles that ran: one entry per definition block, with its holes (interp/cycles)."""
-        return self._interp.state.cycles.report() if self._interp is not None else []
-
-    def boxes(self) -> list[ToolBox]:
-        return [self._boxes[t] for t in sorted(self._boxes)]
-
-
-def arc_points(start: dict, end: dict, center: dict, plane: tuple, sweep: float) -> list[dict]:
-    """Points of an arc (helix) where its angle crosses a quarter turn: with the end
-    points they give its exact bounding box.  ``sweep`` in degrees, signed (negative
-    clockwise), full turns included; ``center`` holds the plane axes."""
-    a, o = plane[0], plane[1]
-    if a not in center or o not in center or sweep == 0.0:
-        return []
-    ca, co = center[a], center[o]
-    th0 = math.atan2(start[o] - co, start[a] - ca)
-    r0 = math.hypot(start[a] - ca, start[o] - co)
-    r1 = math.hypot(end[a] - ca, end[o] - co)
-    sw = math.radians(sweep)
-    quarter = math.pi / 2
-    k0 = math.ceil(min(th0, th0 + sw) / quarter)
-    k1 = math.floor(max(th0, th0 + sw) / quarter)
-    out = []
-    for k in range(k0, min(k1, k0 + 4000) + 1):
-        th = k * quarter
-        t = (th - th0) / sw
-        r = r0 + (r1 - r0) * t
-        p = {x: start[x] + (end[x] - start[x]) * t for x in end if x in start}
-        p[a], p[o] = ca + r * math.cos(th), co + r * math.sin(th)
-        out.append(p)
-    return out
-
-
-def _orientation(rec, start_part: dict, end_part: dict) -> float:
-    """-1 when the part frame is a mirror image of the machine frame in the arc's plane
-    (the arc turns the other way in part coordinates), else 1."""
-    a, o = rec.plane[0], rec.plane[1]
-    cm, cp = rec.center, getattr(rec, "center_part", None) or {}
-
-    def cross(s, e, c) -> tuple[float, float]:
-        u = (s[a] - c[a], s[o] - c[o])
-        v = (e[a] - c[a], e[o] - c[o])
-        return u[0] * v[1] - u[1] * v[0], (u[0] ** 2 + u[1] ** 2)
-
-    try:
-        xm, rm = cross(rec.start, rec.end, cm)
-        xp, rp = cross(start_part, end_part, cp)
-    except KeyError:
-        return 1.0
-    if abs(xm) > 1e-6 * rm and abs(xp) > 1e-6 * rp and (xm > 0) != (xp > 0):
-        return -1.0
-    return 1.0
-
 
 
 # ----------------------------------------------------------------------------- many files

@@ -154,7 +154,7 @@ def _curve_points(piece, chord: float) -> np.ndarray:
 def program_path(source: str | Path, machine: Machine, chord: float, *, block_skip: bool = False) -> ProgramPath:
     """Plan one program and collect its path; raises :class:`DiffError` for a moving rotary axis."""
     from ..simulate import dry_run
-    from .check import _Summary
+    from .extents import MoveSummary as _Summary
 
     collector = _Collector(machine, chord)
     summary = _Summary()

@@ -9,7 +9,7 @@ import math
 from ..path import arcs
 from .expressions import InterpError
 from .gvars import arc_data
-from .records import Arc, Line, Source
+from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
 
@@ -37,7 +37,7 @@ class MotionMixin:
         if st.mcs_on or self.interp.mcs_block:
             return self._mcs_move(gs, bw, src)
         cur_part = st.programmed_pos()   # computations are in programmed coordinates
-        start = dict(st.machine_pos)
+        start = st.move_start()
         if mode in (8, 9) or (mode in (2, 3) and not self._null_move(bw, cur_part)):
             return self._arc(mode, gs, bw, src, cur_part, start)
         end_part = self.target(bw, cur_part)
@@ -47,9 +47,9 @@ class MotionMixin:
         self._length_compensation(bw)
         end_prog = end_part
         end_part = st.transform.apply(end_prog)
-        end = st.to_machine(end_part)
+        end = st.shared_end(st.to_machine(end_part), end_part)
         self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
-        st.machine_pos = dict(end)
+        st.moved_to(end)
         if a is not None and o is not None:   # a lathe in G17 or a rotary-only machine has no plane to track
             st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
                 or st.tangent
@@ -59,8 +59,8 @@ class MotionMixin:
         if mode == 0:
             return Line("rapid", start, end, end_part, None, "G94", src, comp, st.dynamics(), joins=self._joins(comp))
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
-        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
-                    comp, st.dynamics(), joins=self._joins(comp), css=self._css())
+        return Line("linear", start, end, end_part, self._active_feed(length, start), feed_mode(st.modes["feed"]),
+                    src, comp, st.dynamics(), joins=self._joins(comp), css=self._css())
 
     def _null_move(self, bw: BlockWords, cur_part: dict) -> bool:
         """A G02/G03 block with no centre, radius or polar word whose target is where the tool stands:
@@ -111,7 +111,7 @@ class MotionMixin:
         if comp is not None:
             return None
         modes = self.state.modes
-        return (modes["transition"], modes["comp_start"])
+        return shared_tuple((modes["transition"], modes["comp_start"]))
 
     def _active_feed(self, length: float, start: dict) -> float:
         """Feed along the path in mm/min (seed 002 L4127-L4192).
@@ -269,9 +269,9 @@ class MotionMixin:
         tr = st.transform
         st.tangent = arcs.end_tangent(sp, ep, center, ccw)
         end_part = tr.apply(end_part)
-        end = st.to_machine(end_part)
+        end = st.shared_end(st.to_machine(end_part), end_part)
         self.interp.check_limits(end, col, start)
-        st.machine_pos = dict(end)
+        st.moved_to(end)
         center_part = tr.apply({a: center[0], o: center[1]})
         center_m = st.to_machine(center_part)
         scale = tr.scale if a in tr.linear else 1.0
@@ -281,7 +281,7 @@ class MotionMixin:
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
         comp = self._compensation()
         return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
-                   (a, o, n), math.dist(ep, center) * scale, turns, feed, f"G{st.modes['feed']}", src,
+                   (a, o, n), math.dist(ep, center) * scale, turns, feed, feed_mode(st.modes["feed"]), src,
                    comp, st.dynamics(), joins=self._joins(comp), css=self._css())
 
     def _radius_check(self, s, e, c, col: int):
@@ -372,11 +372,11 @@ class MotionMixin:
             center_m = {a: center[0], o: center[1]}
             center_part = {x: v for x, v in st.to_part({**end, **center_m}).items() if x in (a, o)}
             return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if mode == 3 else "cw", (a, o, n),
-                       radius, 0, feed, f"G{st.modes['feed']}", src, None, st.dynamics())
+                       radius, 0, feed, feed_mode(st.modes["feed"]), src, None, st.dynamics())
         if mode != 1:
             raise InterpError("INT063", "#MCS moves are G00, G01, G02 or G03", 1)
         length = math.sqrt(sum((end[a] - start[a]) ** 2 for a in end))
-        return Line("linear", start, end, end_part, self._active_feed(length, start), f"G{st.modes['feed']}", src,
+        return Line("linear", start, end, end_part, self._active_feed(length, start), feed_mode(st.modes["feed"]), src,
                     dyn=st.dynamics())
 
     def _mcs_arc(self, gs: dict, bw: BlockWords, start: dict, end: dict, inch: bool) -> tuple:

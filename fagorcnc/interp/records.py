@@ -261,6 +261,22 @@ def _css_time(machine, record) -> float:
         total += 0.0 if math.isinf(feed) else record.length / CSS_SAMPLES / feed
     return total * 60.0
 
+_FEED_MODES: dict[int, str] = {}
+_JOINS: dict[tuple, tuple] = {}
+
+
+def feed_mode(g: int) -> str:
+    """``"G94"`` for 94...: one string per feed mode, shared by every record (simulate() keeps them all)."""
+    name = _FEED_MODES.get(g)
+    if name is None:
+        name = _FEED_MODES[g] = f"G{g}"
+    return name
+
+
+def shared_tuple(value: tuple) -> tuple:
+    """One tuple object per value of the small modal tuples records carry (``joins``)."""
+    return _JOINS.setdefault(value, value)
+
 
 def record_time(machine, record) -> float:
     """Seconds a record takes at its programmed feed, without acceleration

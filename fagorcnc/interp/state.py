@@ -135,6 +135,29 @@ class ChannelState:
     def to_machine(self, part: dict[str, float]) -> dict[str, float]:
         return {a: v + self.axis_offset(a) for a, v in part.items()}
 
+    # the points of consecutive records are shared where they are equal (a record never changes
+    # its points): simulate() keeps every record, and three dicts per move were most of its memory
+    _last_end: dict[str, float] | None = None
+
+    def move_start(self) -> dict[str, float]:
+        """The start point of a new move: the end point of the last move when the tool is still
+        there (the same dict, key order included), else a copy of ``machine_pos``."""
+        last = self._last_end
+        pos = self.machine_pos
+        if last is not None and last == pos and tuple(last) == tuple(pos):
+            return last
+        return dict(pos)
+
+    def moved_to(self, end: dict[str, float]) -> None:
+        """The tool is at ``end``, the end point of the move just made."""
+        self.machine_pos = dict(end)
+        self._last_end = end
+
+    @staticmethod
+    def shared_end(end: dict[str, float], end_part: dict[str, float]) -> dict[str, float]:
+        """``end_part`` itself when the machine point is the same (no offset): one dict for both."""
+        return end_part if end == end_part and tuple(end) == tuple(end_part) else end
+
     def to_part(self, machine: dict[str, float]) -> dict[str, float]:
         return {a: v - self.axis_offset(a) for a, v in machine.items()}
 

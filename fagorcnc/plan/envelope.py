@@ -14,6 +14,7 @@ import numpy as np
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
+from .geometry import ArcPiece, BlendPiece
 
 #: Tolerance of the envelope check (mm, degrees).
 ENVELOPE_TOLERANCE = 1e-6
@@ -28,11 +29,14 @@ class Envelope:
         self.lo = np.array([machine.axes[a].min_limit for a in axes])
         self.hi = np.array([machine.axes[a].max_limit for a in axes])
         self.worst: dict[tuple[int, bool, str, str], tuple[float, float, object]] = {}
+        self._limits = list(zip(self.lo.tolist(), self.hi.tolist(), strict=True))
 
     def add(self, seg) -> None:
         piece = seg.piece
         if piece is None or not getattr(piece, "curved", False):
             return   # straight pieces: their end points are the interpreter's INT100 check
+        if self._inside(piece):
+            return
         axes, lo, hi, worst, tol = self.axes, self.lo, self.hi, self.worst, ENVELOPE_TOLERANCE
         box = hull(piece)
         if box is not None and (box[0] >= lo - tol).all() and (box[1] <= hi + tol).all():
@@ -55,6 +59,34 @@ class Envelope:
                 key = (seg.line, seg.blend, axis, "lower")
                 if key not in worst or pmin[i] < worst[key][0]:
                     worst[key] = (pmin[i], lo[i], rec)
+
+    def _inside(self, piece) -> bool:
+        """Whether a cheap box round ``piece`` (floats, no array) lies within the soft limits: most
+        curves are far from them, and only the others need :func:`hull` and :func:`piece_extent`.
+
+        An arc: its circle's square of the largest radius in its plane, its end points on the other
+        axes (as :func:`hull`).  A corner blend (arc-length parameterised): no point of a curve is
+        farther from its start than its length, so the cube of that half-size round its start holds
+        it (the length is integrated to far better than the 1e-6 margin).
+        """
+        tol = ENVELOPE_TOLERANCE
+        start = piece.start.tolist()
+        if type(piece) is ArcPiece:
+            end = piece.end.tolist()
+            radius = max(piece.r0, piece.r0 + piece.dr * piece.length) + tol
+            ia, io = piece.ia, piece.io
+            for i, (lo, hi) in enumerate(self._limits):
+                if i in (ia, io):
+                    c = piece.center[0 if i == ia else 1]
+                    if c - radius < lo or c + radius > hi:
+                        return False
+                elif min(start[i], end[i]) < lo - tol or max(start[i], end[i]) > hi + tol:
+                    return False
+            return True
+        if type(piece) is BlendPiece:
+            reach = piece.length * (1.0 + 1e-6) + tol
+            return all(lo <= v - reach and v + reach <= hi for v, (lo, hi) in zip(start, self._limits, strict=True))
+        return False
 
     def diagnostics(self, file: str) -> list[Diagnostic]:
         out = []

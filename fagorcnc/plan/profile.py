@@ -143,6 +143,46 @@ class ProfileWindow:
         return s - self.s0, v, a, j
 
 
+#: Margins of :func:`too_short` (relative, and mm): a span within them of the shortest length is
+#: left to ruckig, which works to a tolerance (the look-ahead asks for reachable speeds computed by
+#: the same formula, so spans exactly at the shortest length are common: a 2.05e-5 mm span whose
+#: length was 1.0e-6 short of it relatively has a ruckig profile).
+SHORT_MARGIN = 1e-4
+SHORT_MARGIN_MM = 1e-7
+
+
+def _pulse(v0: float, v1: float, acc: float, jerk: float) -> float:
+    """Length run by the fastest monotone change of speed from ``v0`` to ``v1``: one acceleration
+    pulse, a jerk triangle (``T = 2 sqrt(dv / J)``) while ``dv <= A²/J``, else a trapezoid
+    (``T = dv / A + A / J``); symmetric, so the speed is symmetric about its middle and the length
+    is ``(v0 + v1) / 2 T``."""
+    dv = abs(v1 - v0)
+    t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= acc * acc else dv / acc + acc / jerk
+    return (v0 + v1) / 2.0 * t
+
+
+def shortest_length(v0: float, v1: float, acc: float, jerk: float) -> float:
+    """The shortest path length (mm) over which the speed can change from ``v0`` to ``v1`` (mm/s),
+    at zero acceleration at both ends, within ``acc`` and ``jerk`` (speeds never negative).
+
+    A motion that does not change speed monotonically dips to some ``w`` below both speeds (where
+    its acceleration crosses zero): two pulses, ``P(v0, w) + P(w, v1)``.  Each pulse length is
+    concave in ``w`` (``(2x - d)/2 T(d)`` with ``d = x - w``, ``T`` increasing and concave), so the
+    sum is least at an end of ``[0, min(v0, v1)]``: the single pulse, or a stop on the way (up to a
+    few per cent shorter when one speed is far below the other; ruckig finds it).  Any longer span is
+    met by cruising.
+    """
+    if v0 == v1:
+        return 0.0
+    return min(_pulse(v0, v1, acc, jerk), _pulse(v0, 0.0, acc, jerk) + _pulse(0.0, v1, acc, jerk))
+
+
+def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> bool:
+    """Whether no profile goes from ``v0`` to ``v1`` over ``length`` (shorter than
+    :func:`shortest_length` by more than the margins; borderline cases go to ruckig)."""
+    return length < shortest_length(v0, v1, acc, jerk) * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM
+
+
 class Solver:
     """A reusable ruckig 1-DOF solver."""
 
@@ -156,7 +196,13 @@ class Solver:
         self.inp.min_velocity = [0.0]
 
     def duration(self, length: float, v0: float, v1: float, vc: float, acc: float, jerk: float) -> float:
-        """Duration of the time-optimal profile, or ``inf`` when ruckig finds none."""
+        """Duration of the time-optimal profile, or ``inf`` when ruckig finds none.
+
+        A request that cannot be met (:func:`too_short`) is answered without ruckig, whose
+        failures go through an exception and cost five times a success.
+        """
+        if too_short(length, v0, v1, acc, jerk):
+            return math.inf
         inp = self.inp
         inp.current_velocity = [v0]
         inp.target_position = [length]

@@ -125,19 +125,24 @@ class LineParser:
         self._fast = re.compile(
             rf"[ \t]*(?:({blockid})[ \t]*)?(?!(?:N[0-9]+[ \t]*)?L[ \t])({words})?(?:;.*)?").fullmatch
 
-    def parse(self, text: str, line: int, file: str = "<string>") -> tuple:
+    def parse(self, text: str, line: int, file: str = "<string>", structure_only: bool = False) -> tuple:
         """Parse one line.
 
         Returns ``(node, diagnostics)``; ``node`` is a :class:`Block`,
         :class:`ProgramHeader`, :class:`SubroutineHeader`, or ``None`` for an
         empty line, a comment-only line or a line with a syntax error.
+        ``structure_only``: for a check of the whole file's syntax and structure, a plain run of
+        literal words without an M (which cannot end a subroutine) gets no items (same diagnostics).
         """
         m = self._fast(text)
         if m is not None:
             bid, words = m.group(1), m.group(2)
             if words is None and bid is None:
                 return None, ()
-            items = tuple(split_words(words, m.start(2) + 1)) if words else ()
+            if structure_only and (not words or "M" not in words):
+                items = ()
+            else:
+                items = tuple(split_words(words, m.start(2) + 1)) if words else ()
             number = None
             if bid is not None:
                 digits = bid[1:].rstrip(" \t:").lstrip("0") or "0"

@@ -116,8 +116,8 @@ def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
     return _capped(s.rstrip("\r\n") for s in source)
 
 
-def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None
-               ) -> Iterator[tuple]:
+def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None,
+               *, structure_only: bool = False) -> Iterator[tuple]:
     """Parse a program line by line.
 
     ``source`` is the program text or any iterable of lines (an open file
@@ -126,7 +126,9 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
     comment or erroneous line) and ``diagnostics`` a tuple.  ``compat`` (the
     machine's ``[compat]`` policy, :mod:`fagorcnc.config.compat`) sets the
     severity of the CAM posts' constructs: program names, the bare name line,
-    keywords not in capitals.
+    keywords not in capitals.  ``structure_only=True`` (the syntax check of a whole file before
+    it runs): the same nodes and diagnostics, except that plain blocks of literal words which
+    cannot end a subroutine carry no items (:meth:`~fagorcnc.syntax.parser.LineParser.parse`).
     """
     parse = line_parser().parse
     comment_start = None  # (line, text) of an open #COMMENT BEGIN
@@ -155,7 +157,7 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
                 continue
         if comment_start is not None:
             continue
-        node, diags = parse(text, lineno, file)
+        node, diags = parse(text, lineno, file, structure_only)
         if first and (node is not None or diags):
             first = False
             bare = node is None or (type(node) is Block and any(getattr(i, "value", 0) is None for i in node.items))

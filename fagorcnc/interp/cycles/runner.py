@@ -23,7 +23,7 @@ from dataclasses import replace
 
 from ..dynamics import build as _dynamics
 from ..expressions import InterpError
-from ..records import Arc, Dwell, Line, Source
+from ..records import Arc, Dwell, Line, Source, feed_mode
 from . import choices, drilling, milling, patterns, pockets, threads
 from .model import CYCLE_CODES, PATTERN_CODES, ActiveCycle
 
@@ -339,7 +339,7 @@ class CycleRunner:
             if kind == "A":
                 out.append(self._arc(op, target, start, end, end_part, src, dyn))
             else:
-                out.append(Line("linear", start, end, end_part, op[2], f"G{st.modes['feed']}", src, None, dyn))
+                out.append(Line("linear", start, end, end_part, op[2], feed_mode(st.modes["feed"]), src, None, dyn))
         return out
 
     def _marked(self, dyn, marks: tuple):
@@ -369,7 +369,7 @@ class CycleRunner:
         ccw_path = ccw != tr.flips(a, o)
         radius = math.hypot(target[a] - ca, target[o] - co) * scale
         return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw", (a, o, n),
-                   radius, 0, feed, f"G{st.modes['feed']}", src, None, dyn)
+                   radius, 0, feed, feed_mode(st.modes["feed"]), src, None, dyn)
 
 
 class _LongitudinalMove:
