@@ -676,9 +676,10 @@ def rounded_contour(pts: list[Point], radii: list[float], ccw: bool, first: int 
     return contour if ccw else contour.reversed()
 
 
-def locally_feasible(contour: Contour, side: int, radius: float) -> bool:
+def locally_feasible(contour: Contour, side: int, radius: float, start_mode: int = 139) -> bool:
     """No offset element is reversed by the trims of its inside corners (tool radius R * tan(phi / 2)
-    at a corner of deflection phi) and no offset arc has a radius <= 0, with a margin."""
+    at a corner of deflection phi), no offset arc has a radius <= 0, with a margin, and the transitions
+    keep R from the contour (:func:`transitions_clear`)."""
     s = 1 if side == 41 else -1
     els = contour.elements
     out = outward(contour)
@@ -692,7 +693,33 @@ def locally_feasible(contour: Contour, side: int, radius: float) -> bool:
         if s * cr > 1e-9:
             trims[k] = radius * math.tan(math.acos(max(-1.0, min(1.0, dot))) / 2)
     arcs_ok = all(e.rho - s * (1 if e.ccw else -1) * radius > 1e-3 for e in els if isinstance(e, ArcEl))
-    return arcs_ok and all(e.length() > trims[k] + trims[k + 1] + 1e-3 for k, e in enumerate(els))
+    return arcs_ok and all(e.length() > trims[k] + trims[k + 1] + 1e-3 for k, e in enumerate(els)) and \
+        transitions_clear(contour, side, radius, start_mode)
+
+
+def transitions_clear(contour: Contour, side: int, radius: float, start_mode: int) -> bool:
+    """With G139, an activation or cancellation at an outside corner goes round the start point on an arc of
+    radius R (spec 04 §19.2, §20): the cancellation's arc ends at m + R n(out) and the activation's starts at
+    m + R n(-out) (n: the normal on the tool's side), R from m along the closing edge.  With the tool inside,
+    next to a vertex (a first or last half-edge shorter than about 2R), that point comes nearer than R to the
+    next edge, and fagorcnc refuses the transition (found by the property: a thin triangle started 5 mm from a
+    vertex under a 3 mm tool, the exit arc 2 mm from that vertex)."""
+    if start_mode != 139:
+        return True
+    m, out = contour.start, outward(contour)
+    els = contour.elements
+
+    def normal(v: Point) -> Point:
+        return (-v[1], v[0]) if side == 41 else (v[1], -v[0])
+
+    sign = 1 if side == 41 else -1
+    ends = []
+    for v, (t1, t2) in ((out, (els[-1].tangent(True), out)), ((-out[0], -out[1]), ((-out[0], -out[1]),
+                                                                                 els[0].tangent(False)))):
+        if sign * _cross(t1, t2) < -1e-9:   # an outside corner: the arc round m
+            n = normal(v)
+            ends.append((m[0] + radius * n[0], m[1] + radius * n[1]))
+    return all(e.distance(x) >= radius - 1e-6 for x in ends for e in els[1:-1])
 
 
 params = st.fixed_dictionaries({
@@ -716,7 +743,7 @@ def check_contour(contour: Contour, p, stats: Counter, convex: bool = False) -> 
     side, transition, radius = p["side"], p["transition"], p["radius"]
     rn = run(contour, side, transition, radius, p["start_mode"])
     r = rn.result
-    feasible = locally_feasible(contour, side, radius)
+    feasible = locally_feasible(contour, side, radius, p["start_mode"])
     if not r.ok:
         errors = [d for d in r.diagnostics if d.severity == "error"]
         assert errors and all(d.code == "INT086" for d in errors), report(rn, [str(d) for d in r.diagnostics])
