@@ -38,3 +38,17 @@ def test_simulate_streams_a_clean_program_and_parses_it_again_when_asked(tmp_pat
     assert streamed.program == whole.program and streamed.program.name == "PART"
     bad = fagorcnc.simulate(text="G1 X1 F100\nG1 X[[\nM30\n")   # a syntax error: parsed whole, not started
     assert not bad.ok and bad.moves == [] and bad.program is not None and not bad.program.ok
+
+
+def test_repeated_coordinates_share_one_float_in_the_records():
+    # a raster repeats its X values every row: the records keep one float object per number text, with
+    # the sign (X-1.5 is -1.5, not 1.5), and the table stays bounded however many numbers a program has
+    import fagorcnc
+    from fagorcnc.syntax import builder
+
+    r = fagorcnc.simulate("G90 G1 X0 Y0 F1000\nX-1.5 Y2\nX3 Y2\nX-1.5 Y4\nX3 Y4\nM30\n")
+    moves = [m for m in r.moves if m.kind == "linear"]
+    assert moves[1].end["X"] == -1.5 and moves[3].end["X"] == -1.5 and moves[2].end["X"] == 3.0
+    assert moves[1].end["X"] is moves[3].end["X"] and moves[1].end["Y"] is moves[2].end["Y"]
+    fagorcnc.simulate("".join(f"G1 X{i * 0.001:.3f}\n" for i in range(2 * builder._NUMBERS_MAX)) + "M30\n")
+    assert len(builder._NUMBERS) <= builder._NUMBERS_MAX

@@ -57,13 +57,29 @@ def valid_name(name: str) -> bool:
     return _NAME14.fullmatch(name) is not None
 
 
-def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.finditer) -> list:
+#: One float object per number text met lately (``"-1.5"`` -> -1.5): CAM programs repeat their coordinates
+#: (a raster's X values every row, its Y along a row) and the records keep the words' values, so sharing
+#: them saves a float object (24 bytes) per repeated word in ``simulate()``.  Bounded: emptied when full.
+_NUMBERS: dict[str, float] = {}
+_NUMBERS_MAX = 4096
+
+
+def _number(sign: str, digits: str) -> float:
+    key = sign + digits if sign == "-" else digits
+    v = _NUMBERS.get(key)
+    if v is None:
+        if len(_NUMBERS) >= _NUMBERS_MAX:
+            _NUMBERS.clear()
+        v = _NUMBERS[key] = -float(digits) if sign == "-" else float(digits)
+    return v
+
+
+def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.finditer, _num=_number) -> list:
     """Split a WORDS run starting at column ``col`` into :class:`Word` nodes.
 
     Hot path (one call per CAM block): builds the tuples directly.
     """
-    return [_new(Word, (m[1], -float(m[3]) if m[2] == "-" else float(m[3]), col + m.start(), None))
-            for m in _finditer(text)]
+    return [_new(Word, (m[1], _num(m[2], m[3]), col + m.start(), None)) for m in _finditer(text)]
 
 
 def small_int(digits: str, limit: int = 4294967295) -> int | None:
