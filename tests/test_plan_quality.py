@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib
 import math
 import sys
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -60,7 +61,7 @@ def test_split_blend_is_the_same_curve() -> None:
     parts = split_blend(blend, 4)
     assert len(parts) == 4
     assert np.allclose(parts[0].start, blend.start) and np.allclose(parts[-1].end, blend.end)
-    for a, b in zip(parts, parts[1:], strict=False):
+    for a, b in pairwise(parts):
         assert np.allclose(a.end, b.start, atol=1e-14)
     # lengths add up; points of a part lie on the whole curve (u in [i/4, (i+1)/4] maps to 4u - i)
     assert sum(p.length for p in parts) == pytest.approx(blend.length, rel=1e-9)
