@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 from lower_bound import topp_profile
@@ -228,8 +229,32 @@ class _Problem:
         return max(0.0, float(np.max(speed * (self.jerk @ z) / np.tile(self.jerk_limit, 2))) - 1.0)
 
 
-def jerk_time(path: JerkPath, amax, jmax, *, rho: float = 1.0, tol: float = 1e-5, gain: float = 1e-8,
-              max_iterations: int = 80) -> JerkResult:
+def jerk_time(path: JerkPath, amax, jmax, **options) -> JerkResult:
+    """Time of a locally time-optimal jerk-limited profile along ``path`` (see the module docstring),
+    solved stop to stop: at a stop ``b = a = 0``, which separates the problem exactly into the
+    stretches between stops (``options``: those of :func:`jerk_time_between_stops`)."""
+    stops = np.unique(np.concatenate([[0, path.s.size - 1], np.asarray(path.stops, dtype=int)]))
+    if stops.size == 2:
+        return jerk_time_between_stops(path, amax, jmax, **options)
+    total = start = 0.0
+    iterations = 0
+    bs, as_ = [np.zeros(1)], [np.zeros(1)]
+    for lo, hi in pairwise(stops.tolist()):
+        rows = (path.points >= lo) & (path.points <= hi)
+        # a stop point's rows of the other side are left out (at rest they bound nothing)
+        part = JerkPath(path.s[lo:hi + 1] - path.s[lo], path.points[rows] - lo, path.q1[rows], path.q2[rows],
+                        path.xmax[lo:hi + 1], np.array([0, hi - lo]), path.m1[lo:hi], path.m2[lo:hi], path.m3[lo:hi])
+        r = jerk_time_between_stops(part, amax, jmax, **options)
+        total += r.time
+        start += r.start_time
+        iterations += r.iterations
+        bs.append(r.b[1:])
+        as_.append(r.a[1:])
+    return JerkResult(total, np.concatenate(bs), np.concatenate(as_), iterations, start)
+
+
+def jerk_time_between_stops(path: JerkPath, amax, jmax, *, rho: float = 1.0, tol: float = 1e-5, gain: float = 1e-8,
+                            max_iterations: int = 80) -> JerkResult:
     """Time of a locally time-optimal jerk-limited profile along ``path`` (see the module docstring).
 
     Args:

@@ -595,7 +595,8 @@ def main(argv: list[str] | None = None) -> int:
                 anomalies.append(f"{r.path} {r.mode}: {name} plan {t:.6f} s is BELOW the bound {lb:.6f} s")
         if math.isfinite(r.jerk_ref) and r.t_on < r.jerk_ref * (1 - 1e-3):
             anomalies.append(f"{r.path} {r.mode}: jerk-on plan {r.t_on:.6f} s is faster than the jerk-limited "
-                             f"reference {r.jerk_ref:.6f} s (the reference is only locally optimal)")
+                             f"reference {r.jerk_ref:.6f} s (the reference: a feasible, locally optimal profile "
+                             "of the discretised problem)")
         for label, c in (("jerk off", r.check_off), ("jerk on", r.check_on)):
             for k, v in c.items():
                 if v > 1.001 and not (label == "jerk off" and k == "j"):
