@@ -518,21 +518,22 @@ def table(rows: list[Row]) -> str:
 
 INTERPRETATION = """\
 Interpretation: "ratio" is planned time / lower bound, both on the geometry the planner moves along \
-(its pieces and the corner blends it inserted), with the same per-axis velocity and acceleration limits, \
-feed caps and stops.  The bound is the time-optimal traversal with jerk ignored, so any plan that \
-respects those limits needs at least that long: both ratios are >= 1 by construction if the planner and \
-the bound are right (up to the bound's discretisation error, which the "spacing / 4" check above \
-measures), and a ratio below 1 means one of them is wrong.  A jerk-off ratio near 1 says the planner \
-leaves little on the table; above 1 it measures the planner's own simplifications (one speed cap and \
-one tangential acceleration per piece from its derivative bounds, the 90 % centripetal share on curves, \
-so a curve started from rest ramps up with what the cap leaves).  With jerk on the speed must also ramp \
-its acceleration and, on curves, keep v^3 |q\'\'\'| within the jerk limit, none of which the bound sees, \
-so the jerk-on ratio is expected to be higher: most on very short moves (S-curves that never reach full \
-acceleration) and on paths made of small G2 blends (their curvature changes fast), which the \
-jerk-informed estimate separates from the planner's own slack.  The jerk-limited reference \
-(jerk_bound.py) is the time of a feasible, locally time-optimal profile WITH the per-axis jerk \
-limits on the jerk-on geometry (sequential linear programming; a rest-to-rest line comes within \
-0.3 % of ruckig's optimum): "jerk on / reference" is how far the planner is from it."""
+(its pieces and the corner blends it inserted), with the same per-axis velocity and acceleration \
+limits, feed caps and stops.  The bound is the time-optimal traversal with jerk ignored, so any plan\
+ that respects those limits needs at least that long: both ratios are >= 1 by construction if the \
+planner and the bound are right (up to the bound's discretisation error, which the "spacing / 4" \
+check above measures), and a ratio below 1 means one of them is wrong.  A jerk-off ratio near 1 says\
+ the planner leaves little on the table; above 1 it measures the planner's own simplifications (one \
+speed cap and one tangential acceleration per piece from its derivative bounds, the 10 % of the \
+tangential acceleration a curve keeps at its cap, so a curve started from rest ramps up with what \
+the cap leaves).  With jerk on the speed must also ramp its acceleration and, on curves, keep v^3 \
+|q\'\'\'| within the jerk limit, none of which the bound sees, so the jerk-on ratio is expected to \
+be higher: most on very short moves (S-curves that never reach full acceleration) and on paths made \
+of small G2 blends (their curvature changes fast), which the jerk-informed estimate separates from \
+the planner's own slack.  The jerk-limited reference (jerk_bound.py) is the time of a feasible, \
+locally time-optimal profile WITH the per-axis jerk limits on the jerk-on geometry (sequential \
+linear programming; a rest-to-rest line comes within 0.3 % of ruckig's optimum): "jerk on / \
+reference" is how far the planner is from it."""
 
 
 def main(argv: list[str] | None = None) -> int:
