@@ -30,7 +30,7 @@ What the result is: the time of a FEASIBLE profile of the discretised problem, l
 (the SLP converges to a stationary point; nothing certifies the global optimum).  Near a rest
 the speed grows like ``s^(2/3)``, which a uniform grid resolves badly, so the grid is graded
 geometrically towards every stop (see :func:`graded`); with that a rest-to-rest line matches
-ruckig's time within ~0.1 % (``tests/test_jerk_bound.py``).
+ruckig's time within 0.3 % (``tests/test_jerk_bound.py``).
 """
 
 from __future__ import annotations
