@@ -75,6 +75,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+import jerk_bound
 from lower_bound import topp_time
 
 import fagorcnc
@@ -86,6 +87,9 @@ MIN_INTERVALS = 4
 #: On curved pieces the spacing also stays below this fraction of the smallest radius of curvature
 #: (lower_bound.py: below ~R/20 for 0.2 % accuracy; ``--plain-grid`` drops the rule).
 CURVATURE_FRACTION = 1.0 / 20.0
+#: Grid of the jerk-limited reference (``jerk_bound.py``): spacing (mm) and fraction of the radius of curvature.
+JERK_SPACING = 0.1
+JERK_CURVATURE = 1.0 / 8.0
 
 #: Planning-speed timing: best of up to TIMING_RUNS runs, stopping once TIMING_BUDGET seconds are spent.
 TIMING_RUNS = 50
@@ -269,6 +273,80 @@ def jerk_estimate(grid: Grid, machine) -> float:
                      stops=grid.stops)
 
 
+def jerk_path(segments, machine, spacing: float = JERK_SPACING, curvature_fraction: float = JERK_CURVATURE):
+    """The planned pieces as a :class:`jerk_bound.JerkPath`: the same limits, feeds and stops as
+    :func:`build_grid`, each piece sampled at ``min(spacing, length/4)`` (curved pieces also at most
+    ``curvature_fraction`` x R), graded towards its ends where the plan is at rest; a junction
+    carries the derivatives of both pieces, each interval those of its own piece at its midpoint."""
+    v_feed, v_rapid, _acc = _axis_limits(machine)
+    override = machine.planner.feed_override / 100.0
+    rapid_feed = machine.rapid_feed / 60.0 if machine.rapid_feed > 0 else math.inf
+    rapid_feed *= machine.planner.rapid_override / 100.0 if machine.planner.rapid_override > 0 else 1.0
+    ss, pts, q1s, q2s, caps, m1s, m2s, m3s = [], [], [], [], [], [], [], []
+    stops: list[int] = [0]
+    offset, count = 0.0, 0
+    rest = True   # at rest at the next piece's start (program start, or after a dwell / aux)
+    for seg in segments:
+        if seg.kind != "motion":
+            rest = True
+            if count:
+                stops.append(count)
+            continue
+        piece, rec = seg.piece, seg.record
+        length = piece.length
+        h = spacing
+        kappa = float(np.linalg.norm(piece.d2)) if piece.curved else 0.0
+        if kappa > 0:
+            h = min(h, curvature_fraction / kappa)
+        s_loc = jerk_bound.graded(length, h, rest or seg.v0 == 0.0, seg.v1 == 0.0)
+        mid = 0.5 * (s_loc[:-1] + s_loc[1:])
+        _, q1, q2, _ = piece.derivatives(s_loc)
+        _, m1, m2, m3 = piece.derivatives(mid)
+        q1, q2 = np.asarray(q1, dtype=float), np.asarray(q2, dtype=float)
+        rapid = rec.kind == "rapid"
+        feed = rapid_feed if rapid else (rec.feed / 60.0 * override if rec.feed else math.inf)
+        vlim = v_rapid if rapid else v_feed
+        with np.errstate(divide="ignore"):
+            cap = np.minimum(feed / np.linalg.norm(q1, axis=1),
+                             np.min(np.where(np.abs(q1) > 0, vlim / np.abs(q1), np.inf), axis=1))
+        if rest or seg.v0 == 0.0:
+            stops.append(count)
+        index = count + np.arange(len(s_loc))
+        if count:   # the junction point is the previous piece's last point: cap it by both pieces
+            caps[-1][-1] = min(caps[-1][-1], cap[0])
+        ss.append(offset + (s_loc if not count else s_loc[1:]))
+        pts.append(index)
+        q1s.append(q1)
+        q2s.append(q2)
+        caps.append(cap if not count else cap[1:])
+        m1s.append(np.asarray(m1, dtype=float))
+        m2s.append(np.asarray(m2, dtype=float))
+        m3s.append(np.asarray(m3, dtype=float))
+        count += len(s_loc) - 1
+        offset += length
+        rest = False
+        if seg.v1 == 0.0:
+            stops.append(count)
+    if not ss:
+        raise ValueError("no motion")
+    stops.append(count)
+    s = np.concatenate(ss)
+    if not np.all(np.diff(s) > 0):
+        raise AssertionError("the grid is not strictly increasing")
+    xmax = np.concatenate(caps) ** 2
+    return jerk_bound.JerkPath(s, np.concatenate(pts), np.concatenate(q1s), np.concatenate(q2s), xmax,
+                               np.unique(np.array(stops, dtype=int)), np.concatenate(m1s), np.concatenate(m2s),
+                               np.concatenate(m3s))
+
+
+def jerk_reference(segments, machine) -> jerk_bound.JerkResult:
+    """:func:`jerk_bound.jerk_time` on the planned pieces with the machine's axis limits."""
+    axes = [machine.axes[a] for a in machine.axis_names]
+    acc = np.array([a.max_acceleration for a in axes])
+    jerk = np.array([a.max_jerk for a in axes])
+    return jerk_bound.jerk_time(jerk_path(segments, machine), acc, jerk)
+
+
 # ---------------------------------------------------------------- trajectory check
 def limit_check(segments, machine, period: float = 0.001) -> dict[str, float]:
     """Largest |value| / limit over the axes, sampled every ``period`` from the profiles:
@@ -322,6 +400,9 @@ class Row:
     lb_fine: float = math.nan
     lb_plain: float = math.nan
     jerk_est: float = math.nan
+    jerk_ref: float = math.nan
+    jerk_ref_seconds: float = 0.0
+    jerk_ref_points: int = 0
     speed: float = math.nan
     cycle_time: float = math.nan
     grid_points: int = 0
@@ -340,7 +421,7 @@ def _same_geometry(a: list, b: list) -> bool:
 
 
 def run_case(path: str, mode: str, text: str, *, check: bool, refine_check: bool, curvature_spacing: bool,
-             big: bool = False) -> Row:
+             big: bool = False, jerk_ref: bool = False) -> Row:
     row = Row(path, mode)
     result = fagorcnc.simulate(text)
     if not result.ok:
@@ -385,6 +466,11 @@ def run_case(path: str, mode: str, text: str, *, check: bool, refine_check: bool
         if curvature_spacing and not big:
             row.lb_plain = bound_time(build_grid(off, machine, curvature_spacing=False))
     row.bound_seconds = time.perf_counter() - t0
+    if jerk_ref:
+        t0 = time.perf_counter()
+        ref = jerk_reference(on, machine)
+        row.jerk_ref, row.jerk_ref_points = ref.time, len(ref.b)
+        row.jerk_ref_seconds = time.perf_counter() - t0
     if check:
         row.check_off = limit_check(off, machine)
         row.check_on = limit_check(result.segments(jerk=True, keep_profiles=True), machine)
@@ -417,38 +503,47 @@ def _f(v: float, digits: int = 4) -> str:
 def table(rows: list[Row]) -> str:
     head = ["path", "mode", "segments", "planned time jerk off (s)", "lower bound (s)", "ratio (jerk off)",
             "planned time jerk on (s)", "ratio (jerk on)", "lower bound, jerk-on geometry (s)",
-            "planning speed (motion segments/s, jerk on)"]
+            "jerk-limited reference (s)", "jerk on / reference", "planning speed (motion segments/s, jerk on)"]
     out = ["| " + " | ".join(head) + " |", "|" + "|".join(["---"] * len(head)) + "|"]
     for r in rows:
         segs = f"{r.segments} ({r.blends} blends)" if r.segments else "-"
         lb_on = "same" if r.lb_on == r.lb_off else _f(r.lb_on)
         out.append("| " + " | ".join([
             r.path, r.mode, segs, _f(r.t_off), _f(r.lb_off), _f(r.t_off / r.lb_off, 3), _f(r.t_on),
-            _f(r.t_on / r.lb_on, 3), lb_on, "n/a" if not math.isfinite(r.speed) else f"{r.speed:,.0f}",
+            _f(r.t_on / r.lb_on, 3), lb_on, _f(r.jerk_ref), _f(r.t_on / r.jerk_ref, 3),
+            "n/a" if not math.isfinite(r.speed) else f"{r.speed:,.0f}",
         ]) + " |")
     return "\n".join(out)
 
 
 INTERPRETATION = """\
 Interpretation: "ratio" is planned time / lower bound, both on the geometry the planner moves along \
-(its pieces and the corner blends it inserted), with the same per-axis velocity and acceleration limits, \
-feed caps and stops.  The bound is the time-optimal traversal with jerk ignored, so any plan that \
-respects those limits needs at least that long: both ratios are >= 1 by construction if the planner and \
-the bound are right (up to the bound's discretisation error, which the "spacing / 4" check above \
-measures), and a ratio below 1 means one of them is wrong.  A jerk-off ratio near 1 says the planner \
-leaves little on the table; above 1 it measures the planner's own simplifications (one speed cap and \
-one tangential acceleration per piece from its derivative bounds, the 90 % centripetal share on curves, \
-so a curve started from rest ramps up with what the cap leaves).  With jerk on the speed must also ramp \
-its acceleration and, on curves, keep v^3 |q\'\'\'| within the jerk limit, none of which the bound sees, \
-so the jerk-on ratio is expected to be higher: most on very short moves (S-curves that never reach full \
-acceleration) and on paths made of small G2 blends (their curvature changes fast), which the \
-jerk-informed estimate separates from the planner's own slack."""
+(its pieces and the corner blends it inserted), with the same per-axis velocity and acceleration \
+limits, feed caps and stops.  The bound is the time-optimal traversal with jerk ignored, so any plan\
+ that respects those limits needs at least that long: both ratios are >= 1 by construction if the \
+planner and the bound are right (up to the bound's discretisation error, which the "spacing / 4" \
+check above measures), and a ratio below 1 means one of them is wrong.  A jerk-off ratio near 1 says\
+ the planner leaves little on the table; above 1 it measures the planner's own simplifications (one \
+speed cap and one tangential acceleration per piece from its derivative bounds, the 10 % of the \
+tangential acceleration a curve keeps at its cap, so a curve started from rest ramps up with what \
+the cap leaves).  With jerk on the speed must also ramp its acceleration and, on curves, keep v^3 \
+|q\'\'\'| within the jerk limit, none of which the bound sees, so the jerk-on ratio is expected to \
+be higher: most on very short moves (S-curves that never reach full acceleration) and on paths made \
+of small G2 blends (their curvature changes fast), which the jerk-informed estimate separates from \
+the planner's own slack.  The jerk-limited reference (jerk_bound.py) is the time of a feasible, \
+locally time-optimal profile WITH the per-axis jerk limits on the jerk-on geometry (sequential \
+linear programming; a rest-to-rest line comes within 0.3 % of ruckig's optimum): "jerk on / \
+reference" is how far the planner is from it."""
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="shrink the big raster to 2 009 segments")
     ap.add_argument("--no-check", action="store_true", help="skip the sampled-trajectory limit check")
+    ap.add_argument("--no-jerk-reference", action="store_true",
+                    help="skip the jerk-limited reference (jerk_bound.py: a sequence of LPs, the slowest part)")
+    ap.add_argument("--jerk-reference-big", action="store_true",
+                    help="also compute the jerk-limited reference on the big raster (LPs of ~10^5 variables)")
     ap.add_argument("--plain-grid", action="store_true",
                     help="bound grid spacing min(0.05 mm, length/4) only (no R/20 rule on curved pieces)")
     args = ap.parse_args(argv)
@@ -459,10 +554,12 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         big = path.startswith("raster")
         row = run_case(path, mode, text, check=not args.no_check, refine_check=args.quick or not big,
-                       curvature_spacing=not args.plain_grid, big=big)
+                       curvature_spacing=not args.plain_grid, big=big,
+                       jerk_ref=not args.no_jerk_reference and (not big or args.quick or args.jerk_reference_big))
         rows.append(row)
         print(f"  {path} {mode}: {time.perf_counter() - t0:.1f} s (bound grid {row.grid_points} points, "
-              f"{row.bound_seconds:.1f} s)", file=sys.stderr)
+              f"{row.bound_seconds:.1f} s; jerk-limited reference {row.jerk_ref_points} points, "
+              f"{row.jerk_ref_seconds:.1f} s)", file=sys.stderr)
     print(f"fagorcnc: {version}; numpy {np.__version__}; Python {sys.version.split()[0]}")
     print()
     print(table(rows))
@@ -497,6 +594,10 @@ def main(argv: list[str] | None = None) -> int:
         for name, t, lb in (("jerk off", r.t_off, r.lb_off), ("jerk on", r.t_on, r.lb_on)):
             if math.isfinite(t) and t < lb:
                 anomalies.append(f"{r.path} {r.mode}: {name} plan {t:.6f} s is BELOW the bound {lb:.6f} s")
+        if math.isfinite(r.jerk_ref) and r.t_on < r.jerk_ref * (1 - 1e-3):
+            anomalies.append(f"{r.path} {r.mode}: jerk-on plan {r.t_on:.6f} s is faster than the jerk-limited "
+                             f"reference {r.jerk_ref:.6f} s (the reference: a feasible, locally optimal profile "
+                             "of the discretised problem)")
         for label, c in (("jerk off", r.check_off), ("jerk on", r.check_on)):
             for k, v in c.items():
                 if v > 1.001 and not (label == "jerk off" and k == "j"):

@@ -36,6 +36,41 @@ TANGENT_EPS = 1e-10
 CURVATURE_EPS = 1e-10
 
 
+#: Parts a corner curve is planned in when the planner has no jerk limit (see :func:`split_blend`).
+BLEND_PARTS = 16
+
+
+def split_blend(blend: BlendPiece, parts: int) -> list[BlendPiece]:
+    """The corner curve as ``parts`` curves of equal parameter range (de Casteljau subdivision of its
+    control points: the same curve, point for point), each with the derivative bounds of its own
+    stretch.  A corner curve's curvature runs from the pieces' at its ends to its largest in the
+    middle; in parts, the ends get caps from their own (lower) curvature instead of the middle's."""
+    out = []
+    rest = blend.controls
+    for i in range(parts, 1, -1):
+        left, rest = _subdivide(rest, 1.0 / i)
+        out.append(left)
+    out.append(rest)
+    pieces = []
+    for controls in out:
+        piece = BlendPiece.__new__(BlendPiece)
+        piece._set(controls)
+        piece._bounds()
+        pieces.append(piece)
+    return pieces
+
+
+def _subdivide(controls: np.ndarray, u: float) -> tuple[np.ndarray, np.ndarray]:
+    """Control points of the Bézier curve over ``[0, u]`` and over ``[u, 1]``."""
+    rows = [controls]
+    while len(rows[-1]) > 1:
+        c = rows[-1]
+        rows.append((1.0 - u) * c[:-1] + u * c[1:])
+    left = np.array([r[0] for r in rows])
+    right = np.array([r[-1] for r in rows[::-1]])
+    return left, right
+
+
 def _blend(p: Piece, q: Piece, d1: float, d2: float) -> BlendPiece:
     p0, t0, k0 = p.frame(p.length - d1)
     p5, t5, k5 = q.frame(d2)

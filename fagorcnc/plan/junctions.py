@@ -16,12 +16,14 @@ import numpy as np
 from . import links
 from .corner_batch import make_blends
 from .corners import (
+    BLEND_PARTS,
     CURVATURE_EPS,
     SHAPE,
     TANGENT_EPS,
     line_corner_arrays,
     line_corner_sizes,
     make_blend,
+    split_blend,
 )
 from .geometry import BlendPiece, LinePiece, blends, corner_deviations
 from .limits import curve_limits_rows
@@ -507,7 +509,7 @@ class CornerMixin:
                         yield prev
                     yield from pending
                     if blend is not None:
-                        yield blend
+                        yield from self._blend_parts(blend)
                 else:
                     item.settle()
                     before, head, item = self._adapt(prev, item)
@@ -516,7 +518,7 @@ class CornerMixin:
                             yield span
                     yield from pending
                     if blend is not None:
-                        yield blend
+                        yield from self._blend_parts(blend)
                     yield from head
                 pending = []
             prev = item
@@ -525,6 +527,19 @@ class CornerMixin:
             prev.settle()
             yield from self._lead(prev)
             yield from self._emit(prev, pending, settle)
+
+    def _blend_parts(self, blend: Span) -> Iterator[Span]:
+        """A corner curve's span, in :data:`~fagorcnc.plan.corners.BLEND_PARTS` parts when the planner
+        has no jerk limit: each part then has a cap from its own curvature (dense G05 zig-zag of
+        0.05 mm steps, jerk off: 1.34 x the time-optimal bound in one part).  With a jerk limit every
+        junction between parts returns the path acceleration to zero, which costs more than the
+        finer caps gain, so the curve stays whole."""
+        if self.jerk or not isinstance(blend.piece, BlendPiece):
+            yield blend
+            return
+        for piece in split_blend(blend.piece, BLEND_PARTS):
+            yield Span(piece, blend.record, blend.feed, blend.lim, False, blend.dyn, blend.path_acc, blend.path_jerk,
+                       blend=True)
 
     def _lead(self, span: Span) -> Iterator[Span]:
         """The transition curve a span needs at its start, if any (see :meth:`_transition`)."""

@@ -9,9 +9,10 @@ For a piece with per-axis derivative bounds ``d1, d2, d3`` (see
     J_s * d1_i + 3 vc A_s d2_i + vc³ d3_i <= J_i
 
 On a curved piece the centripetal terms use part of the axis budget; the cap
-``vc`` leaves at least ``1 - CENTRIPETAL`` of it for speeding up and slowing
-down, and the planner may pick a lower ``vc`` (more tangential budget) where
-the piece never reaches its cap anyway.
+``vc`` leaves at least ``1 - CENTRIPETAL`` of the tangential acceleration a line
+with the same tangent bounds would get (see :func:`piece_cap`), and the planner
+may pick a lower ``vc`` (more tangential budget) where the piece never reaches
+its cap anyway.
 """
 
 from __future__ import annotations
@@ -52,13 +53,26 @@ class AxisLimits:
 
 
 def piece_cap(d1, d2, d3, lim: AxisLimits, feed: float) -> float:
-    """Highest speed cap ``vc`` on a piece: feed, axis velocities and curvature terms."""
+    """Highest speed cap ``vc`` on a piece: feed, axis velocities and curvature terms.
+
+    The centripetal terms leave the piece a tangential acceleration of at least ``1 - CENTRIPETAL``
+    of what a line with the same tangent bounds gets, ``reserve = (1 - CENTRIPETAL) min_i A_i / d1_i``:
+    ``vc² d2_i <= A_i - reserve d1_i``.  An axis mostly across the tangent (small ``d1_i``, as on the
+    part of an arc where that axis takes the centripetal acceleration) may then give nearly all of
+    its budget to the curvature; every axis keeps at least ``CENTRIPETAL`` of it (``reserve d1_i <=
+    (1 - CENTRIPETAL) A_i``), so the cap is never below ``sqrt(CENTRIPETAL A_i / d2_i)``.
+    """
     # plain comparisons over zipped tuples, no min() calls: this runs for every piece planned
     vc = feed
+    base = math.inf
+    for g, a in zip(d1, lim.acceleration):  # noqa: B905 (_AXES)
+        if g > 0 and (x := a / g) < base:
+            base = x
+    reserve = (1.0 - CENTRIPETAL) * base if base != math.inf else 0.0
     for g, k, k3, v, a, j in zip(d1, d2, d3, lim.velocity, lim.acceleration, lim.jerk):  # noqa: B905 (_AXES)
         if g > 0 and (x := v / g) < vc:
             vc = x
-        if k > 0 and (x := math.sqrt(CENTRIPETAL * a / k)) < vc:
+        if k > 0 and (x := math.sqrt((a - reserve * g) / k)) < vc:
             vc = x
         if k3 > 0 and j != math.inf and (x := (CURVE_JERK * j / k3) ** (1.0 / 3.0)) < vc:
             vc = x
@@ -236,7 +250,9 @@ def curve_limits_rows(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray, lim: AxisL
     vel, acc_lim, jerk_lim = np.array(lim.velocity), np.array(lim.acceleration), np.array(lim.jerk)
     finite = np.isfinite(jerk_lim)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        caps = np.fmin(np.where(d1 > 0, vel / d1, inf), np.where(d2 > 0, np.sqrt(CENTRIPETAL * acc_lim / d2), inf))
+        base = np.fmin.reduce(np.where(d1 > 0, acc_lim / d1, inf), axis=1)
+        reserve = np.where(np.isfinite(base), (1.0 - CENTRIPETAL) * base, 0.0)[:, None]
+        caps = np.fmin(np.where(d1 > 0, vel / d1, inf), np.where(d2 > 0, np.sqrt((acc_lim - reserve * d1) / d2), inf))
         caps = np.fmin(caps, np.where((d3 > 0) & finite, (CURVE_JERK * jerk_lim / d3) ** (1.0 / 3.0), inf))
         vc = np.fmin(np.fmin.reduce(caps, axis=1), feed)
         vc2, vc3 = (vc * vc)[:, None], (vc ** 3)[:, None]

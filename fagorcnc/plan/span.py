@@ -25,7 +25,7 @@ from .lookahead import reachable
 #: (:func:`~fagorcnc.plan.limits.term_arrays`) rather than from each curve's terms.
 ARRAY_CURVES = 4
 #: Lower caps tried on curves (fractions of the highest cap).
-LADDER = (0.85, 0.7, 0.55, 0.4, 0.25, 0.12, 0.05)
+LADDER = (0.97, 0.94, 0.91, 0.88, 0.85, 0.8, 0.75, 0.7, 0.62, 0.55, 0.4, 0.25, 0.12, 0.05)
 
 
 class Span:
