@@ -59,9 +59,9 @@ def valid_name(name: str) -> bool:
 
 #: One float object per number text met lately (``"-1.5"`` -> -1.5): CAM programs repeat their coordinates
 #: (a raster's X values every row, its Y along a row) and the records keep the words' values, so sharing
-#: them saves a float object (24 bytes) per repeated word in ``simulate()``.  Bounded: emptied when full.
+#: them saves a float object (24 bytes) per repeated word in ``simulate()``.  Bounded (512 numbers, some 50 kB: emptied when full).
 _NUMBERS: dict[str, float] = {}
-_NUMBERS_MAX = 4096
+_NUMBERS_MAX = 512
 
 
 def _number(sign: str, digits: str) -> float:
