@@ -59,7 +59,8 @@ def valid_name(name: str) -> bool:
 
 #: One float object per number text met lately (``"-1.5"`` -> -1.5): CAM programs repeat their coordinates
 #: (a raster's X values every row, its Y along a row) and the records keep the words' values, so sharing
-#: them saves a float object (24 bytes) per repeated word in ``simulate()``.  Bounded (512 numbers, some 50 kB: emptied when full).
+#: them saves a float object (24 bytes) per repeated word in ``simulate()``.  Bounded (512 numbers, some
+#: 50 kB: emptied when full).
 _NUMBERS: dict[str, float] = {}
 _NUMBERS_MAX = 512
 
