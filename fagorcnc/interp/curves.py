@@ -30,7 +30,7 @@ from ..kinematics.stage import StageError
 from ..path.spline import CHORD_TOLERANCE, CurveError, poly_points, poly_tangent, spline_points
 from ..syntax.ast import ItemList, Keyed
 from .expressions import InterpError
-from .records import Arc, CurveLine, Line, Source
+from .records import Arc, CurveLine, Line, Source, _AtPosition
 
 #: Tangent types of #ASPLINE MODE (L15740-L15770): automatic, tangent to the block before / after, given.
 TANGENT_TYPES = (1, 2, 3)
@@ -49,7 +49,7 @@ class CurveSettings:
 
 
 @dataclass(frozen=True, slots=True)
-class SplineMark:
+class SplineMark(_AtPosition):
     """#SPLINE ON (``on``) or OFF in the record stream: the tangent type of that end and its
     tangent (machine axes, unit) for type 3; consumed by :func:`splines`, never handed on."""
 
@@ -59,18 +59,6 @@ class SplineMark:
     tangent: tuple | None
     position: dict
     src: Source
-
-    @property
-    def line(self) -> int:
-        return self.src.line
-
-    @property
-    def start(self) -> dict:
-        return self.position
-
-    @property
-    def end(self) -> dict:
-        return self.position
 
     @property
     def length(self) -> float:
