@@ -181,6 +181,9 @@ CODES: dict[str, str] = {
     "INT210": "coupled slave axis (#LINK) programmed",
     "INT211": "coupled slave axis on an arc of its master's plane (not computed)",
     "INT213": "parked spindle (#PARK) programmed",
+    # G112 parameter sets (seed 002 L9307-L9360; axes.X.sets in the machine file)
+    "INT214": "invalid G112: a parameter set the axis does not have, or no axis named",
+    "INT215": "G112 parameter set of a spindle: kept, but fagorcnc does not time spindle positioning",
     # curves #POLY, #SPLINE/#ASPLINE and independent moves #MOVE (interp/curves.py, interp/independent.py)
     "INT220": "invalid #POLY statement (axes and coefficients, SP, EP)",
     "INT221": "#POLY that cannot run here (G00 active, a transformation, not starting where the tool is)",

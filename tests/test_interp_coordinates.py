@@ -557,8 +557,8 @@ def test_an_unknown_g_is_reported_before_the_words_it_makes_meaningless():
 
 
 def test_unsupported_g_function_is_int011():
-    # G112 (axis parameter sets) is not computed by fagorcnc yet: reported, never dropped
-    r = run("G112 N1\nM30\n")
+    # G100 (probing, described in another manual, L1433) is not computed by fagorcnc: reported, never dropped
+    r = run("G100 N1\nM30\n")
     assert error_codes(r) == ["INT011"]
 
 

@@ -57,10 +57,33 @@ class Axis:
     direction: int = 1              # unidirectional rotary: +1 or -1
     home: float = 0.0               # machine coordinate of the reference point (G74)
     exchange: int = 1               # AXISEXCH: 0 may not change channel, 1 temporary, 2 permanent (L14694)
+    #: parameter sets 2.. (G112, seed 002 L9307-L9360: up to 4 per axis): each a dict of the dynamic fields
+    #: it changes (SET_FIELDS); set 1 is the axis's own values
+    sets: tuple = ()
+    default_set: int = 1            # DEFAULTSET: the set assumed at power-on, M02/M30 and reset; 0 keeps G112's
 
     @property
     def rotary(self) -> bool:
         return self.type == "rotary"
+
+    @property
+    def nsets(self) -> int:
+        """NPARSETS: how many parameter sets the axis has."""
+        return 1 + len(self.sets)
+
+    def dynamics(self, number: int = 1) -> tuple[float, float, float, float]:
+        """``(max_velocity, max_feed, max_acceleration, max_jerk)`` of parameter set ``number`` (1-based)."""
+        own = (self.max_velocity, self.max_feed, self.max_acceleration, self.max_jerk)
+        if number <= 1 or number > self.nsets:
+            return own
+        extra = self.sets[number - 2]
+        return tuple(extra.get(k, v) for k, v in zip(SET_FIELDS, own, strict=True))   # type: ignore[return-value]
+
+
+#: The dynamic fields of an axis a parameter set may change (G00FEED, MAXFEED, ACCEL, ACCJERK).
+SET_FIELDS = ("max_velocity", "max_feed", "max_acceleration", "max_jerk")
+#: G112 selects one of at most this many parameter sets per axis (seed 002 L9309).
+MAX_SETS = 4
 
 
 @dataclass
@@ -285,6 +308,14 @@ def _axis(name: Any, spec: Any) -> Axis:
             kwargs[key] = _flag(where, value)
         elif key == "direction":
             kwargs[key] = 1 if _number(where, value) >= 0 else -1
+        elif key == "sets":
+            kwargs[key] = _parameter_sets(where, value)
+            continue
+        elif key == "default_set":
+            if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SETS:
+                raise MachineError(f"{where} (DEFAULTSET) must be 0 (keep the set of G112) or a set 1-{MAX_SETS}, "
+                                   f"got {value!r}")
+            kwargs[key] = value
         elif key == "exchange":
             if isinstance(value, bool) or value not in (0, 1, 2):
                 raise MachineError(f"{where} (AXISEXCH) must be 0 (no change of channel), 1 (temporary) or "
@@ -302,7 +333,31 @@ def _axis(name: Any, spec: Any) -> Axis:
             raise MachineError(f"axes.{name}.{key} must be positive, got {getattr(axis, key):g}")
     if axis.min_limit > axis.max_limit:
         raise MachineError(f"axes.{name}: min_limit is above max_limit")
+    if axis.default_set > axis.nsets:
+        raise MachineError(f"axes.{name}.default_set {axis.default_set}: the axis has {axis.nsets} parameter set(s)")
     return axis
+
+
+def _parameter_sets(where: str, value: Any) -> tuple:
+    """``sets = [{ max_velocity = 6000, max_acceleration = 500 }, ...]``: parameter sets 2.. of an axis
+    (G112; seed 002 L9309: at most 4 sets in all), each giving any of :data:`SET_FIELDS`."""
+    sets = _list(where, value)
+    if len(sets) > MAX_SETS - 1:
+        raise MachineError(f"{where}: at most {MAX_SETS - 1} sets besides the axis's own (4 in all, seed 002 L9309)")
+    out = []
+    for i, entry in enumerate(sets):
+        at = f"{where}[{i}] (set {i + 2})"
+        table = _table(at, entry)
+        unknown = set(table) - set(SET_FIELDS)
+        if unknown:
+            raise MachineError(f"{at}: unknown key(s) {', '.join(sorted(map(str, unknown)))}; a set gives "
+                               f"{', '.join(SET_FIELDS)}")
+        values = {k: _number(f"{at}.{k}", v) for k, v in table.items()}
+        for k, v in values.items():
+            if not (v > 0 or (k == "max_feed" and v == 0)):
+                raise MachineError(f"{at}.{k} must be positive, got {v:g}")
+        out.append(values)
+    return tuple(out)
 
 
 def _origin_entry(key: Any) -> int:

@@ -57,6 +57,14 @@ class Dynamics:
     # cycle, seed 002 L29849), "RIGID" (rigid tapping, L29856); see interp.cycles.drilling.plc_marks
     path_limits: tuple | None = None   # V.G.MAXACCEL/MAXJERK of the program (mm/s², mm/s³; 0 = none), L36469
     links: tuple = ()   # the #LINK couplings (interp.axes.Link) the slaves follow in this block (L14515)
+    param_sets: tuple = ()   # G112: (axis, set) of the axes not at parameter set 1 (seed 002 L9307)
+
+    def param_set(self, axis: str) -> int:
+        """The parameter set (1-4) whose dynamics ``axis`` moves with (G112)."""
+        for a, n in self.param_sets:
+            if a == axis:
+                return n
+        return 1
 
     def acceleration_factor(self, axis: str, rapid: bool = False) -> float:
         if rapid and self.slope[3] == 1:
@@ -258,7 +266,8 @@ def build(state, block_modes: dict) -> Dynamics:
                     tuple(sorted(state.acceleration.items())), tuple(sorted(state.jerk.items())),
                     adaptation, "G266" in block_modes, state.slope,
                     state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None,
-                    path_limits=state.path_limits, links=state.channel.links)
+                    path_limits=state.path_limits, links=state.channel.links,
+                    param_sets=tuple(sorted((a, n) for a, n in state.param_sets.items() if a in state.machine.axes)))
 
 
 def tangfeed_statement(interp, node) -> None:
@@ -272,4 +281,31 @@ def tangfeed_statement(interp, node) -> None:
         raise InterpError("INT071", f"#TANGFEED RMIN {value:g} is negative", node.col)
     st = interp.state
     st.tangfeed_rmin = interp.iso.length(value)
+    st.dynamics_changed()
+
+
+def parameter_sets(interp, col: int, bw) -> None:
+    """``G112 X2 Y3`` / ``G112 S2`` (seed 002 L9307-L9360): the axes (and spindles) named move with that
+    parameter set of the machine file from now on (modal, L9341); no physical change on the machine.
+    The words are set numbers, not targets: the caller clears them."""
+    st = interp.state
+    if not bw.axes and not bw.speeds:
+        raise InterpError("INT214", "G112 names the axes and their parameter set: G112 X2 Y3 (L9324)", col)
+    for name, (v, c) in {**bw.axes, **bw.speeds}.items():
+        n = int(v) if float(v).is_integer() else 0
+        if not 1 <= n <= 4:
+            raise InterpError("INT214", f"G112 {name}{v:g}: a parameter set is 1 to 4 (L9309)", c)
+        ax = st.machine.axes.get(name)
+        if ax is not None and n > ax.nsets:
+            raise InterpError("INT214", f"G112 {name}{n}: the machine file gives axis {name} {ax.nsets} parameter "
+                              f"set(s) (axes.{name}.sets = [...] adds sets 2-4)", c)
+        if ax is None and n > 1:
+            # a spindle's set changes its positioning dynamics (M19, L9329), which fagorcnc does not time
+            interp.message("INT215", "warning", f"G112 {name}{n}: parameter set {n} of spindle {name} is kept "
+                           "(V.A.ACTIVSET); fagorcnc does not time spindle positioning, so it changes nothing here",
+                           c)
+        if n == 1:
+            st.param_sets.pop(name, None)
+        else:
+            st.param_sets[name] = n
     st.dynamics_changed()

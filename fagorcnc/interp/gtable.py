@@ -112,7 +112,7 @@ _TABLE = [
     _g(97, "css", "keep", "constant spindle speed", "L5451"),
     _g(108, None, "block", "feed adaptation at block start", "L4256", "recorded"),
     _g(109, None, "block", "feed adaptation at block end", "L4256", "recorded"),
-    _g(112, None, "keep", "axis parameter set", "L9339", "no"),
+    _g(112, None, "keep", "axis parameter set", "L9339"),
     _g(130, "accel", "default", "acceleration % per axis", "L4445", "recorded"),
     _g(131, "accel", "default", "acceleration % global", "L4445", "recorded"),
     _g(132, "jerk", "default", "jerk % per axis", "L4493", "recorded"),

@@ -76,8 +76,8 @@ class ProgramVariables:
         return {
             "V.A.FFGAIN": (lambda st, i, a: self._forward(134, "FFGAIN", a), None),
             "V.A.ACFGAIN": (lambda st, i, a: self._forward(135, "ACFGAIN", a), None),
-            # one parameter set per axis offline: the active one is 1 (L32845; G112 is not computed)
-            "V.A.ACTIVSET": (lambda st, i, a: 1.0, None),
+            # the parameter set G112 or DEFAULTSET made active (L32845, L9307)
+            "V.A.ACTIVSET": (lambda st, i, a: float(st.param_sets.get(a, 1)), None),
         }
 
     def spindle(self) -> dict:
@@ -85,7 +85,7 @@ class ProgramVariables:
         return {
             "FFGAIN": lambda sp: self._forward(134, "FFGAIN", sp),
             "ACFGAIN": lambda sp: self._forward(135, "ACFGAIN", sp),
-            "ACTIVSET": lambda sp: 1.0,
+            "ACTIVSET": lambda sp: float(self.state.param_sets.get(sp, 1)),
         }
 
     #: execution values: their read stops block preparation (L41746, L32747, L36469, L39814, L41441)

@@ -138,6 +138,10 @@ class IsoExecutor(MotionMixin, WordsMixin):
             if per_axis:   # their axis and spindle words are percentages, not targets (L4385, L4396)
                 bw.axes.clear()
                 bw.speeds.clear()
+        if 112 in gs:   # G112 X2 S2: parameter sets, not targets or speeds (L9324)
+            dynamics.parameter_sets(self.interp, gs[112][0], bw)
+            bw.axes.clear()
+            bw.speeds.clear()
         corner = [n for n in (5, 7, 50, 60, 61) if n in gs]
         if len(corner) > 1:
             # L8016, L8057, L8105: G05, G07, G50, G60 and G61 are incompatible with each other

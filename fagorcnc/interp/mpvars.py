@@ -11,7 +11,7 @@ Axis selector (L17628-L17722, L17821-L17968): a name (``.Z``, ``.S``: the channe
 L17830), a logical number (``.4``: the axes in machine order, then the spindles), with a channel
 ``V.[1].MPA.x.1`` the index in the channel; ``V.SP.x.2`` the second spindle of the system, ``V.SP.x``
 the master spindle.  Per-set variables take the set first: ``V.MPA.G00FEED[1].X``; fagorcnc's machine
-has one parameter set per axis (NPARSETS = 1; G112 is not computed).
+gives each axis set 1 (its own values) and the sets 2-4 of ``axes.X.sets`` (NPARSETS; G112 selects them).
 """
 
 from __future__ import annotations
@@ -54,6 +54,26 @@ def _axis(field: str, scale: float = 1.0):
     def get(ctx, target, idx):
         ax = ctx.machine.axes.get(target)
         return None if ax is None else float(getattr(ax, field)) * scale
+    return get
+
+
+def _axis_set(field: str):
+    """A dynamic field of an axis in the parameter set the read names (``V.MPA.ACCEL[2].X``; machine file
+    ``axes.X.sets``, seed 002 L9307); None for a spindle (the [machine_parameters] table)."""
+    from ..config.machine import SET_FIELDS
+
+    k = SET_FIELDS.index(field)
+
+    def get(ctx, target, idx):
+        ax = ctx.machine.axes.get(target)
+        return None if ax is None else float(ax.dynamics(ctx.active_set)[k])
+    return get
+
+
+def _axis_count(what: str):
+    def get(ctx, target, idx):
+        ax = ctx.machine.axes.get(target)
+        return None if ax is None else float(ax.nsets if what == "nsets" else ax.default_set)
     return get
 
 
@@ -131,11 +151,13 @@ SOURCES: dict[str, Source] = {
     "poslimit": _axis("max_limit"),
     "neglimit": _axis("min_limit"),
     "diamprog": lambda ctx, t, i: 1.0 if ctx.machine.axes[t].diameter else 0.0,
-    "g00feed": _axis("max_velocity"),
+    "g00feed": _axis_set("max_velocity"),
     # 0 = not limited: G00FEED is then the maximum of every move (L24920); fagorcnc's max_feed 0 is that
-    "axismaxfeed": _axis("max_feed"),
-    "accel": _axis("max_acceleration"),
-    "jerk": _axis("max_jerk"),
+    "axismaxfeed": _axis_set("max_feed"),
+    "accel": _axis_set("max_acceleration"),
+    "jerk": _axis_set("max_jerk"),
+    "nparsets": _axis_count("nsets"),        # NPARSETS (L23810): 1 + the machine file's axes.X.sets
+    "defaultset": _axis_count("default"),    # DEFAULTSET (L23860)
     "refvalue": _axis("home"),
     "moduplim": _axis("module"),
     "modlowlim": lambda ctx, t, i: 0.0,   # fagorcnc's rotary module runs from 0 (MODLOWLIM 0, MODUPLIM module)
@@ -160,6 +182,7 @@ class MachineParameters:
     def __init__(self, state) -> None:
         self.state = state
         self.machine = state.machine
+        self.active_set = 1   # the [set] of the per-set read being answered (V.MPA.ACCEL[2].X)
 
     # ------------------------------------------------------------ name
     def find(self, name: str, index: tuple, channel: bool, col: int):
@@ -183,14 +206,22 @@ class MachineParameters:
             raise InterpError("INT244", f"{name.replace('[]', '[..]')} needs {what}, e.g. "
                               f"V.{prefix}.{base}{'[1]' * max(wanted, 1)}{'.X' if entry.on else ''}", col)
         idx = tuple(_integer(v, col) for v in index)
+        set_no = 1
         if entry.per_set:
-            if not 1 <= idx[0] <= 1:
-                raise InterpError("INT242", f"parameter set [{idx[0]}] does not exist: fagorcnc's machine file "
-                                  "gives one set per axis (NPARSETS = 1; G112 is not computed)", col)
+            set_no = idx[0]
+            if not 1 <= set_no <= 4:
+                raise InterpError("INT242", f"parameter set [{set_no}] does not exist: an axis has sets 1 to 4 "
+                                  "(seed 002 L9309)", col)
             idx = idx[1:]
         if "#" in entry.name or "?" in entry.name:
             idx = (number if number is not None else 1, *idx)   # JOGKEYDEF is keyboard 1 (L28412)
         target = self._target(entry, prefix, parts[3] if len(parts) == 4 else None, channel, name, col)
+        ax = self.machine.axes.get(target) if target is not None else None
+        if set_no > (ax.nsets if ax is not None else 1):
+            raise InterpError("INT242", f"parameter set [{set_no}] does not exist: the machine file gives "
+                              f"{target} {ax.nsets if ax is not None else 1} set(s) (NPARSETS; axes.{target}.sets)",
+                              col)
+        self.active_set = set_no
         return entry, idx, target
 
     def _target(self, entry: Entry, prefix: str, token: str | None, channel: bool, name: str, col: int):

@@ -71,6 +71,9 @@ class ChannelState:
         self.slope: tuple = (machine.planner.slope_type, 0, 0, 0)
         self.tangfeed_rmin = 0.0   # #TANGFEED RMIN: G196 keeps F at the contact on arcs above it (L4305)
         self.acceleration: dict[str, float] = {}   # G130/G131 percentages not at 100
+        #: G112 parameter sets of the axes and spindles not at set 1 (seed 002 L9307-L9360); power-on: DEFAULTSET
+        self.param_sets: dict[str, int] = {}
+        self.reset_param_sets(power_on=True)
         self.jerk: dict[str, float] = {}           # G132/G133
         self._dynamics: Dynamics | None = None
         self.path: str | None = None           # #PATH directory
@@ -212,6 +215,17 @@ class ChannelState:
             self.abs_offset[a] = self.machine_pos[a] - (self.chain(a) - self.abs_offset[a]) - v
         self.origin_source = "G92"
 
+    def reset_param_sets(self, power_on: bool = False) -> None:
+        """DEFAULTSET (seed 002 L9343-L9349): each axis goes back to its default set at power-on, M02, M30 and
+        reset; with DEFAULTSET 0 the set G112 chose is kept (at power-on: set 1)."""
+        for name, ax in self.machine.axes.items():
+            if ax.default_set != 0:
+                self.param_sets.pop(name, None)
+                if ax.default_set > 1:
+                    self.param_sets[name] = ax.default_set
+            elif power_on:
+                self.param_sets.pop(name, None)
+
     def reset(self, event: str) -> None:
         """M02/M30/reset: groups flagged 'default' return to their power-on value."""
         from .gtable import G_FUNCTIONS
@@ -241,6 +255,7 @@ class ChannelState:
         self.roundpar = default_roundpar(self.machine)
         self.slope = (self.machine.planner.slope_type, 0, 0, 0)
         self.acceleration = {}        # L4447, L4495: 100 % after reset
+        self.reset_param_sets()       # DEFAULTSET at M02/M30 and reset (L9343-L9349)
         if event != "M02":
             self.path_limits = None   # V.G.MAXACCEL/MAXJERK: the machine parameters again at M30 and reset (L36478)
         self.jerk = {}
