@@ -247,8 +247,42 @@ def test_parked_spindle():
     assert _errors("#PARK S2\nS2=1000 M3.S2\nM30\n", two) == [(2, 1, "INT213")]
     assert _errors("S2=1000 M3.S2\n#PARK S2\nM30\n", two) == [(2, 7, "INT208")]
     assert _errors("#PARK S2\n#UNPARK S2\nS2=1000 M3.S2\nM30\n", two) == []
-    assert _errors("#PARK S\nM3\nM30\n", two) == [(2, 1, "INT213")]   # M3 alone is for the master, S
+    # L14629-L14631: with S parked S2 is the only spindle left, so it is the master: M3 alone turns S2
+    assert _errors("#PARK S\nM3\nM30\n", two) == []
+    # L5262-L5283: with two or more left the original master, or when it is parked the next one: S2
+    three = {"axes": AXES, "spindles": ["S", "S2", "S3"]}
+    assert _errors("#PARK S\nM3\nM30\n", three) == []
     assert _errors("#PARK S\nS2=100 M3\nM30\n", two) == []            # ... here for S2, the block's spindle
+
+
+def test_the_spindle_left_alone_is_the_master():
+    # L14629-L14631, L5262-L5283: after #PARK S the first spindle not parked, S2, is the master: "S1000" is
+    # its speed and V.G.MASTERSP its logical number (the axes, then the spindles: len(AXES) + 2); #UNPARK S makes
+    # S the master again (len(AXES) + 1)
+    two = {"axes": AXES, "spindles": ["S", "S2"]}
+    r = fagorcnc.simulate(text="#PARK S\nS1000 M3\nP1 = V.G.MASTERSP\nM5\n#UNPARK S\nP2 = V.G.MASTERSP\nM30\n",
+                          machine=two)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert ("S", 1000.0, "S2") in [(m.function, m.value, m.spindle) for m in r.moves if m.kind == "aux"]
+    assert (r.state.param(1), r.state.param(2)) == (len(AXES) + 2.0, len(AXES) + 1.0)
+
+
+def test_master_selects_the_master_spindle_until_m30():
+    # #MASTER S2 (L5287): S alone is S2's until M30 brings the original master back (MASTERSPDL temporary)
+    two = {"axes": AXES, "spindles": ["S", "S2"]}
+    r = fagorcnc.simulate(text="#MASTER S2\nS800\nP1 = V.G.MASTERSP\nM30\n", machine=two)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    assert ("S", 800.0, "S2") in [(m.function, m.value, m.spindle) for m in r.moves if m.kind == "aux"]
+    assert r.state.param(1) == len(AXES) + 2.0
+    from fagorcnc.config.machine import load_machine
+    from fagorcnc.interp.state import ChannelState
+
+    st = ChannelState(load_machine(two))
+    st.master = "S2"
+    st.reset("M30")
+    assert st.master_spindle() == "S"
+    assert _errors("#MASTER S3\nM30\n", two) == [(1, 1, "INT020")]
+    assert _errors("#PARK S2\n#MASTER S2\nM30\n", two) == [(2, 1, "INT213")]
 
 
 # ---------------------------------------------------------------------- #LINK / #UNLINK

@@ -509,7 +509,7 @@ def _spindle_busy(interp, spindle: str) -> str:
         return "it turns (M3/M4); stop it with M5 first"
     if st.kin.cax is not None and st.kin.cax[0] == spindle:
         return "it works as a C axis (#CAX)"
-    master = next(iter(st.speeds), None)
+    master = st.master_spindle()
     if spindle == master and (st.modes.get("css") == 96 or st.modes.get("feed") == 95):
         return "it is the master spindle with G96 or G95 active"
     return ""

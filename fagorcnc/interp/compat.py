@@ -223,7 +223,7 @@ def spindle_lint(interp, rec, col: int) -> None:
     st = interp.state
     if not st.spindle_state or not st.tool:
         return
-    spindle = next(iter(st.spindle_state))
+    spindle = st.master_spindle()
     cam = interp.cam
     if st.spindle_state[spindle] in (3, 4) and st.speeds.get(spindle, 0.0) > 0:
         cam.spindle_warned = False

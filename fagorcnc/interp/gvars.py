@@ -158,7 +158,7 @@ class ProgramVariables:
         m = self.state.machine
         if not self.state.speeds:
             return 0.0
-        master = next(iter(self.state.speeds))
+        master = self.state.master_spindle()
         return float(len(m.axes) + list(m.spindles).index(master) + 1)
 
     def _path_limit(self, k: int) -> float:

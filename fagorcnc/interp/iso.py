@@ -479,7 +479,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
 
     def _master(self) -> str | None:
         """The master spindle: the channel's first (seed 002 L5100)."""
-        return next(iter(self.state.spindle_state), None)
+        return self.state.master_spindle()
 
     def _m_before(self, m: int, col: int, bw: BlockWords, src: Source, index: int = 0):
         st = self.state

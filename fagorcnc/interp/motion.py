@@ -142,7 +142,7 @@ class MotionMixin:
         st = self.state
         if not st.speeds:
             raise InterpError("INT065", "G95 feed per revolution needs a spindle", 1)
-        spindle = next(iter(st.speeds))
+        spindle = st.master_spindle()
         s = st.speeds[spindle]
         if st.spindle_state[spindle] == 5 or s <= 0:
             raise InterpError("INT065", "G95 feed per revolution with the spindle stopped: the axes would not move "
@@ -167,7 +167,7 @@ class MotionMixin:
             return None
         axis = st.axes[0]
         limit = float(st.planner.get("G192", 0.0) or 0.0)
-        return (st.feed, st.speeds[next(iter(st.speeds))], limit, axis, st.axis_offset(axis))
+        return (st.feed, st.speeds[st.master_spindle()], limit, axis, st.axis_offset(axis))
 
     def _polar(self, bw: BlockWords, cur_part: dict, end_part: dict, origin=None) -> None:
         """R/Q polar end point in the plane (spec 02 §6.3, seed 002 L2639-L2672).

@@ -236,7 +236,7 @@ class MachineParameters:
             if token is None:   # the master spindle of the channel (L17714)
                 if not self.state.speeds:
                     raise InterpError("INT046", "this machine has no spindle", col)
-                target = next(iter(self.state.speeds))
+                target = self.state.master_spindle()
             elif token in spindles:
                 target = token
             elif token.isdigit() and 1 <= int(token) <= len(spindles):

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from ..kinematics import statements as kinematics
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import axes, curves, dynamics, independent, laser, macros, manual
+from . import axes, curves, dynamics, independent, laser, macros, manual, spindle
 from .expressions import InterpError
 from .records import Dwell
 
@@ -111,6 +111,7 @@ _HANDLERS = {
     "ROUNDPAR": _without_sub(dynamics.roundpar_statement),
     "SLOPE": _without_sub(dynamics.slope_statement),
     "TANGFEED": _without_sub(dynamics.tangfeed_statement),
+    "MASTER": spindle.master_statement,                    # the master spindle (interp/spindle.py)
 }
 
 #: Curves and independent moves: keyword -> handler(interp, node, first keyword, source), records or None.

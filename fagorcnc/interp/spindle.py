@@ -114,3 +114,25 @@ def directions(bw, modes: SpindleModes, master: str | None) -> None:
             spindles = [named] if named is not None else (list(bw.speeds) or ([master] if master else []))
             for sp in spindles:
                 modes.direction[sp] = direction
+
+
+def master_statement(interp, node, sub: str | None) -> None:
+    """``#MASTER S2`` (seed 002 L5285-L5300): the spindle the channel's S, M3/M4/M5/M19 without a spindle,
+    G95, G96 and G33 refer to; at M02/M30 and reset the channel takes its original master back (MASTERSPDL
+    "temporary", L5141-L5150; [CONSTRUCTION] fagorcnc's machine file has no MASTERSPDL: temporary)."""
+    from ..syntax.ast import Keyed, Name, Num
+
+    st = interp.state
+    first = node.args[0] if len(node.args) == 1 else None
+    name = None
+    if type(first) is Name:
+        name = first.name
+    elif type(first) is Keyed and type(first.value) is Num and float(first.value.value).is_integer():
+        name = f"{first.name}{int(first.value.value)}"
+    if name is None:
+        raise InterpError("INT071", "#MASTER takes one spindle: #MASTER S2 (L5289)", node.col)
+    if name not in st.speeds:
+        raise InterpError("INT020", f"#MASTER {name}: spindle {name} is not a spindle of this channel", node.col)
+    if name in st.channel.parked:
+        raise InterpError("INT213", f"#MASTER {name}: spindle {name} is parked (#PARK)", node.col)
+    st.master = name

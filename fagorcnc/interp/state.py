@@ -73,6 +73,7 @@ class ChannelState:
         self.acceleration: dict[str, float] = {}   # G130/G131 percentages not at 100
         #: G112 parameter sets of the axes and spindles not at set 1 (seed 002 L9307-L9360); power-on: DEFAULTSET
         self.param_sets: dict[str, int] = {}
+        self.master: str | None = None   # #MASTER's spindle (None: the configuration's, master_spindle())
         self.reset_param_sets(power_on=True)
         self.jerk: dict[str, float] = {}           # G132/G133
         self._dynamics: Dynamics | None = None
@@ -215,6 +216,17 @@ class ChannelState:
             self.abs_offset[a] = self.machine_pos[a] - (self.chain(a) - self.abs_offset[a]) - v
         self.origin_source = "G92"
 
+    def master_spindle(self) -> str | None:
+        """The channel's master spindle (seed 002 L5131-L5283): the one ``#MASTER`` chose while it is not parked,
+        else the first spindle of the machine's configuration that is not parked (the original master, or the
+        next one when it is parked; L5147-L5153, L5262-L5283, L14629-L14631)."""
+        parked = self.channel.parked
+        if self.master is not None and self.master not in parked:
+            return self.master
+        if not parked:
+            return next(iter(self.speeds), None)
+        return next((s for s in self.speeds if s not in parked), next(iter(self.speeds), None))
+
     def reset_param_sets(self, power_on: bool = False) -> None:
         """DEFAULTSET (seed 002 L9343-L9349): each axis goes back to its default set at power-on, M02, M30 and
         reset; with DEFAULTSET 0 the set G112 chose is kept (at power-on: set 1)."""
@@ -256,6 +268,7 @@ class ChannelState:
         self.slope = (self.machine.planner.slope_type, 0, 0, 0)
         self.acceleration = {}        # L4447, L4495: 100 % after reset
         self.reset_param_sets()       # DEFAULTSET at M02/M30 and reset (L9343-L9349)
+        self.master = None            # MASTERSPDL temporary: the original master again (L5141-L5150)
         if event != "M02":
             self.path_limits = None   # V.G.MAXACCEL/MAXJERK: the machine parameters again at M30 and reset (L36478)
         self.jerk = {}

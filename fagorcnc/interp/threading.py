@@ -84,7 +84,7 @@ class Synchroniser:
         if st.modes["compensation"] in (41, 42):
             raise InterpError("INT186", f"{name} under radius compensation G{st.modes['compensation']} is not "
                               "computed by fagorcnc: program G40 before the thread", col)
-        spindle = next(iter(st.speeds), None)
+        spindle = st.master_spindle()
         if spindle is None:
             raise InterpError("INT182", f"{name} needs a spindle: the machine has none", col)
         if st.modes["css"] == 96:

@@ -303,7 +303,7 @@ class Variables:
 
     def _m_state(self, index: tuple) -> float:
         m = _index(index[0])
-        spindle = next(iter(self.state.spindle_state.values()), 5)
+        spindle = self.state.spindle_state.get(self.state.master_spindle(), 5)
         return 1.0 if m in (3, 4, 5) and m == spindle else 0.0
 
     def _hgs(self, k: int) -> int:

@@ -100,11 +100,10 @@ class WordsMixin:
             elif addr == "S" and any(g[0] == 72 for g in bw.g):
                 bw.scale = (ev.value(w.value), col)   # an S after G72 is the scale factor (L9010)
             elif addr == "S" or (addr[0] == "S" and addr[1:].isdigit()):
-                spindle = addr if addr in st.speeds else None
+                # S alone is the master spindle's (L5133: orders go to it when no spindle is named)
+                spindle = st.master_spindle() if addr == "S" else addr if addr in st.speeds else None
                 if spindle is None:
-                    if addr != "S" or not st.speeds:
-                        raise InterpError("INT020", f"spindle {addr} does not exist on this machine", col)
-                    spindle = next(iter(st.speeds))
+                    raise InterpError("INT020", f"spindle {addr} does not exist on this machine", col)
                 bw.speeds[spindle] = (ev.value(w.value), col)
             elif addr == "T":
                 bw.tool = (ev.integer(w.value, "T", col, 0, 4294967294, floor=True), col)
@@ -125,8 +124,7 @@ class WordsMixin:
                 bw.m.append((m, col))
             elif addr[0] == "S" and addr.endswith(".POS"):   # S.POS=120, S1.POS=50 (L5904-L5934)
                 name = addr[:-4]
-                spindle = name if name in st.speeds else (next(iter(st.speeds)) if name == "S" and st.speeds
-                                                            else None)
+                spindle = st.master_spindle() if name == "S" else name if name in st.speeds else None
                 if spindle is None:
                     raise InterpError("INT020", f"spindle {name} does not exist on this machine", col)
                 speed = ev.value(w.value)
@@ -163,7 +161,7 @@ class WordsMixin:
             else:
                 raise InterpError("INT025", f"'{addr}' is not meaningful here", col)
         if channel.busy:   # a coupled slave programmed, a parked spindle (interp/axes.py)
-            channel.check_block(bw, frozenset(n for n, _c, _e in bw.g), next(iter(st.speeds), None))
+            channel.check_block(bw, frozenset(n for n, _c, _e in bw.g), st.master_spindle())
         return bw
 
     @staticmethod

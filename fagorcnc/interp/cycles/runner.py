@@ -275,7 +275,7 @@ class CycleRunner:
     def spindle(self) -> int:
         """3, 4 or 5: the direction of the master spindle."""
         st = self.state
-        return next(iter(st.spindle_state.values()), 5)
+        return st.spindle_state.get(st.master_spindle(), 5)
 
     def warn(self, code: str, message: str, col: int) -> None:
         self.interp.message(code, "warning", message, col)
