@@ -22,6 +22,7 @@ from pathlib import Path
 
 from plan_speed import contour, raster
 
+#: The child process that times one file's check (best of argv[2] runs); cycles_speed.py uses it too.
 CHILD = """
 import json, resource, sys, time
 from fagorcnc.commands.check import check_file
@@ -35,6 +36,7 @@ for _ in range(int(sys.argv[2])):
     best = seconds if best is None else min(best, seconds)
 assert report.verdict() == "pass", [str(d) for d in report.diagnostics]
 print(json.dumps({"seconds": best, "moves": report.moves, "cycle": report.cycle_time,
+                  "holes": sum(c["holes"] for c in report.cycles),
                   "rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 

@@ -20,21 +20,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-CHILD = """
-import json, resource, sys, time
-from fagorcnc.commands.check import check_file
-from fagorcnc.runtime import keep_freed_memory
-keep_freed_memory()   # as the fagorcnc command does
-best = None
-for _ in range(int(sys.argv[2])):
-    t0 = time.perf_counter()
-    report = check_file(sys.argv[1])
-    seconds = time.perf_counter() - t0
-    best = seconds if best is None else min(best, seconds)
-assert report.verdict() == "pass", [str(d) for d in report.diagnostics]
-print(json.dumps({"seconds": best, "moves": report.moves, "holes": sum(c["holes"] for c in report.cycles),
-                  "rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
-"""
+from check_speed import CHILD  # the same timed check in a fresh process (it reports the holes too)
 
 ROW = 100          # holes per row
 PITCH = 5.0        # mm between holes
