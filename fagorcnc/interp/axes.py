@@ -29,6 +29,7 @@ from ..syntax.ast import ItemList, Keyed, Name, Num
 from .expressions import InterpError, whole
 from .mpvars import name_code
 from .spindle import targets
+from .spindle_config import cancel_renames, rename_cancel
 
 #: The offsets #SET AX / #CALL AX may apply to the axes they add (L14806-L14815).
 OFFSET_KEYWORDS = frozenset({"ALL", "LOCOF", "FIXOF", "ORGOF", "MEASOF", "MANOF"})
@@ -470,9 +471,7 @@ def park(interp, node, unpark: bool) -> None:
     if name[0] == "?":   # the generic names are allowed in #PARK and #UNPARK (L1243-L1279)
         element = ch.generic(int(name[1:]), col, parked_ok=True)
     elif _SPINDLE_NAME.fullmatch(name) and name not in ch.by_name:
-        if name not in st.speeds:
-            raise InterpError("INT020", f"{what}: spindle {name} does not exist on this machine", col)
-        element = name
+        element = st.spindle_config.word(name, col)   # a spindle of the channel, by its name there (INT246)
     else:
         element = _any_axis(ch, name, col, what)
     if unpark or element in ch.parked:
@@ -512,6 +511,8 @@ def _spindle_busy(interp, spindle: str) -> str:
     master = st.master_spindle()
     if spindle == master and (st.modes.get("css") == 96 or st.modes.get("feed") == 95):
         return "it is the master spindle with G96 or G95 active"
+    if spindle == master and st.modes.get("motion") in (33, 63):   # L14622-L14626: G63, G33 too
+        return f"it is the master spindle with G{st.modes['motion']} active"
     return ""
 
 
@@ -612,10 +613,14 @@ def reset(st) -> None:
     for axis in list(ch.slots):
         if axis is not None and axis not in ch.original and _exchange(ch.machine, axis) == 1:
             ch._release(axis)
+    returned = []
     for i, axis in enumerate(ch.original):
         if axis not in ch.slots and _exchange(ch.machine, axis) == 1:
             free = i < len(ch.slots) and ch.slots[i] is None
             ch._put(axis, i if free or i >= len(ch.slots) else ch._free_slot_after_last(), 1)
+            returned.append(axis)
+    # RENAMECANCEL, and a rename to the name of an axis the channel gets back (L14955-L14962, L15017-L15021)
+    cancel_renames(ch.names, returned, rename_cancel(ch.machine))
     ch._trim()
     ch._index()
 
