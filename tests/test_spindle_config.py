@@ -220,6 +220,11 @@ def test_channel_spindles_in_the_machine_file():
         load_machine({"spindles": ["S", "S1"], "channel_spindles": ["S2"]})
     with pytest.raises(MachineError, match="twice"):
         load_machine({"spindles": ["S", "S1"], "channel_spindles": ["S", "S"]})
+    # L15051: at most four spindles in the system; a name once
+    with pytest.raises(MachineError, match="at most four"):
+        load_machine({"spindles": ["S", "S1", "S2", "S3", "S4"]})
+    with pytest.raises(MachineError, match="twice"):
+        load_machine({"spindles": ["S", "S"]})
 
 
 def test_park_refuses_the_master_spindle_with_g33_active():
@@ -263,6 +268,9 @@ def test_threadovr_is_read_as_the_machine_file_gives_it():
     program = "P1=V.MPA.THREADOVR.S P2=V.SP.THREADOVR\nM30\n"
     assert _params(program, 1, 2, machine={"machine_parameters": {"MPA.THREADOVR.S": 20}}) == [20.0, 20.0]
     assert _params(program, 1, 2, machine={}) == [0.0, 0.0]
+    # after #RENAME SP [S,S5] the program reads S's parameter as V.MPA.THREADOVR.S5 (L15211-L15213)
+    assert _params("#RENAME SP [S,S5]\nP1=V.MPA.THREADOVR.S5\nM30\n", 1,
+                   machine={"machine_parameters": {"MPA.THREADOVR.S": 20}}) == [20.0]
 
 
 def test_the_thread_follows_the_master_of_the_new_configuration():

@@ -416,7 +416,11 @@ def _spindles(value: Any) -> list[str]:
     for i, s in enumerate(_list("spindles", value)):
         if not isinstance(s, str) or not _SPINDLE_NAME.fullmatch(s):
             raise MachineError(f"spindles[{i}]: a spindle is named S or S1..S9, got {s!r}")
+        if s in out:
+            raise MachineError(f"spindles[{i}]: spindle {s} is listed twice")
         out.append(s)
+    if len(out) > 4:   # seed 002 L15051: "a maximum of four spindles" in the system
+        raise MachineError(f"spindles: {len(out)} spindles; the CNC has at most four (seed 002 L15051)")
     return out
 
 

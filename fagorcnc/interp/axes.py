@@ -29,7 +29,7 @@ from ..syntax.ast import ItemList, Keyed, Name, Num
 from .expressions import InterpError, whole
 from .mpvars import name_code
 from .spindle import targets
-from .spindle_config import cancel_renames, rename_cancel
+from .spindle_config import cancel_renames, rename_cancel, spindle_busy
 
 #: The offsets #SET AX / #CALL AX may apply to the axes they add (L14806-L14815).
 OFFSET_KEYWORDS = frozenset({"ALL", "LOCOF", "FIXOF", "ORGOF", "MEASOF", "MANOF"})
@@ -477,7 +477,7 @@ def park(interp, node, unpark: bool) -> None:
     if unpark or element in ch.parked:
         ch.parked.discard(element) if unpark else None   # parking a parked element is ignored (L14660, L14676)
         return
-    why = _spindle_busy(interp, element) if element in st.speeds else _axis_busy(interp, element)
+    why = spindle_busy(interp, element) if element in st.speeds else _axis_busy(interp, element)
     if why:
         raise InterpError("INT208", f"{what} {name}: not while {why} (L14603-L14625)", col)
     ch.parked.add(element)
@@ -498,21 +498,6 @@ def _axis_busy(interp, axis: str) -> str:
         return "it is under tangential control #TANGCTRL"
     if any(axis in (k.master, k.slave) for k in st.channel.links):
         return "it is coupled (#LINK)"
-    return ""
-
-
-def _spindle_busy(interp, spindle: str) -> str:
-    st = interp.state
-    if st.spindle_state.get(spindle) in (3, 4):
-        # L14619 reads "if the spindle is stopped": taken as "not stopped" (spec 06 §4.7)
-        return "it turns (M3/M4); stop it with M5 first"
-    if st.kin.cax is not None and st.kin.cax[0] == spindle:
-        return "it works as a C axis (#CAX)"
-    master = st.master_spindle()
-    if spindle == master and (st.modes.get("css") == 96 or st.modes.get("feed") == 95):
-        return "it is the master spindle with G96 or G95 active"
-    if spindle == master and st.modes.get("motion") in (33, 63):   # L14622-L14626: G63, G33 too
-        return f"it is the master spindle with G{st.modes['motion']} active"
     return ""
 
 

@@ -254,6 +254,8 @@ class MachineParameters:
         elif token is None:
             raise InterpError("INT244", f"{name.replace('[]', '[..]')} needs the axis or spindle: "
                               f"{name.replace('[]', '[1]')}.X", col)
+        elif token[0] == "S" and self.state.spindle_config.variable(token) is not None:
+            target = self.state.spindle_config.variable(token)   # a spindle by its name in the channel (L15209)
         elif token in m.axes or token in m.spindles:
             target = token
         elif token.isdigit():

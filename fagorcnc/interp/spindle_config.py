@@ -153,17 +153,31 @@ def _leaving(interp, spindle: str, col: int, what: str) -> None:
     what keeps it from being parked (L14615-L14631): it turns, works as a C axis, or is the master with
     G33, G63, G95 or G96 active; synchronised spindles cannot change channel (L15368) and #SYNC is not run
     offline."""
-    from .axes import _spindle_busy
-
     cfg = interp.state.spindle_config
     name = cfg.name_of(spindle)
     if exchange(cfg.machine, spindle) == 0:
         raise InterpError("INT248", f"{what}: spindle {name} may not change channel (its AXISEXCH is 0, L15062)",
                           col)
-    busy = _spindle_busy(interp, spindle)
+    busy = spindle_busy(interp, spindle)
     if busy:
         raise InterpError("INT248", f"{what}: spindle {name} cannot leave the channel while {busy} "
                           "(L14615-L14631)", col)
+
+
+def spindle_busy(interp, spindle: str) -> str:
+    """Why a spindle may not be parked (L14615-L14626), nor leave the channel; "" when it may."""
+    st = interp.state
+    if st.spindle_state.get(spindle) in (3, 4):
+        # L14619 reads "if the spindle is stopped": taken as "not stopped" (spec 06 §4.7)
+        return "it turns (M3/M4); stop it with M5 first"
+    if st.kin.cax is not None and st.kin.cax[0] == spindle:
+        return "it works as a C axis (#CAX)"
+    master = st.master_spindle()
+    if spindle == master and (st.modes.get("css") == 96 or st.modes.get("feed") == 95):
+        return "it is the master spindle with G96 or G95 active"
+    if spindle == master and st.modes.get("motion") in (33, 63):   # L14622-L14626: G63, G33 too
+        return f"it is the master spindle with G{st.modes['motion']} active"
+    return ""
 
 
 def _coming(cfg: ChannelSpindles, spindle: str, col: int, what: str) -> None:
