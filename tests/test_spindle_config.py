@@ -280,3 +280,14 @@ def test_the_thread_follows_the_master_of_the_new_configuration():
     assert r.ok, [str(d) for d in r.diagnostics]
     line = next(x for x in r.moves if x.kind == "linear")
     assert (line.feed, line.thread.spindle) == (500.0, "S1")
+
+
+def test_cax_alone_is_the_master_and_a_named_spindle_must_be_in_the_channel():
+    # L11635: "#CAX" is the master spindle's; with S gone (#FREE SP [S]) the master is S1, C axis of the file
+    lathe = {"axes": {"X": {}, "Z": {}, "C": {"type": "rotary"}}, "spindles": ["S", "S1"], "c_axis": {"S1": "C"}}
+    r = fagorcnc.simulate("#FREE SP [S]\n#CAX\nG1 C90 F1000\nM30\n", lathe)
+    assert r.ok, [str(d) for d in r.diagnostics]
+    # L11630: "#CAX [S1]" names the spindle (S1 read as S with the value 1, not a KIN005 syntax error)
+    assert fagorcnc.simulate("#CAX [S1]\nG1 C45 F1000\nM30\n", lathe).ok
+    # #CAX [S1] once S1 has left: not a spindle of the channel (INT246)
+    assert [d.code for d in fagorcnc.simulate("#FREE SP [S1]\n#CAX [S1]\nM30\n", lathe).diagnostics] == ["INT246"]

@@ -24,7 +24,7 @@ from .expressions import InterpError, whole
 from .mpvars import name_code
 
 _SPINDLE_NAME = re.compile(r"S[1-9]?")
-_NAME_MSG = "a spindle is named S or S1 ... S9 (L15144)"
+_NAME_MSG = "a spindle is named S or S1 ... S9"
 
 
 def parameter(machine, name: str, target: str | None = None, default: float = 0.0) -> float:
@@ -100,8 +100,8 @@ class ChannelSpindles:
 
 
 # ---------------------------------------------------------------------- statement helpers
-def _name(item) -> str | None:
-    """The text of a spindle name item: ``S`` (a Name) or ``S1`` (read as S with value 1)."""
+def item_name(item) -> str | None:
+    """The text of an axis or spindle name item: ``S`` (a Name) or ``S1`` (read as S with value 1)."""
     t = type(item)
     if t is Name:
         return item.name
@@ -110,17 +110,17 @@ def _name(item) -> str | None:
     return None
 
 
-def _list(items: ItemList, what: str) -> list[tuple[str, int]]:
-    """The spindle names of a bracket list ``[S, S1]`` with their columns."""
+def _list(items: ItemList, what: str, code: str = "INT247") -> list[tuple[str, int]]:
+    """The spindle names of a bracket list ``[S, S1]`` with their columns (``code``: the statement's error)."""
     out = []
     for seq in items.items:
         item = seq[0] if len(seq) == 1 else None
         col = getattr(item, "col", items.col)
-        name = _name(item) if item is not None else None
+        name = item_name(item) if item is not None else None
         if name is None or not _SPINDLE_NAME.fullmatch(name):
-            raise InterpError("INT247", f"{what}: expected the spindles, {_NAME_MSG}: {what} [S, S1]", col)
+            raise InterpError(code, f"{what}: expected the spindles, {_NAME_MSG}: {what} [S, S1]", col)
         if any(n == name for n, _c in out):
-            raise InterpError("INT247", f"{what}: spindle {name} is listed twice", col)
+            raise InterpError(code, f"{what}: spindle {name} is listed twice", col)
         out.append((name, col))
     return out
 
@@ -276,7 +276,7 @@ def rename_sp(interp, node) -> None:
         elif type(off.value) is not ItemList:
             raise InterpError("INT249", "#RENAME SP OFF takes the spindles in brackets: #RENAME SP OFF [S3]", off.col)
         else:
-            for name, col in _list(off.value, "#RENAME SP OFF"):
+            for name, col in _list(off.value, "#RENAME SP OFF", "INT249"):
                 spindle = cfg.by_name.get(name)
                 if spindle is None:
                     raise InterpError("INT249", f"#RENAME SP OFF: there is no spindle {name} in the channel", col)
@@ -290,7 +290,7 @@ def rename_sp(interp, node) -> None:
             raise InterpError("INT249", "#RENAME SP: each pair is [spindle, new name]: #RENAME SP [S, S1]",
                               getattr(pair, "col", node.col))
         (a,), (b,) = pair.items
-        old, new = _name(a), _name(b)
+        old, new = item_name(a), item_name(b)
         if old is None or not _SPINDLE_NAME.fullmatch(old):
             raise InterpError("INT249", f"#RENAME SP: expected a spindle of the channel; {_NAME_MSG}", a.col)
         if new is None or not _SPINDLE_NAME.fullmatch(new):
