@@ -259,6 +259,10 @@ def test_threadovr_lets_the_spindle_override_change_the_thread():
     # ... G134 Z95 makes it 95 %: 800 mm/min again
     program = THREAD.replace("G33", "G134 Z95\nG33")
     assert _thread(program, {"MPA.THREADOVR.S": 20, "MPA.FFGAIN.Z": 80}) == (800.0, 400.0, [])
+    # the warning once, not for every block of the thread
+    r = fagorcnc.simulate(THREAD.replace("M30", "G33 Z-40 K2\nG33 Z-60 K2\nM30"), {})
+    assert [d.code for d in r.diagnostics] == ["INT189"]
+    assert [x.feed for x in r.moves if x.kind == "linear"] == [1000.0] * 3
     # the feed override never acts (L7382-L7384): the panel's 50 % leaves 800 mm/min
     r = fagorcnc.simulate(THREAD, {"machine_parameters": {"MPA.THREADOVR.S": 20}, "planner": {"feed_override": 50}})
     assert r.ok and next(x for x in r.moves if x.kind == "linear").feed == 800.0

@@ -47,6 +47,7 @@ class Synchroniser:
         self._dyn: tuple = (None, None, None)     # (base dynamics, rigid, thread dynamics)
         self._direction: tuple | None = None      # unit direction of the last G33 block
         self._passes: dict[tuple, float] = {}     # (pitch axis, its start, pitch) -> speed of the first pass
+        self._held: set[tuple] = set()            # the INT189 warnings given (once per override and reason)
 
     # ------------------------------------------------------------ spindle words of the block
     def speed_word(self, spindle: str, value: float, col: int) -> float:
@@ -223,7 +224,8 @@ class Synchroniser:
             if ff is not None and not ff > 90.0:
                 allowed, why = 100.0, f"the feed forward of axis {a} is {ff:g} %, not above 90 % (L7389-L7391)"
                 break
-        if allowed != override:
+        if allowed != override and (spindle, override, allowed, why) not in self._held:
+            self._held.add((spindle, override, allowed, why))
             iso.interp.message("INT189", "warning", f"the spindle override {override:g} % acts as {allowed:g} % in "
                                f"this thread: {why}", 1)
         return allowed
