@@ -207,6 +207,7 @@ CODES: dict[str, str] = {
     "INT186": "threading or tapping combined with a function fagorcnc does not compute with it",
     "INT187": "joined threads meet at a corner: the pitch is not kept while the axes stop there",
     "INT188": "passes of one thread begin at different spindle speeds",
+    "INT189": "spindle override limited in a thread (THREADOVR, feed forward not above 90 %)",
     # macros, #DEF (seed 002 ch. 21.1.16)
     "MAC001": "macro used before it is defined",
     "MAC002": "more than 50 macros",
@@ -238,6 +239,11 @@ CODES: dict[str, str] = {
     "INT243": "variable not valid for this kind of axis or spindle (linear, rotary, spindle)",
     "INT244": "variable without its index or its axis/spindle selector",
     "INT245": "machine parameter the machine file does not give ([machine_parameters])",
+    # the spindle configuration of the channel (issue 26, spindles): INT246-INT252
+    "INT246": "spindle that is not in the channel's spindle configuration (#FREE SP, #SET SP, #RENAME SP)",
+    "INT247": "invalid #SET SP, #CALL SP or #FREE SP spindle list",
+    "INT248": "spindle that may not change channel (AXISEXCH 0) or cannot leave it now (it turns, C axis, G33...)",
+    "INT249": "invalid #RENAME SP",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",

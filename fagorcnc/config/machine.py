@@ -175,6 +175,9 @@ class Machine:
     #: CHAXISNAME: the axes of the channel at power-on, in order (slot 1 first); the machine's other axes
     #: are free for #CALL AX / #SET AX (seed 002 L14690).  Empty: all the axes, in the order of ``axes``.
     channel_axes: list[str] = field(default_factory=list)
+    #: CHSPDLNAME: the spindles of the channel at power-on (seed 002 L15054-L15055); the machine's other
+    #: spindles are free for #CALL SP / #SET SP.  Empty: all the spindles, in the order of ``spindles``.
+    channel_spindles: list[str] = field(default_factory=list)
     #: [machine_parameters]: values of the manual's parameters fagorcnc does not use, for V.MPG/MPA/MPMAN
     #: reads: (name, indices, axis or spindle) -> value (fagorcnc.config.mpcatalogue)
     machine_parameters: dict[tuple, float] = field(default_factory=dict)
@@ -413,7 +416,11 @@ def _spindles(value: Any) -> list[str]:
     for i, s in enumerate(_list("spindles", value)):
         if not isinstance(s, str) or not _SPINDLE_NAME.fullmatch(s):
             raise MachineError(f"spindles[{i}]: a spindle is named S or S1..S9, got {s!r}")
+        if s in out:
+            raise MachineError(f"spindles[{i}]: spindle {s} is listed twice")
         out.append(s)
+    if len(out) > 4:   # seed 002 L15051: "a maximum of four spindles" in the system
+        raise MachineError(f"spindles: {len(out)} spindles; the CNC has at most four (seed 002 L15051)")
     return out
 
 
@@ -475,6 +482,7 @@ def _build(data: dict) -> Machine:
         **_kinematics(data, axes),
         **_machine_parameters(data.get("machine_parameters", {}), axes, data.get("spindles", ["S"])),
         channel_axes=_channel_axes(data.get("channel_axes", []), axes),
+        channel_spindles=_channel_spindles(data.get("channel_spindles", []), data.get("spindles", ["S"])),
     )
 
 
@@ -509,6 +517,20 @@ def _channel_axes(value: Any, axes: dict) -> list[str]:
         if a in out:
             raise MachineError(f"channel_axes[{i}]: axis {a} is listed twice")
         out.append(a)
+    return out
+
+
+def _channel_spindles(value: Any, spindles: Any) -> list[str]:
+    """``channel_spindles = ["S"]``: the channel's spindles at power-on (CHSPDLNAME); ``[]`` is all of them."""
+    names = [str(x) for x in spindles] if isinstance(spindles, list | tuple) else []
+    out = []
+    for i, s in enumerate(_list("channel_spindles", value)):
+        if not isinstance(s, str) or s not in names:
+            raise MachineError(f"channel_spindles[{i}]: the machine has no spindle {s!r} (spindles: "
+                               f"{' '.join(names) or 'none'})")
+        if s in out:
+            raise MachineError(f"channel_spindles[{i}]: spindle {s} is listed twice")
+        out.append(s)
     return out
 
 

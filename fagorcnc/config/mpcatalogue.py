@@ -118,7 +118,7 @@ MPG SYNCCANCEL 0 - RP free L19149
 MPG PLCTYPE 0 - RP free L19210
 MPG NSERCOUNT 0 - RP free L19277
 MPG SERCOUNTID 1 - RP free L19283
-MPG RENAMECANCEL 0 - RP none L19222
+MPG RENAMECANCEL 0 - RP renamecancel L19222
 MPG FINEORG 0 - RP =0 L19265
 MPGCH GROUPID 0 - RP =0 L19308
 MPGCH CHTYPE 0 - RP =0 L19320
@@ -126,7 +126,7 @@ MPGCH HIDDENCH 0 - RP =0 L19338
 MPGCH CHNAXIS 0 - RP chnaxis L19375
 MPGCH CHAXISNAME# 0 - IF - L19389
 MPGCH GEOCONFIG 0 - RP geoconfig L19400
-MPGCH CHNSPDL 0 - RP nspdl L19444
+MPGCH CHNSPDL 0 - RP chnspdl L19444
 MPGCH CHSPDLNAME# 0 - IF - L19458
 MPGCH CAXNAME 0 - IF - L19471
 MPGCH ALIGNC 0 - RP none L19509
@@ -198,7 +198,7 @@ MPGCH RETRACAC 0 - RP free L20895
 MPGCH NRETBLK 0 - RP free L20909
 MPGCH RETMFUNC 0 - RP free L20932
 MPGCH MASTERSPDL 0 - RP free L20964
-MPA AXISEXCH 0 lrs RP none L21089
+MPA AXISEXCH 0 lrs RP axisexch L21089
 MPA AXISTYPE 0 lr RE axistype L21117
 MPA DRIVETYPE 0 lrs RE =16 L21159
 MPA POSUNITS 0 lrs RP free L21182
@@ -237,7 +237,7 @@ MPA TENDTIME 0 lrs RE free L22433
 MPA POSLIMIT 0 lr RE poslimit L22291
 MPA NEGLIMIT 0 lr RE neglimit L22306
 MPA SWLIMITTOL 0 lr RE free L22321
-MPA THREADOVR 0 s RP free L22355
+MPA THREADOVR 0 s RP threadovr L22355
 MPA OVRFILTER 0 s RP free L22370
 MPA DWELL 0 lrs RP free L22510
 MPA DIAMPROG 0 l RP diamprog L22530
@@ -419,7 +419,11 @@ DRV SIZE 0 - RE =0 L29268
 
 #: sources that are fields of an axis of fagorcnc's machine file: for a spindle they come from
 #: ``[machine_parameters]`` (``"MPA.G00FEED.S" = 3000``)
-AXIS_FIELDS = frozenset({"g00feed", "axismaxfeed", "accel", "jerk", "refvalue"})
+AXIS_FIELDS = frozenset({"g00feed", "axismaxfeed", "accel", "jerk", "refvalue", "axisexch"})
+
+#: sources fagorcnc uses that the machine file gives in ``[machine_parameters]`` when it differs from the
+#: value fagorcnc takes without it (interp/spindle_config.py: RENAMECANCEL 0; THREADOVR 0, interp/threading.py)
+GIVEN = frozenset({"renamecancel", "threadovr"})
 
 #: prefix of a family in a variable's name
 PREFIX = {"MPG": "MPG", "MPGCH": "MPG", "MPA": "MPA", "MPASET": "MPA", "MPMAN": "MPMAN", "MPM": "MPM",
@@ -510,7 +514,7 @@ def parse_key(key: str) -> tuple[Entry, tuple[int, ...], str | None] | str:
         return f"{prefix}.{name} is not a machine parameter of the manual's catalogue (seed 002 ch. 22.4-22.12)"
     entry, number = found
     spindle_value = axis is not None and axis[0] == "S" and "s" in entry.on and entry.source in AXIS_FIELDS
-    if entry.source != "free" and not spindle_value:
+    if entry.source != "free" and entry.source not in GIVEN and not spindle_value:
         why = ("fagorcnc computes it from the rest of the machine file" if entry.source not in ("none", "-")
                else "fagorcnc does not model it" if entry.source == "none" else "a part program cannot read it")
         return f"{prefix}.{name} cannot be given here: {why}"

@@ -29,6 +29,7 @@ from ..syntax.ast import ItemList, Keyed, Name, Num
 from .expressions import InterpError, whole
 from .mpvars import name_code
 from .spindle import targets
+from .spindle_config import cancel_renames, rename_cancel, spindle_busy
 
 #: The offsets #SET AX / #CALL AX may apply to the axes they add (L14806-L14815).
 OFFSET_KEYWORDS = frozenset({"ALL", "LOCOF", "FIXOF", "ORGOF", "MEASOF", "MANOF"})
@@ -470,15 +471,13 @@ def park(interp, node, unpark: bool) -> None:
     if name[0] == "?":   # the generic names are allowed in #PARK and #UNPARK (L1243-L1279)
         element = ch.generic(int(name[1:]), col, parked_ok=True)
     elif _SPINDLE_NAME.fullmatch(name) and name not in ch.by_name:
-        if name not in st.speeds:
-            raise InterpError("INT020", f"{what}: spindle {name} does not exist on this machine", col)
-        element = name
+        element = st.spindle_config.word(name, col)   # a spindle of the channel, by its name there (INT246)
     else:
         element = _any_axis(ch, name, col, what)
     if unpark or element in ch.parked:
         ch.parked.discard(element) if unpark else None   # parking a parked element is ignored (L14660, L14676)
         return
-    why = _spindle_busy(interp, element) if element in st.speeds else _axis_busy(interp, element)
+    why = spindle_busy(interp, element) if element in st.speeds else _axis_busy(interp, element)
     if why:
         raise InterpError("INT208", f"{what} {name}: not while {why} (L14603-L14625)", col)
     ch.parked.add(element)
@@ -499,19 +498,6 @@ def _axis_busy(interp, axis: str) -> str:
         return "it is under tangential control #TANGCTRL"
     if any(axis in (k.master, k.slave) for k in st.channel.links):
         return "it is coupled (#LINK)"
-    return ""
-
-
-def _spindle_busy(interp, spindle: str) -> str:
-    st = interp.state
-    if st.spindle_state.get(spindle) in (3, 4):
-        # L14619 reads "if the spindle is stopped": taken as "not stopped" (spec 06 §4.7)
-        return "it turns (M3/M4); stop it with M5 first"
-    if st.kin.cax is not None and st.kin.cax[0] == spindle:
-        return "it works as a C axis (#CAX)"
-    master = st.master_spindle()
-    if spindle == master and (st.modes.get("css") == 96 or st.modes.get("feed") == 95):
-        return "it is the master spindle with G96 or G95 active"
     return ""
 
 
@@ -612,10 +598,14 @@ def reset(st) -> None:
     for axis in list(ch.slots):
         if axis is not None and axis not in ch.original and _exchange(ch.machine, axis) == 1:
             ch._release(axis)
+    returned = []
     for i, axis in enumerate(ch.original):
         if axis not in ch.slots and _exchange(ch.machine, axis) == 1:
             free = i < len(ch.slots) and ch.slots[i] is None
             ch._put(axis, i if free or i >= len(ch.slots) else ch._free_slot_after_last(), 1)
+            returned.append(axis)
+    # RENAMECANCEL, and a rename to the name of an axis the channel gets back (L14955-L14962, L15017-L15021)
+    cancel_renames(ch.names, returned, rename_cancel(ch.machine))
     ch._trim()
     ch._index()
 

@@ -18,7 +18,9 @@ import math
 
 from .axes import axis_count, logical_name, slot_name
 from .expressions import InterpError, whole
-from .mpvars import name_code
+from .spindle_config import index_name as spindle_index_name
+from .spindle_config import logical_name as spindle_logical_name
+from .spindle_config import spindle_count
 from .units import INCH
 
 
@@ -52,7 +54,7 @@ class ProgramVariables:
             "V.G.NUMCH": (lambda i: 1.0, None),
             "V.G.AXIS": (lambda i: axis_count(s, False), None),   # the axis configuration (interp/axes.py)
             "V.G.NAXIS": (lambda i: axis_count(s, True), None),
-            "V.G.NSPDL": (lambda i: float(len(s.speeds)), None),
+            "V.G.NSPDL": (lambda i: spindle_count(s), None),   # the spindle configuration (interp/spindle_config.py)
             "V.G.MASTERSP": (self._master, None),
             "V.G.MAXACCEL": (lambda i: self._path_limit(0), lambda i, v: self._set_path_limit(0, v)),
             "V.G.MAXJERK": (lambda i: self._path_limit(1), lambda i, v: self._set_path_limit(1, v)),
@@ -65,9 +67,9 @@ class ProgramVariables:
             out[f"V.G.AXISNAME{n}"] = (lambda i, n=n: slot_name(s, n), None)   # holes, #RENAME AX, #PARK
             out[f"V.G.GAXISNAME{n}"] = (lambda i, n=n: logical_name(s, n), None)
         for n in range(1, 10):
-            out[f"V.G.SPDLNAME{n}"] = (lambda i, n=n: name_code(self._pick(list(s.speeds), n, "spindle index")), None)
+            out[f"V.G.SPDLNAME{n}"] = (lambda i, n=n: spindle_index_name(s, n), None)
         for n in range(1, 38):
-            out[f"V.G.GSPDLNAME{n}"] = (lambda i, n=n: self._logical_spindle(n), None)
+            out[f"V.G.GSPDLNAME{n}"] = (lambda i, n=n: spindle_logical_name(s, n), None)
         for name, fld in (("TOR", "radius"), ("TOI", "radius_wear"), ("TOL", "length"), ("TOK", "length_wear")):
             out[f"V.G.{name}"] = (lambda i, f=fld: self._prep_field(f), lambda i, v, f=fld: self._set_prep(f, v))
         return out
@@ -145,20 +147,11 @@ class ProgramVariables:
             raise InterpError("INT045", f"there is no {what} {n} (1..{len(table)})", 1)
         return table[n - 1]
 
-    def _logical_spindle(self, n: int) -> float:
-        """Spindles are numbered after the axes: with 5 axes the first spindle is logical 6 (L32786-L32790)."""
-        m = self.state.machine
-        k = n - len(m.axes)
-        if not 1 <= k <= len(m.spindles):
-            raise InterpError("INT045", f"no spindle has the logical number {n} (the spindles are "
-                              f"{len(m.axes) + 1}..{len(m.axes) + len(m.spindles)}, numbered after the axes)", 1)
-        return name_code(m.spindles[k - 1])
-
     def _master(self, index: tuple) -> float:
         m = self.state.machine
-        if not self.state.speeds:
-            return 0.0
         master = self.state.master_spindle()
+        if master is None:   # no spindle in the channel
+            return 0.0
         return float(len(m.axes) + list(m.spindles).index(master) + 1)
 
     def _path_limit(self, k: int) -> float:

@@ -140,9 +140,9 @@ class MotionMixin:
 
     def _spindle_rpm(self, start: dict) -> float:
         st = self.state
-        if not st.speeds:
-            raise InterpError("INT065", "G95 feed per revolution needs a spindle", 1)
         spindle = st.master_spindle()
+        if spindle is None:   # none on the machine, or none left in the channel (#FREE SP)
+            raise InterpError("INT065", "G95 feed per revolution needs a spindle in the channel", 1)
         s = st.speeds[spindle]
         if st.spindle_state[spindle] == 5 or s <= 0:
             raise InterpError("INT065", "G95 feed per revolution with the spindle stopped: the axes would not move "
@@ -163,7 +163,7 @@ class MotionMixin:
         (seed 002 L5406-L5464): ``(mm/rev, m/min, G192 limit or 0, radius axis, machine - part offset)``;
         None otherwise (the feed of the record is then the feed of the whole move)."""
         st = self.state
-        if st.modes["feed"] != 95 or st.modes["css"] != 96 or not st.speeds or st.kin.frame is not None:
+        if st.modes["feed"] != 95 or st.modes["css"] != 96 or st.master_spindle() is None or st.kin.frame is not None:
             return None
         axis = st.axes[0]
         limit = float(st.planner.get("G192", 0.0) or 0.0)

@@ -109,6 +109,13 @@ SOURCES: dict[str, Source] = {
     "naxis": lambda ctx, t, i: float(len(ctx.machine.axes)),
     "nspdl": lambda ctx, t, i: float(len(ctx.machine.spindles)),
     "chnaxis": lambda ctx, t, i: float(sum(a is not None for a in ctx.state.channel.slots)),   # #SET AX changes it
+    "chnspdl": lambda ctx, t, i: float(len(ctx.state.spindle_config.current)),   # #SET SP, #FREE SP (L19444)
+    # AXISEXCH (L21089): axes.X.exchange; a spindle's "MPA.AXISEXCH.S" of [machine_parameters], else 1
+    "axisexch": lambda ctx, t, i: float(ctx.machine.axes[t].exchange if t in ctx.machine.axes else
+                                        ctx.machine.machine_parameters.get(("AXISEXCH", (), t), 1.0)),
+    # [machine_parameters], else fagorcnc's value (interp/spindle_config.py, interp/threading.py)
+    "renamecancel": lambda ctx, t, i: ctx.machine.machine_parameters.get(("RENAMECANCEL", (), None), 0.0),
+    "threadovr": lambda ctx, t, i: ctx.machine.machine_parameters.get(("THREADOVR", (), t), 0.0),
     # two channel axes make a "plane" configuration (0), more a trihedron (1), L19400-L19500
     "geoconfig": lambda ctx, t, i: 0.0 if len(ctx.state.axes) == 2 else 1.0,
     "nogroup": _none("multi-axis group"),
@@ -234,11 +241,12 @@ class MachineParameters:
         if prefix == "SP":
             spindles = m.spindles
             if token is None:   # the master spindle of the channel (L17714)
-                if not self.state.speeds:
-                    raise InterpError("INT046", "this machine has no spindle", col)
                 target = self.state.master_spindle()
-            elif token in spindles:
-                target = token
+                if target is None:
+                    raise InterpError("INT046", "this channel has no spindle" if spindles else "this machine has no "
+                                      "spindle", col)
+            elif self.state.spindle_config.variable(token) is not None:   # its name in the channel (L15209)
+                target = self.state.spindle_config.variable(token)
             elif token.isdigit() and 1 <= int(token) <= len(spindles):
                 target = spindles[int(token) - 1]   # index in the system (L17652)
             else:
@@ -246,6 +254,8 @@ class MachineParameters:
         elif token is None:
             raise InterpError("INT244", f"{name.replace('[]', '[..]')} needs the axis or spindle: "
                               f"{name.replace('[]', '[1]')}.X", col)
+        elif token[0] == "S" and self.state.spindle_config.variable(token) is not None:
+            target = self.state.spindle_config.variable(token)   # a spindle by its name in the channel (L15209)
         elif token in m.axes or token in m.spindles:
             target = token
         elif token.isdigit():

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from ..kinematics import statements as kinematics
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
-from . import axes, curves, dynamics, independent, laser, macros, manual, spindle
+from . import axes, curves, dynamics, independent, laser, macros, manual, spindle, spindle_config
 from .expressions import InterpError
 from .records import Dwell
 
@@ -138,6 +138,9 @@ def execute_sentence(interp, node, src):
         return
     if axes.handles(kw, sub):   # the axis configuration, #PARK, #LINK (interp/axes.py)
         axes.statement(interp, node)
+        return
+    if spindle_config.handles(kw, sub):   # the spindle configuration (interp/spindle_config.py)
+        spindle_config.statement(interp, node)
         return
     if kw == "REPOS":
         # seed 002 L11114: "#REPOS is only allowed in interrupt subroutines", which the PLC starts

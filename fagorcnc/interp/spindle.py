@@ -66,15 +66,15 @@ class SpindleModes:
 
 
 def parse_suffix(address: str, spindles, col: int) -> tuple[str | None, int | None]:
-    """``"M.POS.S1"`` -> ("S1", +1); ``"M.S4"`` -> ("S4", None); ``"M.NEG"`` -> (None, -1)."""
+    """``"M.POS.S1"`` -> ("S1", +1); ``"M.S4"`` -> ("S4", None); ``"M.NEG"`` -> (None, -1).  ``spindles``: the
+    channel's spindle configuration (:class:`~fagorcnc.interp.spindle_config.ChannelSpindles`), which gives the
+    machine spindle of a name of the channel (INT246 for a spindle out of the channel)."""
     spindle, direction = None, None
     for part in address.split(".")[1:]:
         if part in ("POS", "NEG"):
             direction = 1 if part == "POS" else -1
         else:
-            if part not in spindles:
-                raise InterpError("INT020", f"spindle {part} does not exist on this machine", col)
-            spindle = part
+            spindle = spindles.word(part, col)
     return spindle, direction
 
 
@@ -131,8 +131,7 @@ def master_statement(interp, node, sub: str | None) -> None:
         name = f"{first.name}{int(first.value.value)}"
     if name is None:
         raise InterpError("INT071", "#MASTER takes one spindle: #MASTER S2 (L5289)", node.col)
-    if name not in st.speeds:
-        raise InterpError("INT020", f"#MASTER {name}: spindle {name} is not a spindle of this channel", node.col)
-    if name in st.channel.parked:
+    spindle = st.spindle_config.word(name, node.col)   # by its name in the channel (INT246 out of it)
+    if spindle in st.channel.parked:
         raise InterpError("INT213", f"#MASTER {name}: spindle {name} is parked (#PARK)", node.col)
-    st.master = name
+    st.master = spindle

@@ -18,6 +18,7 @@ from ..config.machine import Machine
 from ..kinematics.state import KinState
 from ..path.transform import Transform
 from . import axes as channel_axes
+from . import spindle_config
 from .cycles.model import CycleState
 from .dynamics import Dynamics, build, default_roundpar
 from .gtable import power_on_modes
@@ -97,6 +98,7 @@ class ChannelState:
         self.mtb: list[float] = list(machine.mtb)   # V.MTB.P[i] (written by the program, L29198)
         self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)
         self.channel = channel_axes.ChannelAxes(machine)   # #SET AX, #RENAME AX, #PARK, #LINK (interp/axes.py)
+        self.spindle_config = spindle_config.ChannelSpindles(machine)   # #SET SP, #RENAME SP (interp/spindle_config.py)
 
     # ------------------------------------------------------------ planning context
     def dynamics_changed(self) -> None:
@@ -217,15 +219,18 @@ class ChannelState:
         self.origin_source = "G92"
 
     def master_spindle(self) -> str | None:
-        """The channel's master spindle (seed 002 L5131-L5283): the one ``#MASTER`` chose while it is not parked,
-        else the first spindle of the machine's configuration that is not parked (the original master, or the
-        next one when it is parked; L5147-L5153, L5262-L5283, L14629-L14631)."""
+        """The channel's master spindle (seed 002 L5131-L5283): the one ``#MASTER`` chose while it is in the
+        channel and not parked, else the first spindle of the channel's original configuration (the machine
+        file's order) that is in the channel and not parked, else the first of the current configuration not
+        parked (L5147-L5153, L5262-L5283, L14629-L14631); None when the channel has no spindle."""
         parked = self.channel.parked
-        if self.master is not None and self.master not in parked:
+        cfg = self.spindle_config
+        if not cfg.changed and not parked:
+            return self.master if self.master is not None else next(iter(cfg.current), None)
+        if self.master is not None and self.master not in parked and cfg.in_channel(self.master):
             return self.master
-        if not parked:
-            return next(iter(self.speeds), None)
-        return next((s for s in self.speeds if s not in parked), next(iter(self.speeds), None))
+        order = cfg.master_order()
+        return next((s for s in order if s not in parked), next(iter(order), None))
 
     def reset_param_sets(self, power_on: bool = False) -> None:
         """DEFAULTSET (seed 002 L9343-L9349): each axis goes back to its default set at power-on, M02, M30 and
@@ -260,6 +265,7 @@ class ChannelState:
         self.tool_axis = None
         self.cycles.reset()           # M02/M30/reset cancel the canned cycle (digest 09 §1.1)
         channel_axes.reset(self)      # #LINK ends, temporary changes of the axis configuration go back
+        spindle_config.reset(self)    # and of the spindle configuration; RENAMECANCEL (L14955, L15191)
         self.kin.reset()              # a suspended #ANGAX is active again (L11950)
         self.aid_size = None
         self.planner = {}

@@ -3,7 +3,12 @@
 A G33 block is a straight move whose feed follows the master spindle: the axis named by the pitch
 letter (I, J or K) advances one pitch per revolution, ``v_axis = S x pitch`` (L7381-L7382), and the
 other axes of the block scale with it; the thread always runs at 100 % of that feed (L7382-L7384,
-override locked).  ``Q1`` is the spindle angle at the thread start (L7358-L7362); only the first
+feed override locked); the spindle override acts where THREADOVR allows it, and the feed follows the
+spindle (L7387-L7391, :meth:`Synchroniser.thread_override`).  The spindle is the channel's master
+(after #SET SP / #FREE SP / #MASTER, interp/spindle_config.py): a thread on another spindle needs the
+PLC's V.PLC.SYNC and its synchronisation with the master (L7294-L7296, L31443-L31447), which an
+offline run does not have; the master's home search before the first G33 is automatic (L7374-L7376),
+nothing to do offline.  ``Q1`` is the spindle angle at the thread start (L7358-L7362); only the first
 G33 after G33 is activated synchronises on it, the blocks that follow are joined to it (L7366-L7370).
 
 A G63 block is a rigid tap: the CNC interpolates the spindle with the axes, the pitch is F / S
@@ -42,6 +47,7 @@ class Synchroniser:
         self._dyn: tuple = (None, None, None)     # (base dynamics, rigid, thread dynamics)
         self._direction: tuple | None = None      # unit direction of the last G33 block
         self._passes: dict[tuple, float] = {}     # (pitch axis, its start, pitch) -> speed of the first pass
+        self._held: set[tuple] = set()            # the INT189 warnings given (once per override and reason)
 
     # ------------------------------------------------------------ spindle words of the block
     def speed_word(self, spindle: str, value: float, col: int) -> float:
@@ -86,7 +92,9 @@ class Synchroniser:
                               "computed by fagorcnc: program G40 before the thread", col)
         spindle = st.master_spindle()
         if spindle is None:
-            raise InterpError("INT182", f"{name} needs a spindle: the machine has none", col)
+            where = "the channel has none left (#FREE SP, #SET SP); #CALL SP first" if st.speeds else \
+                "the machine has none"
+            raise InterpError("INT182", f"{name} needs a spindle: {where}", col)
         if st.modes["css"] == 96:
             raise InterpError("INT182", f"{name} under G96: the spindle speed would change with the diameter "
                               "along the thread; program G97 S<rpm>", col)
@@ -160,7 +168,11 @@ class Synchroniser:
             if advance < 1e-9:
                 raise InterpError("INT181", f"G33: the thread does not advance on {axis}, the axis of its pitch "
                                   f"letter {letter} (L7330-L7333)", 1)
-            # seed 002 L7381-L7382: feed = speed x pitch on the pitch axis; the path runs faster by length/advance
+            # seed 002 L7387-L7389: where THREADOVR lets the spindle override act, the spindle turns at S x override
+            # and the feed follows it; seed 002 L7381-L7382: feed = speed x pitch on the pitch axis, and the path
+            # runs faster by length / advance
+            rpm = rpm * self.thread_override(spindle, start, end) / 100.0
+            speed = rpm if speed > 0 else -rpm
             feed = rpm * pitch * length / advance
         else:
             axis = max(end, key=lambda a: abs(end[a] - start[a]))
@@ -184,6 +196,39 @@ class Synchroniser:
         thread = Thread(mode == 63, spindle, speed, pitch, axis, entry)
         return Line("linear", start, end, end_part, feed, f"G{mode}", src, None, self._dynamics(mode == 63),
                     joins=iso._joins(None), thread=thread)
+
+    def thread_override(self, spindle: str, start: dict, end: dict) -> float:
+        """The spindle override (%) a G33 thread runs at (seed 002 L7382-L7391, L22355-L22414).
+
+        Offline the spindle override is the program's, ``V.A.PRGSSO`` (0 = none: 100 %), there is no panel.
+        The feed override never acts in a thread (L7382-L7384); the spindle override does only if the OEM lets
+        it: THREADOVR, "the maximum variation allowed for the override while threading" (L22363), from the
+        machine file's ``[machine_parameters]`` ``"MPA.THREADOVR.S"`` (0 without it: none, 100 %), and only
+        if the active feed forward of every axis of the thread is above 90 % (L7389-L7391; G134's, else
+        ``"MPA.FFGAIN.X"``; [CONSTRUCTION] one the machine file does not give is taken as allowing it).
+        [CONSTRUCTION] an override beyond 100 +- THREADOVR runs at the nearest of the two (INT189)."""
+        from .spindle_config import parameter
+
+        iso = self.iso
+        override = iso.interp.spindle_modes.override.get(spindle, 0.0) or 100.0
+        if override == 100.0:
+            return override
+        limit = parameter(iso.machine, "THREADOVR", spindle, 0.0)
+        allowed = min(max(override, 100.0 - limit), 100.0 + limit)
+        why = f"THREADOVR of {spindle} is {limit:g} % (L22355)"
+        programmed = iso.state.planner.get("G134", {})
+        for a in end:
+            if abs(end[a] - start[a]) < 1e-12:
+                continue
+            ff = programmed.get(a, iso.machine.machine_parameters.get(("FFGAIN", (), a)))
+            if ff is not None and not ff > 90.0:
+                allowed, why = 100.0, f"the feed forward of axis {a} is {ff:g} %, not above 90 % (L7389-L7391)"
+                break
+        if allowed != override and (spindle, override, allowed, why) not in self._held:
+            self._held.add((spindle, override, allowed, why))
+            iso.interp.message("INT189", "warning", f"the spindle override {override:g} % acts as {allowed:g} % in "
+                               f"this thread: {why}", 1)
+        return allowed
 
     def _same_speed(self, axis: str, begin: float, pitch: float, rpm: float) -> None:
         """Every pass of a thread, and every start of a multi-start thread, must begin at the same spindle speed

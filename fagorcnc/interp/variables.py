@@ -15,6 +15,7 @@ from collections.abc import Callable
 
 from ..kinematics.variables import axis_variables as kinematics_axis_variables
 from ..kinematics.variables import variables as kinematics_variables
+from . import spindle_config
 from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
 from .gvars import ProgramVariables
@@ -208,6 +209,7 @@ class Variables:
             "PRGSL": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
         }
         self.spindle_vars.update(program.spindle())
+        self.spindle_vars.update(spindle_config.variables(s))   # V.A.ACTCH.S (interp/spindle_config.py)
 
     # ------------------------------------------------------------------
     def _tool_field(self, fld: str, any_tool: bool = False):
@@ -265,12 +267,15 @@ class Variables:
 
     def _spindle(self, token: str | None, col: int) -> str:
         spindles = list(self.state.speeds)
-        if token is None:
-            if not spindles:
-                raise InterpError("INT046", "this machine has no spindle", col)
-            return spindles[0]
-        if token in spindles:
-            return token
+        if token is None:   # V.SP.x: the master spindle (L17714, L22408)
+            master = self.state.master_spindle()
+            if master is None:
+                raise InterpError("INT046", "this channel has no spindle" if spindles else "this machine has no "
+                                  "spindle", col)
+            return master
+        named = self.state.spindle_config.variable(token)   # after #RENAME SP the program uses the new name (L15209)
+        if named is not None:
+            return named
         if token.isdigit() and 1 <= int(token) <= len(spindles):
             return spindles[int(token) - 1]
         raise InterpError("INT046", f"spindle {token} does not exist on this machine", col)
@@ -342,7 +347,7 @@ class Variables:
         if name in self.plain_vars:
             return ("plain", name, index)
         head, _, tail = name.rpartition(".")
-        if head in self.axis_vars and tail and tail not in self.state.speeds:   # V.A.x.S: a spindle's, below
+        if head in self.axis_vars and tail and tail[0] != "S":   # V.A.x.S: a spindle's, below
             return ("axis", head, (index, self._axis(tail, col)))
         parts = name.split(".")
         if len(parts) in (3, 4) and parts[1] in ("A", "SP") and parts[2] in self.spindle_vars:

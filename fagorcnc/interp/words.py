@@ -101,9 +101,10 @@ class WordsMixin:
                 bw.scale = (ev.value(w.value), col)   # an S after G72 is the scale factor (L9010)
             elif addr == "S" or (addr[0] == "S" and addr[1:].isdigit()):
                 # S alone is the master spindle's (L5133: orders go to it when no spindle is named)
-                spindle = st.master_spindle() if addr == "S" else addr if addr in st.speeds else None
+                # a named one by its name in the channel's spindle configuration (INT246, interp/spindle_config.py)
+                spindle = st.master_spindle() if addr == "S" else st.spindle_config.word(addr, col)
                 if spindle is None:
-                    raise InterpError("INT020", f"spindle {addr} does not exist on this machine", col)
+                    raise InterpError("INT020", f"{addr}: the channel has no spindle", col)
                 bw.speeds[spindle] = (ev.value(w.value), col)
             elif addr == "T":
                 bw.tool = (ev.integer(w.value, "T", col, 0, 4294967294, floor=True), col)
@@ -120,13 +121,13 @@ class WordsMixin:
                     if m not in (3, 4, 5, 19, 41, 42, 43, 44):
                         raise InterpError("INT025", f"M{m}{addr[1:]}: a spindle suffix goes with M3, M4, M5, M19 "
                                           "and M41-M44 (L5950)", col)
-                    bw.m_target[len(bw.m)] = spindle_suffix(addr, st.speeds, col)
+                    bw.m_target[len(bw.m)] = spindle_suffix(addr, st.spindle_config, col)
                 bw.m.append((m, col))
             elif addr[0] == "S" and addr.endswith(".POS"):   # S.POS=120, S1.POS=50 (L5904-L5934)
                 name = addr[:-4]
-                spindle = st.master_spindle() if name == "S" else name if name in st.speeds else None
+                spindle = st.master_spindle() if name == "S" else st.spindle_config.word(name, col)
                 if spindle is None:
-                    raise InterpError("INT020", f"spindle {name} does not exist on this machine", col)
+                    raise InterpError("INT020", f"{addr}: the channel has no spindle", col)
                 speed = ev.value(w.value)
                 if speed <= 0:
                     raise InterpError("INT027", f"M19 positioning speed {speed:g} must be positive (L5904)", col)

@@ -229,6 +229,7 @@ def cax_statement(interp, node, src) -> list:
     axis, which is referenced (moved to its home position); the records to hand on."""
     from ..interp.expressions import InterpError
     from ..interp.records import Line
+    from ..interp.spindle_config import item_name
     from ..syntax.ast import ItemList, Name
 
     st = interp.state
@@ -241,13 +242,16 @@ def cax_statement(interp, node, src) -> list:
     names = []
     if len(args) == 1 and type(args[0]) is ItemList:
         for seq in args[0].items:
-            if len(seq) != 1 or type(seq[0]) is not Name:
+            name = item_name(seq[0]) if len(seq) == 1 else None   # S, or S1 read as S with the value 1
+            if name is None:
                 raise InterpError("KIN005", "write #CAX, #CAX [S1], #CAX [S1, C1] or #CAX OFF", col)
-            names.append(seq[0].name)
+            names.append(name)
     elif args:
         raise InterpError("KIN005", "write #CAX, #CAX [S1], #CAX [S1, C1] or #CAX OFF", col)
-    spindles = st.machine.spindles
-    spindle = names[0] if names else (spindles[0] if spindles else None)
+    # L11635-L11637: #CAX alone is the master spindle's; a named spindle is one of the channel, by its name there
+    spindle = st.spindle_config.word(names[0], col) if names else st.master_spindle()
+    if spindle is None:
+        raise InterpError("KIN060", "#CAX: the channel has no spindle", col)
     if spindle not in st.machine.c_axes:
         raise InterpError("KIN060", f"#CAX: spindle {spindle} cannot work as a C axis (c_axis in the machine file, "
                           "CAXIS)", col)
