@@ -238,6 +238,13 @@ CODES: dict[str, str] = {
     "INT243": "variable not valid for this kind of axis or spindle (linear, rotary, spindle)",
     "INT244": "variable without its index or its axis/spindle selector",
     "INT245": "machine parameter the machine file does not give ([machine_parameters])",
+    # the rest of the variable catalogue (issue 26 item 10): INT253-INT259
+    "INT253": "active tool offset with per-axis offsets (TOFL/TOFLW) fagorcnc does not apply",
+    "INT254": "radius compensation with a turning tool (tip radius and shape factor LOCODE not computed)",
+    "INT255": "tool variable not valid for this kind of tool (TOR.. of a turning tool, LOCODE of a milling tool)",
+    "INT256": "V.G.DYNOVR written outside MINDYNOVR..MAXDYNOVR",
+    "INT257": "V.G.DYNOVR written on a machine file that gives no MINDYNOVR/MAXDYNOVR",
+    "INT258": "write of a variable whose effect fagorcnc would have to invent (V.TM.NUMOFDT)",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",

@@ -29,6 +29,7 @@ from .records import Aux, Dwell, Line, Source
 from .spindle import directions, orientation, targets
 from .state import ChannelState
 from .threading import Synchroniser
+from .toolvars import refuse_uncomputed_offset
 from .units import INCH
 from .words import BlockWords, WordsMixin
 
@@ -476,6 +477,8 @@ class IsoExecutor(MotionMixin, WordsMixin):
             raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", col)
         st.offset = d
         st.prep_offset = None   # a new offset: V.G.TOR.. read the table again (L38884-L38943)
+        st.prep_tool = None
+        refuse_uncomputed_offset(st, col)   # TOFL/TOFLW: per-axis offsets fagorcnc does not apply
 
     def _master(self) -> str | None:
         """The master spindle: the channel's first (seed 002 L5100)."""

@@ -15,12 +15,14 @@ from collections.abc import Callable
 
 from ..kinematics.variables import axis_variables as kinematics_axis_variables
 from ..kinematics.variables import variables as kinematics_variables
+from .channelvars import ChannelVariables
 from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
 from .gvars import ProgramVariables
 from .iso import INCH, whole
 from .mpvars import MachineParameters
 from .state import ChannelState
+from .toolvars import ToolVariables
 from .vcatalogue import manual_defined
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
@@ -208,6 +210,17 @@ class Variables:
             "PRGSL": lambda sp: float(s.planner.get("G192", 0.0) or 0.0),
         }
         self.spindle_vars.update(program.spindle())
+        # the tool table's other data: V.TM.DTYPE.., V.TM.*T[tl][ofd], V.G.NOSEA.., tool life (interp/toolvars.py)
+        self.plain_vars.update(ChannelVariables(self).plain())   # V.G.DYNOVR, ENDREP, SPDLREP, HSC, CONTERROR
+        before = set(self.plain_vars) | set(self.axis_vars)
+        tools = ToolVariables(self)
+        self.plain_vars.update(tools.plain(self.plain_vars))
+        self.axis_vars.update(tools.axis())
+        added = (set(self.plain_vars) | set(self.axis_vars)) - before
+        #: the names whose read stops block preparation, and the ones whose write does too (L17437)
+        channel = ChannelVariables.EXECUTION
+        self.execution = EXECUTION_READS | ProgramVariables.EXECUTION | channel | ToolVariables.execution(added)
+        self.write_sync = ProgramVariables.EXECUTION | channel | ToolVariables.execution(added)
 
     # ------------------------------------------------------------------
     def _tool_field(self, fld: str, any_tool: bool = False):
@@ -361,7 +374,7 @@ class Variables:
 
     def get(self, name: str, index: tuple, col: int = 1) -> float:
         kind, key, extra = self._resolve(name, index, col)
-        if key in EXECUTION_READS or key in ProgramVariables.EXECUTION:
+        if key in self.execution:
             self.state.sync = True   # the interpreter stops the motion before this block (see EXECUTION_READS)
         if kind == "user":
             try:
@@ -391,7 +404,7 @@ class Variables:
             setter = self.plain_vars[key][1]
             if setter is None:
                 raise InterpError("INT048", f"{key} is read-only", col)
-            if key in ProgramVariables.EXECUTION:
+            if key in self.write_sync:
                 self.state.sync = True   # the write of an execution variable stops block preparation (L17437)
             try:
                 setter(extra, value)
@@ -412,7 +425,13 @@ class Variables:
         setter = self.axis_vars[key][1]
         if setter is None:
             raise InterpError("INT048", f"{key}.{axis} is read-only", col)
-        setter(self.state, tuple(_index(x) for x in idx), axis, value * self._unit(axis))
+        if key in self.write_sync:
+            self.state.sync = True   # V.TM.TOFL[..].X: an execution variable (L37503)
+        try:
+            setter(self.state, tuple(_index(x) for x in idx), axis, value * self._unit(axis))
+        except InterpError as exc:
+            exc.col = col
+            raise
 
     def exists(self, name: str, index: tuple) -> bool:
         try:

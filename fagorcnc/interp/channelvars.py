@@ -1,0 +1,73 @@
+"""Channel variables of the catalogue's remainder (issue 26 item 10; seed 002 ch. 22; spec 08 B.8, B.15).
+
+* ``V.G.DYNOVR`` (L36672-L36716): one percentage applied to the dynamics of every axis of the channel, in
+  real time (the look-ahead does not see it coming: its read and write stop block preparation), bounded by
+  the machine parameters MINDYNOVR and MAXDYNOVR (L20408-L20418);
+* ``V.G.ENDREP`` / ``V.G.SPDLREP`` (L41724-L41740): the repositioning after a tool inspection;
+* ``V.G.HSC`` (L40709) and ``V.G.CONTERROR`` (L36584): the HSC mode and its programmed error.
+"""
+
+from __future__ import annotations
+
+from .expressions import InterpError, whole
+
+
+class ChannelVariables:
+    """The variables above, as ``Variables.plain_vars`` entries."""
+
+    def __init__(self, variables) -> None:
+        self.v = variables
+        self.state = variables.state
+
+    def plain(self) -> dict:
+        s = self.state
+        return {
+            "V.G.DYNOVR": (lambda i: s.dynamic_override, self._set_dynovr),
+            # no tool inspection offline: the axes are where the program left them, all repositioned (L41724)
+            "V.G.ENDREP": (lambda i: s.repositioning[0], self._set_endrep),
+            "V.G.SPDLREP": (lambda i: s.repositioning[1], self._set_spdlrep),
+            "V.G.HSC": (lambda i: 0.0 if s.hsc is None else 1.0, None),
+            "V.G.CONTERROR": (self._conterror, None),
+        }
+
+    #: read and written at execution: they stop block preparation (L36674, L41726, L41736, L36586)
+    EXECUTION = frozenset({"V.G.DYNOVR", "V.G.ENDREP", "V.G.SPDLREP", "V.G.CONTERROR"})
+
+    # ------------------------------------------------------------ DYNOVR
+    def _bound(self, name: str) -> float:
+        value = self.state.machine.machine_parameters.get((name, (), None))
+        if value is None:
+            raise InterpError("INT257", f"V.G.DYNOVR is bounded by the machine parameters MINDYNOVR and MAXDYNOVR "
+                              f"(seed 002 L36714), and this machine file does not give {name}: "
+                              f"[machine_parameters] \"MPG.{name}\" = %", 1)
+        return value
+
+    def _set_dynovr(self, index: tuple, value: float) -> None:
+        """The percentage of the axes' feed, acceleration and jerk limits the next blocks are planned with:
+        the read or write stops preparation, so the blocks after it see it (L36708-L36710)."""
+        low, high = self._bound("MINDYNOVR"), self._bound("MAXDYNOVR")
+        if not low <= value <= high or not value > 0:
+            raise InterpError("INT256", f"V.G.DYNOVR = {value:g} %: the machine parameters allow "
+                              f"{low:g} (MINDYNOVR) to {high:g} % (MAXDYNOVR), seed 002 L36714", 1)
+        st = self.state
+        st.dynamic_override = float(value)
+        st.dynamics_changed()
+
+    # ------------------------------------------------------------ repositioning
+    def _set_endrep(self, index: tuple, value: float) -> None:
+        if value not in (0, 1):
+            raise InterpError("INT045", f"V.G.ENDREP = {value:g}: 1 all axes repositioned, 0 not (L41730)", 1)
+        self.state.repositioning = (float(value), self.state.repositioning[1])
+
+    def _set_spdlrep(self, index: tuple, value: float) -> None:
+        n = whole(value)
+        if n is None or n < 0:
+            raise InterpError("INT045", f"V.G.SPDLREP = {value:g}: the M function that repositions the spindle "
+                              "is a whole number (L41738)", 1)
+        self.state.repositioning = (self.state.repositioning[0], float(n))
+
+    # ------------------------------------------------------------ HSC
+    def _conterror(self, index: tuple) -> float:
+        """The error programmed with #HSC ON (mm, inches under G70); 0 without HSC."""
+        hsc = self.state.hsc
+        return 0.0 if hsc is None else hsc.tolerance / self.v._unit()
