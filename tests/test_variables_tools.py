@@ -250,3 +250,39 @@ def test_hsc_state_and_its_programmed_error():
     p = values("#HSC ON [CONTERROR 0.02]\nP1=V.G.HSC P2=V.G.CONTERROR\nG70\nP3=V.G.CONTERROR\nG71\n#HSC OFF\n"
                "P4=V.G.HSC P5=V.G.CONTERROR", 5, None)
     assert p == [1, 0.02, pytest.approx(0.02 / 25.4), 0, 0]
+
+
+# ---------------------------------------------------------------- repetitions, manual moves, offline states
+
+def test_pending_repetitions_of_rpt():
+    # L40664-L40668: n - 1 on the first repetition, 0 on the last: the range N10-N20 runs once as written
+    # (no #RPT yet: 0), then #RPT repeats it 3 times: 2, 1, 0; after it 0 again; P2 counts 1 + 3 = 4 passes
+    r = fagorcnc.simulate("P2=0\nN10: P2=P2+1\nP[10+P2]=V.G.PENDRPT\nN20:\n#RPT [N10, N20, 3]\nP9=V.G.PENDRPT\n"
+                          "M30\n")
+    assert r.ok and [r.state.param(n) for n in (2, 11, 12, 13, 14, 9)] == [4, 0, 2, 1, 0, 0]
+
+
+def test_manual_moves_allowed_with_g201():
+    # L39465: manual moves are allowed while G201 is active (G202 ends it); offline no manual mode, TEACH-IN
+    # or tool inspection
+    assert values("P1=V.G.INTMAN\nG201 #AXIS [X]\nP2=V.G.INTMAN\nG202\nP3=V.G.INTMAN", 3, None) == [0, 1, 0]
+
+
+def test_states_a_running_program_reads_offline():
+    # L33055 SOFTLIMIT 0 (fagorcnc refuses a move beyond a limit before it runs), L41915 IBUSY 0, L41658 CNCERR
+    # 0, L39865 INPOS 1 (its read stops preparation: the axes are at the position, in inches as in mm),
+    # L37274 CNCSSO 100 (no panel offline, as V.G.CNCFRO)
+    assert values("G70\nP1=V.A.INPOS.X P2=V.G.SOFTLIMIT P3=V.G.IBUSY P4=V.G.CNCERR P5=V.A.CNCSSO.S P6=V.SP.CNCSSO",
+                  6, None) == [1, 0, 0, 0, 100, 100]
+    assert first_error("P1=V.A.INPOS.S", None) == "INT240"   # a spindle's: not computed
+
+
+def test_interface_only_variables_are_refused():
+    # spec 08 D.2: "Variable de lecture depuis l'interface" (L42992 FILENAME, L40283 HMS2, L43316 V.E.*) and
+    # "... depuis le PLC et l'interface" (L35454 LUP1, L37310 MZSTATUS): not readable by a part program;
+    # V.E.PROGSELECT is written with 0 only (L43316)
+    for text in ("P1=V.G.FILENAME", "P1=V.G.HMS2", "P1=V.E.NERRORS", "P1=V.G.LUP1[3]", "P1=V.TM.MZSTATUS",
+                 "P1=V.G.PLAXNAME2", "P1=V.E.PROGSELECT"):
+        assert first_error(text, None) == "INT241", text
+    assert values("V.E.PROGSELECT=0\nP1=1", 1, None) == [1]
+    assert first_error("V.E.PROGSELECT=1", None) == "INT045"

@@ -4,7 +4,10 @@
   real time (the look-ahead does not see it coming: its read and write stop block preparation), bounded by
   the machine parameters MINDYNOVR and MAXDYNOVR (L20408-L20418);
 * ``V.G.ENDREP`` / ``V.G.SPDLREP`` (L41724-L41740): the repositioning after a tool inspection;
-* ``V.G.HSC`` (L40709) and ``V.G.CONTERROR`` (L36584): the HSC mode and its programmed error.
+* ``V.G.HSC`` (L40709) and ``V.G.CONTERROR`` (L36584): the HSC mode and its programmed error;
+* ``V.G.PENDRPT`` (L40656): the repetitions of ``#RPT`` still to run; ``V.G.INTMAN`` (L39452): manual moves
+  allowed (G201 active; offline there is no manual mode, TEACH-IN or tool inspection);
+* ``V.E.PROGSELECT`` (L43316, spec 08 B.23): written with 0 only, no effect offline.
 """
 
 from __future__ import annotations
@@ -28,10 +31,27 @@ class ChannelVariables:
             "V.G.SPDLREP": (lambda i: s.repositioning[1], self._set_spdlrep),
             "V.G.HSC": (lambda i: 0.0 if s.hsc is None else 1.0, None),
             "V.G.CONTERROR": (self._conterror, None),
+            # states a running program reads in a known way offline: fagorcnc refuses a move beyond a software
+            # limit before it runs (no limit is ever reached, L33055); it runs a #MOVE before the blocks after it
+            # (no independent axis is moving at a synchronisation point, L41915); an error stops the program
+            # (the channel has none while it runs, L41658)
+            "V.G.SOFTLIMIT": (lambda i: 0.0, None),
+            "V.G.IBUSY": (lambda i: 0.0, None),
+            "V.G.CNCERR": (lambda i: 0.0, None),
         }
 
-    #: read and written at execution: they stop block preparation (L36674, L41726, L41736, L36586)
-    EXECUTION = frozenset({"V.G.DYNOVR", "V.G.ENDREP", "V.G.SPDLREP", "V.G.CONTERROR"})
+    def axis(self) -> dict:
+        """``V.A.INPOS.xn`` (L39865): its read stops preparation, so the axes have reached the position."""
+        return {"V.A.INPOS": (lambda st, i, a: self.v._unit(a), None)}   # 1: get() divides by the unit
+
+    @staticmethod
+    def spindle() -> dict:
+        """``V.A.CNCSSO.S`` (L37274): the panel's spindle override; no panel offline: 100 %, as V.G.CNCFRO."""
+        return {"CNCSSO": lambda sp: 100.0}
+
+    #: read and written at execution: they stop block preparation (L36674, L41726, L41736, L36586, L39454)
+    EXECUTION = frozenset({"V.G.DYNOVR", "V.G.ENDREP", "V.G.SPDLREP", "V.G.CONTERROR", "V.G.INTMAN",
+                           "V.G.SOFTLIMIT", "V.G.IBUSY", "V.A.INPOS", "CNCSSO"})
 
     # ------------------------------------------------------------ DYNOVR
     def _bound(self, name: str) -> float:
@@ -71,3 +91,30 @@ class ChannelVariables:
         """The error programmed with #HSC ON (mm, inches under G70); 0 without HSC."""
         hsc = self.state.hsc
         return 0.0 if hsc is None else hsc.tolerance / self.v._unit()
+
+
+def interpreter_variables(interp) -> dict:
+    """The variables that read the interpreter's own state (its frames, the manual intervention)."""
+
+    def pending_repeats(index: tuple) -> float:
+        """The innermost #RPT of the running program or subroutine: n - 1 on the first pass, 0 on the last
+        (L40664-L40668); 0 outside a repetition."""
+        frame = interp.frames[-1] if interp.frames else None
+        repeat = frame.repeat if frame is not None else None
+        return float(repeat[2] - 1) if repeat is not None else 0.0
+
+    def progselect(index: tuple, value: float) -> None:
+        if value != 0:
+            raise InterpError("INT045", f"V.E.PROGSELECT = {value:g}: a program writes it with 0 only, to clear the "
+                              "program selected in automatic mode (seed 002 L43316)", 1)
+
+    def read_progselect(index: tuple) -> float:
+        raise InterpError("INT241", "V.E.PROGSELECT is read by the interface only; a program writes it with 0 "
+                          "(seed 002 L43316)", 1)
+
+    return {
+        "V.G.PENDRPT": (pending_repeats, None),
+        # G201's additive intervention lets the operator move the axes by hand (L39465); G200 stops the program
+        "V.G.INTMAN": (lambda i: 1.0 if interp.manual.additive else 0.0, None),
+        "V.E.PROGSELECT": (read_progselect, progselect),
+    }

@@ -23,7 +23,7 @@ from .iso import INCH, whole
 from .mpvars import MachineParameters
 from .state import ChannelState
 from .toolvars import ToolVariables
-from .vcatalogue import manual_defined
+from .vcatalogue import interface_only, manual_defined
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
 Setter = Callable[[ChannelState, tuple, str | None, float], None]
@@ -211,7 +211,10 @@ class Variables:
         }
         self.spindle_vars.update(program.spindle())
         # the tool table's other data: V.TM.DTYPE.., V.TM.*T[tl][ofd], V.G.NOSEA.., tool life (interp/toolvars.py)
-        self.plain_vars.update(ChannelVariables(self).plain())   # V.G.DYNOVR, ENDREP, SPDLREP, HSC, CONTERROR
+        channel_vars = ChannelVariables(self)   # V.G.DYNOVR, ENDREP, SPDLREP, HSC, CONTERROR, A.INPOS...
+        self.plain_vars.update(channel_vars.plain())
+        self.axis_vars.update(channel_vars.axis())
+        self.spindle_vars.update(channel_vars.spindle())
         before = set(self.plain_vars) | set(self.axis_vars)
         tools = ToolVariables(self)
         self.plain_vars.update(tools.plain(self.plain_vars))
@@ -366,6 +369,10 @@ class Variables:
         found = self.machine_parameters.find(name, index, channel, col)
         if found is not None:
             return ("mp", found[0], found[1:])
+        only = interface_only(name)
+        if only is not None:
+            raise InterpError("INT241", f"{name.replace('[]', '[..]')} is read by the PLC or the interface only, not "
+                              f"by a part program (seed 002 {only})", col)
         defined = manual_defined(name)
         if defined is not None:
             raise InterpError("INT240", f"{name.replace('[]', '[..]')} is a variable of the manual (seed 002 "
@@ -382,7 +389,11 @@ class Variables:
             except KeyError:
                 raise InterpError("INT043", f"variable {key} has no value yet (use EXIST[{key}])", col) from None
         if kind == "plain":
-            return self.plain_vars[key][0](extra)
+            try:
+                return self.plain_vars[key][0](extra)
+            except InterpError as exc:
+                exc.col = col
+                raise
         if kind == "mp":
             return self.machine_parameters.read(key, extra[0], extra[1], col)
         if kind == "spindle":
