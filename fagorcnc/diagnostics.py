@@ -244,7 +244,7 @@ CODES: dict[str, str] = {
     "INT255": "tool variable not valid for this kind of tool (TOR.. of a turning tool, LOCODE of a milling tool)",
     "INT256": "V.G.DYNOVR written outside MINDYNOVR..MAXDYNOVR",
     "INT257": "V.G.DYNOVR written on a machine file that gives no MINDYNOVR/MAXDYNOVR",
-    "INT258": "write of a variable whose effect fagorcnc would have to invent (V.TM.NUMOFDT)",
+    "INT258": "write this machine cannot take (V.TM.NUMOFDT: offsets to invent; FINEORGT without FINEORG)",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",

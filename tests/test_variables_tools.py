@@ -286,3 +286,14 @@ def test_interface_only_variables_are_refused():
         assert first_error(text, None) == "INT241", text
     assert values("V.E.PROGSELECT=0\nP1=1", 1, None) == [1]
     assert first_error("V.E.PROGSELECT=1", None) == "INT045"
+
+
+def test_coarse_and_fine_origin_parts_without_fine_adjustment():
+    # L35243-L35340 with MPG.FINEORG 0 (L19265, no fine adjustment): the coarse part is the whole offset, the
+    # fine part 0; ORG = coarse + fine + G158 = 12.5 + 0 + 1 = 13.5 (L35203); COARSEORGT writes the table
+    # like ORGT; a fine part other than 0 cannot be written (INT258); L42433 VIRTAXST 0 (#VIRTAX is refused)
+    p = values("V.A.ORGT[2].X=12.5\nG55\nG158 X1\nP1=V.A.COARSEORG.X P2=V.A.FINEORG.X P3=V.A.ORG.X "
+               "P4=V.A.COARSEORGT[2].X P5=V.A.FINEORGT[2].X\nV.A.COARSEORGT[3].Y=4\nP6=V.A.ORGT[3].Y\n"
+               "V.A.FINEORGT[3].Y=0\nP7=V.G.VIRTAXST", 7, None)
+    assert p == [12.5, 0, 13.5, 12.5, 0, 4, 0]
+    assert first_error("V.A.FINEORGT[3].Y=0.01", None) == "INT258"

@@ -38,11 +38,28 @@ class ChannelVariables:
             "V.G.SOFTLIMIT": (lambda i: 0.0, None),
             "V.G.IBUSY": (lambda i: 0.0, None),
             "V.G.CNCERR": (lambda i: 0.0, None),
+            "V.G.VIRTAXST": (lambda i: 0.0, None),   # #VIRTAX ON is refused (not computed): never active (L42433)
         }
 
     def axis(self) -> dict:
-        """``V.A.INPOS.xn`` (L39865): its read stops preparation, so the axes have reached the position."""
-        return {"V.A.INPOS": (lambda st, i, a: self.v._unit(a), None)}   # 1: get() divides by the unit
+        """``V.A.INPOS.xn`` (L39865): its read stops preparation, so the axes have reached the position.
+
+        The coarse and fine parts of the origin offsets (L35243-L35340): fagorcnc's machine has no fine
+        adjustment (MPG.FINEORG 0, L19265), so the coarse part is the whole offset and the fine part 0."""
+        orgt = self.v.axis_vars["V.A.ORGT[]"]
+        return {
+            "V.A.INPOS": (lambda st, i, a: self.v._unit(a), None),   # 1: get() divides by the unit
+            "V.A.COARSEORG": (lambda st, i, a: st.abs_offset[a], None),
+            "V.A.FINEORG": (lambda st, i, a: 0.0, None),
+            "V.A.COARSEORGT[]": orgt,
+            "V.A.FINEORGT[]": (lambda st, i, a: orgt[0](st, i, a) * 0.0, self._set_fine),
+        }
+
+    @staticmethod
+    def _set_fine(st, index: tuple, axis: str, value: float) -> None:
+        if value:
+            raise InterpError("INT258", f"V.A.FINEORGT[{index[0]}].{axis} = {value:g}: this machine has no fine "
+                              "adjustment of the origin offsets (MPG.FINEORG 0, seed 002 L19265); write V.A.ORGT", 1)
 
     @staticmethod
     def spindle() -> dict:
@@ -51,7 +68,8 @@ class ChannelVariables:
 
     #: read and written at execution: they stop block preparation (L36674, L41726, L41736, L36586, L39454)
     EXECUTION = frozenset({"V.G.DYNOVR", "V.G.ENDREP", "V.G.SPDLREP", "V.G.CONTERROR", "V.G.INTMAN",
-                           "V.G.SOFTLIMIT", "V.G.IBUSY", "V.A.INPOS", "CNCSSO"})
+                           "V.G.SOFTLIMIT", "V.G.IBUSY", "V.A.INPOS", "CNCSSO", "V.A.COARSEORGT[]",
+                           "V.A.FINEORGT[]"})
 
     # ------------------------------------------------------------ DYNOVR
     def _bound(self, name: str) -> float:
