@@ -297,3 +297,11 @@ def test_coarse_and_fine_origin_parts_without_fine_adjustment():
                "V.A.FINEORGT[3].Y=0\nP7=V.G.VIRTAXST", 7, None)
     assert p == [12.5, 0, 13.5, 12.5, 0, 4, 0]
     assert first_error("V.A.FINEORGT[3].Y=0.01", None) == "INT258"
+
+
+def test_pending_repetitions_of_nr_in_the_modal_subroutine():
+    # L40680-L40684: n - 1 during the first repetition, 0 during the last; #MCALL runs SUB at the #MCALL
+    # (no NR: 0, P120) and after each of the 3 repetitions of the NR3 block (2, 1, 0: P121-P123); after: 0
+    r = fagorcnc.simulate("%L SUB\nP[120+P100]=V.G.PENDNR\nP100=P100+1\nM17\n%MAIN\nP100=0\n#MCALL SUB\n"
+                          "G91 G1 X1 F100 NR3\n#MDOFF\nP109=V.G.PENDNR\nM30\n")
+    assert r.ok and [r.state.param(n) for n in (100, 120, 121, 122, 123, 109)] == [4, 0, 2, 1, 0, 0]

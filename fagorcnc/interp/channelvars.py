@@ -39,6 +39,9 @@ class ChannelVariables:
             "V.G.IBUSY": (lambda i: 0.0, None),
             "V.G.CNCERR": (lambda i: 0.0, None),
             "V.G.VIRTAXST": (lambda i: 0.0, None),   # #VIRTAX ON is refused (not computed): never active (L42433)
+            # the NR repetitions still to run: n - 1 during the first, 0 during the last (L40680-L40684); read
+            # in the modal subroutine (#MCALL) each repetition calls
+            "V.G.PENDNR": (lambda i: float(s.pending_nr), None),
         }
 
     def axis(self) -> dict:

@@ -248,7 +248,9 @@ class IsoExecutor(MotionMixin, WordsMixin):
                     raise InterpError("INT028", "NR repeats a motion: the block has none", nr_col)
                 # seed 002 L1109-L1111: NR = how many times the block is executed (no upper bound given)
                 interp.guard_repetitions(repeats, f"NR{repeats} repeats the block", nr_col)
+            outer_nr = st.pending_nr
             for k in range(max(repeats, 1)):
+                st.pending_nr = max(repeats, 1) - 1 - k   # V.G.PENDNR: n - 1 .. 0 (seed 002 L40680-L40684)
                 if k:  # every repetition counts as an executed block (runaway guards)
                     interp.count_block(nr_col)
                 rec = self._motion(gs, bw, src)
@@ -259,6 +261,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
                     yield rec
                     if bw.nr is None or bw.nr[0] != 0:
                         yield from interp.after_motion(src)
+            st.pending_nr = outer_nr
         elif bw.nr is not None:
             raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
         if not moved and 74 not in gs:

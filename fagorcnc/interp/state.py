@@ -97,6 +97,7 @@ class ChannelState:
         self.manual_feeds: dict[int, float] = {}   # V.G.FMAN (94), V.G.MANFPR (95)
         self.dynamic_override = 100.0          # V.G.DYNOVR: % of every axis's dynamics (interp/channelvars.py)
         self.repositioning = (1.0, 0.0)        # V.G.ENDREP, V.G.SPDLREP (no tool inspection offline)
+        self.pending_nr = 0                    # V.G.PENDNR: repetitions of the NR block still to run
         self.prep_offset = None                # V.G.TOR..TOK written: the offset of the blocks in preparation
         self.mtb: list[float] = list(machine.mtb)   # V.MTB.P[i] (written by the program, L29198)
         self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)
