@@ -81,6 +81,7 @@ def test_any_tool_written_changes_the_table():
 def test_codes_are_checked_when_written():
     assert first_error("T3 D1 M6\nV.TM.LOCODE=10") == "INT045"     # 0-9 (L37815)
     assert first_error("T3 D1 M6\nV.TM.DTYPE=0") == "INT045"       # 1-10 (L37710)
+    assert first_error("T3 D1 M6\nV.TM.TLFNT[3][1]=-5") == "INT045"   # a life is not negative
 
 
 def test_turning_only_and_not_for_turning_tools():

@@ -42,6 +42,7 @@ _PREP = ("DSUBTYPE", "LOCODE", "TOMON", "TLFN", "TLFR", "TOAN", "TOTIPR", "TOWTI
 _PREP_READ_ONLY = frozenset({"DSUBTYPE", "LOCODE", "TLFN", "TLFR"})
 _TURNING_ONLY = frozenset({"TURNCONFIG", "LOCODE"})
 _NOT_TURNING = ("TOR", "TOI", "TOL", "TOK")
+_NOT_NEGATIVE = frozenset({"tip_radius", "cutting_length", "nose_width", "nominal_life", "real_life"})
 
 
 def _active_offset(st):
@@ -227,6 +228,8 @@ class ToolVariables:
                                       "(seed 002 ch. 22.49)", 1)
                 setattr(off, fld, n)
             else:
+                if fld in _NOT_NEGATIVE and value < 0:
+                    raise InterpError("INT045", f"{name} = {value:g}: a size or a life is not negative", 1)
                 setattr(off, fld, value * self._unit() if kind == "length" else value)
 
         return get, put
