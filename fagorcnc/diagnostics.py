@@ -244,6 +244,13 @@ CODES: dict[str, str] = {
     "INT247": "invalid #SET SP, #CALL SP or #FREE SP spindle list",
     "INT248": "spindle that may not change channel (AXISEXCH 0) or cannot leave it now (it turns, C axis, G33...)",
     "INT249": "invalid #RENAME SP",
+    # the rest of the variable catalogue (issue 26 item 10): INT253-INT259
+    "INT253": "active tool offset with per-axis offsets (TOFL/TOFLW) fagorcnc does not apply",
+    "INT254": "radius compensation with a turning tool (tip radius and shape factor LOCODE not computed)",
+    "INT255": "tool variable not valid for this kind of tool (TOR.. of a turning tool, LOCODE of a milling tool)",
+    "INT256": "V.G.DYNOVR written outside MINDYNOVR..MAXDYNOVR",
+    "INT257": "V.G.DYNOVR written on a machine file that gives no MINDYNOVR/MAXDYNOVR",
+    "INT258": "write this machine cannot take (V.TM.NUMOFDT: offsets to invent; FINEORGT without FINEORG)",
     # hardening (issue 30): what the machine or the host cannot give, refused with a diagnostic
     "INT150": "the active plane needs an axis this machine does not have",
     "INT151": "global subroutine file cannot be read (name too long, link loop, not a regular file, permission)",

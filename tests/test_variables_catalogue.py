@@ -309,9 +309,9 @@ def test_manual_feeds_are_kept():
 
 
 def test_a_variable_the_manual_defines_is_not_an_unknown_one():
-    # L36672 G.DYNOVR, L41781 G.CAMST, L35936 A.FLWACT, PLC signals: defined, not implemented (INT240);
+    # L36518 G.PERFRATE, L41781 G.CAMST, L35936 A.FLWACT, PLC signals: defined, not implemented (INT240);
     # a name the manual does not have stays INT044
-    for text in ("P1=V.G.DYNOVR", "P1=V.G.CAMST[1]", "P1=V.A.FLWACT.X", "P1=V.PLC.READYC2", "P1=V.TM.MZWAIT"):
+    for text in ("P1=V.G.PERFRATE", "P1=V.G.CAMST[1]", "P1=V.A.FLWACT.X", "P1=V.PLC.READYC2", "P1=V.TM.MZWAIT"):
         assert first_error(text, None) == "INT240", text
     for text in ("P1=V.G.DYNOVER", "P1=V.A.FLWACTS.X", "P1=V.PLC.NOPE"):
         assert first_error(text, None) == "INT044", text

@@ -94,6 +94,25 @@ class ToolOffset:
     radius: float = 0.0
     length_wear: float = 0.0
     radius_wear: float = 0.0
+    # the manual's other fields of an offset (fagorcnc.config.tooldata; seed 002 L37710-L38130)
+    type: int = 1                    # DTYPE: 1 milling .. 8 turning .. 10 probe
+    subtype: int = 0                 # DSUBTYPE
+    turn_config: int = 0             # TURNCONFIG (turning tools)
+    location_code: int = 0           # LOCODE (turning tools)
+    holder_orientation: int = 0      # FIXORI
+    spindle_direction: int = 0       # SPDLTURDIR
+    plunge_angle: float = 0.0        # TOAN, degrees
+    tip_radius: float = 0.0          # TOTIPR, mm
+    tip_radius_wear: float = 0.0     # TOWTIPR, mm
+    cutting_length: float = 0.0      # TOCUTL, mm
+    nose_angle: float = 0.0          # NOSEA, degrees
+    nose_width: float = 0.0          # NOSEW, mm
+    cutting_angle: float = 0.0       # CUTA, degrees
+    life_monitoring: int = 0         # TOMON: 0 none, 1 machining time, 2 operations
+    nominal_life: float = 0.0        # TLFN
+    real_life: float = 0.0           # TLFR
+    axis_offsets: dict = field(default_factory=dict)        # TOFL: axis -> mm
+    axis_offsets_wear: dict = field(default_factory=dict)   # TOFLW: axis -> mm
     #: False for the default machine's zero-size placeholder of an offset the machine's own tool table
     #: leaves out: radius or length compensation with it is an error (the control has no such offset)
     declared: bool = field(default=True, compare=False)
@@ -153,6 +172,7 @@ class Machine:
     origins: dict[int, dict[str, float]] = field(default_factory=dict)   # G159=n table (1..99)
     fixtures: dict[int, dict[str, float]] = field(default_factory=dict)  # V.A.FIXT[n] (1..10)
     tools: dict[int, dict[int, ToolOffset]] = field(default_factory=dict)  # tool -> D -> offset
+    tool_data: dict = field(default_factory=dict)   # tool -> tooldata.ToolData (TSTATUS, TLFF, TOTP1-4)
     max_feed: float = 0.0        # channel MAXFEED, 0 = not limited (L20762)
     rapid_feed: float = 0.0      # channel rapid; 0 = from the axes' max_velocity
     servo_period: float = 0.001  # s
@@ -376,20 +396,35 @@ def _origin_entry(key: Any) -> int:
     return n
 
 
-def _tools(table: Any) -> dict[int, dict[int, ToolOffset]]:
+def _tools(table: Any, axes: dict) -> dict[str, dict]:
+    """``tools``: tool -> D -> :class:`ToolOffset`, and the tools' own data (``status``, ``family``, ``custom``,
+    :mod:`fagorcnc.config.tooldata`)."""
+    from .tooldata import TOOL_KEYS, offset_field, tool_data
+
     tools: dict[int, dict[int, ToolOffset]] = {}
+    data: dict = {}
     for tkey, offsets in _table("tools", table).items():
         t = _entry("tools", tkey, 0, 4294967295)
-        for dkey, spec in _table(f"tools.{tkey}", offsets).items():
+        offsets = _table(f"tools.{tkey}", offsets)
+        own = {k: v for k, v in offsets.items() if k in TOOL_KEYS}
+        if own:
+            data[t] = tool_data(f"tools.{tkey}", own)
+        for dkey, spec in offsets.items():
+            if dkey in TOOL_KEYS:
+                continue
             d = _entry(f"tools.{tkey}", dkey, 0, 4294967295)
             declared = spec is not _PLACEHOLDER   # see ToolOffset.declared
             spec = _table(f"tools.{tkey}.{dkey}", spec)
             unknown = set(spec) - (set(ToolOffset.__dataclass_fields__) - {"declared"})
             if unknown:
                 raise MachineError(f"tools.{tkey}.{dkey}: unknown key(s) {', '.join(sorted(map(str, unknown)))}")
-            fields = {k: _number(f"tools.{tkey}.{dkey}.{k}", v) for k, v in spec.items()}
+            fields = {k: _number(f"tools.{tkey}.{dkey}.{k}", v) if k in _SIZE_FIELDS
+                      else offset_field(f"tools.{tkey}.{dkey}.{k}", k, v, axes) for k, v in spec.items()}
             tools.setdefault(t, {})[d] = ToolOffset(**fields, declared=declared)
-    return tools
+    return {"tools": tools, "tool_data": data}
+
+
+_SIZE_FIELDS = ("length", "radius", "length_wear", "radius_wear")
 
 
 def _prange(data: dict, key: str, default: tuple[int, int], hard: tuple[int, int]) -> tuple[int, int]:
@@ -465,7 +500,7 @@ def _build(data: dict) -> Machine:
         common_params=_prange(data, "common_params", (10000, 10999), (10000, 19999)),
         origins=origins,
         fixtures=fixtures,
-        tools=_tools(data.get("tools", {})),
+        **_tools(data.get("tools", {}), axes),
         max_feed=_number("max_feed", data.get("max_feed", 0.0)),
         rapid_feed=_number("rapid_feed", data.get("rapid_feed", 0.0)),
         servo_period=planner.servo_period,

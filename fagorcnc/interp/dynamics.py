@@ -58,6 +58,7 @@ class Dynamics:
     path_limits: tuple | None = None   # V.G.MAXACCEL/MAXJERK of the program (mm/s², mm/s³; 0 = none), L36469
     links: tuple = ()   # the #LINK couplings (interp.axes.Link) the slaves follow in this block (L14515)
     param_sets: tuple = ()   # G112: (axis, set) of the axes not at parameter set 1 (seed 002 L9307)
+    dynamic_override: float = 100.0   # V.G.DYNOVR: % of every axis's feed, acceleration and jerk (L36672)
 
     def param_set(self, axis: str) -> int:
         """The parameter set (1-4) whose dynamics ``axis`` moves with (G112)."""
@@ -267,7 +268,8 @@ def build(state, block_modes: dict) -> Dynamics:
                     adaptation, "G266" in block_modes, state.slope,
                     state.tangfeed_rmin if state.modes.get("feed_point") == 196 else None,
                     path_limits=state.path_limits, links=state.channel.links,
-                    param_sets=tuple(sorted((a, n) for a, n in state.param_sets.items() if a in state.machine.axes)))
+                    param_sets=tuple(sorted((a, n) for a, n in state.param_sets.items() if a in state.machine.axes)),
+                    dynamic_override=state.dynamic_override)
 
 
 def tangfeed_statement(interp, node) -> None:

@@ -25,6 +25,7 @@ from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
 from . import axes, compat
+from .channelvars import interpreter_variables
 from .curves import CurveSettings, splines
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
@@ -96,6 +97,7 @@ class Interpreter(FlowMixin):
         self.manual = ManualIntervention()   # G200-G202, #CONTJOG, #INCJOG, #MPG, #SET OFFSET (seed 002 ch. 8.9)
         self.axis_sentence = None   # the #AXIS of the block being executed
         self.variables.axis_vars.update(self.manual.variables())
+        self.variables.plain_vars.update(interpreter_variables(self))   # V.G.PENDRPT, INTMAN (interp/channelvars.py)
         self.spindle_modes = SpindleModes()   # M19 positioning, directions, S.POS, PRGSSO (seed 002 ch. 7)
         self.variables.spindle_vars.update(self.spindle_modes.variables(self.state))
         self.variables.plain_vars.update(axes.variables(self.state))   # V.G.AXISNAMEn, V.G.LINKACTIVE

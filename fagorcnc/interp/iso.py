@@ -29,6 +29,7 @@ from .records import Aux, Dwell, Line, Source
 from .spindle import directions, orientation, targets
 from .state import ChannelState
 from .threading import Synchroniser
+from .toolvars import refuse_uncomputed_offset
 from .units import INCH
 from .words import BlockWords, WordsMixin
 
@@ -247,7 +248,9 @@ class IsoExecutor(MotionMixin, WordsMixin):
                     raise InterpError("INT028", "NR repeats a motion: the block has none", nr_col)
                 # seed 002 L1109-L1111: NR = how many times the block is executed (no upper bound given)
                 interp.guard_repetitions(repeats, f"NR{repeats} repeats the block", nr_col)
+            outer_nr = st.pending_nr
             for k in range(max(repeats, 1)):
+                st.pending_nr = max(repeats, 1) - 1 - k   # V.G.PENDNR: n - 1 .. 0 (seed 002 L40680-L40684)
                 if k:  # every repetition counts as an executed block (runaway guards)
                     interp.count_block(nr_col)
                 rec = self._motion(gs, bw, src)
@@ -258,6 +261,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
                     yield rec
                     if bw.nr is None or bw.nr[0] != 0:
                         yield from interp.after_motion(src)
+            st.pending_nr = outer_nr
         elif bw.nr is not None:
             raise InterpError("INT028", "NR repeats a motion: the block has none", bw.nr[1])
         if not moved and 74 not in gs:
@@ -476,6 +480,8 @@ class IsoExecutor(MotionMixin, WordsMixin):
             raise InterpError("INT051", f"tool T{st.tool} has no offset D{d}", col)
         st.offset = d
         st.prep_offset = None   # a new offset: V.G.TOR.. read the table again (L38884-L38943)
+        st.prep_tool = None
+        refuse_uncomputed_offset(st, col)   # TOFL/TOFLW: per-axis offsets fagorcnc does not apply
 
     def _master(self) -> str | None:
         """The master spindle: the channel's first (seed 002 L5100)."""

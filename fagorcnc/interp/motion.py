@@ -10,6 +10,7 @@ from ..path import arcs
 from .expressions import InterpError
 from .gvars import arc_data
 from .records import Arc, Line, Source, feed_mode, shared_tuple
+from .toolvars import refuse_turning_compensation
 from .units import INCH
 from .words import BlockWords
 
@@ -97,11 +98,13 @@ class MotionMixin:
         if not st.offset or not st.tool:
             return None
         if st.prep_offset is not None:   # V.G.TOR.. written: the offset of the blocks in preparation (L39204)
+            refuse_turning_compensation(st, st.prep_offset, use)
             return st.prep_offset
         off = st.tools.get(st.tool, {}).get(st.offset)
         if off is None or not off.declared:
             raise InterpError("INT123", f"{use} needs the offset D{st.offset} of tool T{st.tool}, which the "
                               "machine's tool table does not hold", 1)
+        refuse_turning_compensation(st, off, use)   # G41/G42 with a turning tool: not computed (INT254)
         return off
 
     def _joins(self, comp: tuple | None) -> tuple | None:

@@ -55,6 +55,8 @@ class ChannelState:
         self.speeds: dict[str, float] = dict.fromkeys(machine.spindles, 0.0)
         self.spindle_state: dict[str, int] = dict.fromkeys(machine.spindles, 5)  # M3 / M4 / M5
         self.tools = copy.deepcopy(machine.tools)   # V.TM.TOR... may write it
+        self.tool_data = copy.deepcopy(machine.tool_data)   # V.TM.TOTP1T.. may write it (config/tooldata.py)
+        self.prep_tool = None   # V.G.TOTPn/REMLIFE written: (tool, values) of the tool in preparation (toolvars)
         self.g20_plane: tuple[str, str, str] | None = None   # G20 (abscissa, ordinate, longitudinal)
         self.tool_direction = -1               # V.G.TOOLDIR: the tool points along -longitudinal
         self.tool = 0
@@ -94,6 +96,9 @@ class ChannelState:
         self.arc_data: tuple | None = None     # the last prepared arc: V.G.R/I/J/K/CIRERR (interp/gvars.py)
         self.path_limits: tuple[float, float] | None = None   # V.G.MAXACCEL/MAXJERK written by the program
         self.manual_feeds: dict[int, float] = {}   # V.G.FMAN (94), V.G.MANFPR (95)
+        self.dynamic_override = 100.0          # V.G.DYNOVR: % of every axis's dynamics (interp/channelvars.py)
+        self.repositioning = (1.0, 0.0)        # V.G.ENDREP, V.G.SPDLREP (no tool inspection offline)
+        self.pending_nr = 0                    # V.G.PENDNR: repetitions of the NR block still to run
         self.prep_offset = None                # V.G.TOR..TOK written: the offset of the blocks in preparation
         self.mtb: list[float] = list(machine.mtb)   # V.MTB.P[i] (written by the program, L29198)
         self.kin = KinState(machine)           # #KIN ID, #CS/#ACS, #RTCP, #TLC (kept by M30 and reset)

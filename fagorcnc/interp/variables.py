@@ -16,13 +16,15 @@ from collections.abc import Callable
 from ..kinematics.variables import axis_variables as kinematics_axis_variables
 from ..kinematics.variables import variables as kinematics_variables
 from . import spindle_config
+from .channelvars import ChannelVariables
 from .cycles.variables import register as register_cycle_variables
 from .expressions import InterpError
 from .gvars import ProgramVariables
 from .iso import INCH, whole
 from .mpvars import MachineParameters
 from .state import ChannelState
-from .vcatalogue import manual_defined
+from .toolvars import ToolVariables
+from .vcatalogue import interface_only, manual_defined
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
 Setter = Callable[[ChannelState, tuple, str | None, float], None]
@@ -210,6 +212,20 @@ class Variables:
         }
         self.spindle_vars.update(program.spindle())
         self.spindle_vars.update(spindle_config.variables(s))   # V.A.ACTCH.S (interp/spindle_config.py)
+        # the tool table's other data: V.TM.DTYPE.., V.TM.*T[tl][ofd], V.G.NOSEA.., tool life (interp/toolvars.py)
+        channel_vars = ChannelVariables(self)   # V.G.DYNOVR, ENDREP, SPDLREP, HSC, CONTERROR, A.INPOS...
+        self.plain_vars.update(channel_vars.plain())
+        self.axis_vars.update(channel_vars.axis())
+        self.spindle_vars.update(channel_vars.spindle())
+        before = set(self.plain_vars) | set(self.axis_vars)
+        tools = ToolVariables(self)
+        self.plain_vars.update(tools.plain(self.plain_vars))
+        self.axis_vars.update(tools.axis())
+        added = (set(self.plain_vars) | set(self.axis_vars)) - before
+        #: the names whose read stops block preparation, and the ones whose write does too (L17437)
+        channel = ChannelVariables.EXECUTION
+        self.execution = EXECUTION_READS | ProgramVariables.EXECUTION | channel | ToolVariables.execution(added)
+        self.write_sync = ProgramVariables.EXECUTION | channel | ToolVariables.execution(added)
 
     # ------------------------------------------------------------------
     def _tool_field(self, fld: str, any_tool: bool = False):
@@ -358,6 +374,10 @@ class Variables:
         found = self.machine_parameters.find(name, index, channel, col)
         if found is not None:
             return ("mp", found[0], found[1:])
+        only = interface_only(name)
+        if only is not None:
+            raise InterpError("INT241", f"{name.replace('[]', '[..]')} is read by the PLC or the interface only, not "
+                              f"by a part program (seed 002 {only})", col)
         defined = manual_defined(name)
         if defined is not None:
             raise InterpError("INT240", f"{name.replace('[]', '[..]')} is a variable of the manual (seed 002 "
@@ -366,7 +386,7 @@ class Variables:
 
     def get(self, name: str, index: tuple, col: int = 1) -> float:
         kind, key, extra = self._resolve(name, index, col)
-        if key in EXECUTION_READS or key in ProgramVariables.EXECUTION:
+        if key in self.execution:
             self.state.sync = True   # the interpreter stops the motion before this block (see EXECUTION_READS)
         if kind == "user":
             try:
@@ -374,7 +394,11 @@ class Variables:
             except KeyError:
                 raise InterpError("INT043", f"variable {key} has no value yet (use EXIST[{key}])", col) from None
         if kind == "plain":
-            return self.plain_vars[key][0](extra)
+            try:
+                return self.plain_vars[key][0](extra)
+            except InterpError as exc:
+                exc.col = col
+                raise
         if kind == "mp":
             return self.machine_parameters.read(key, extra[0], extra[1], col)
         if kind == "spindle":
@@ -396,7 +420,7 @@ class Variables:
             setter = self.plain_vars[key][1]
             if setter is None:
                 raise InterpError("INT048", f"{key} is read-only", col)
-            if key in ProgramVariables.EXECUTION:
+            if key in self.write_sync:
                 self.state.sync = True   # the write of an execution variable stops block preparation (L17437)
             try:
                 setter(extra, value)
@@ -417,7 +441,13 @@ class Variables:
         setter = self.axis_vars[key][1]
         if setter is None:
             raise InterpError("INT048", f"{key}.{axis} is read-only", col)
-        setter(self.state, tuple(_index(x) for x in idx), axis, value * self._unit(axis))
+        if key in self.write_sync:
+            self.state.sync = True   # V.TM.TOFL[..].X: an execution variable (L37503)
+        try:
+            setter(self.state, tuple(_index(x) for x in idx), axis, value * self._unit(axis))
+        except InterpError as exc:
+            exc.col = col
+            raise
 
     def exists(self, name: str, index: tuple) -> bool:
         try:

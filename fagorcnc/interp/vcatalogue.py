@@ -127,3 +127,24 @@ def manual_defined(name: str) -> str | None:
     if line is None:
         return None
     return f"L{line}" if line else "ch. 22"
+
+
+#: Variables the manual gives to the PLC and the interface only ("Variable de lecture depuis l'interface",
+#: "... depuis le PLC et l'Interface", seed 002 L32941-L43422; spec 08 D.2): a part program may not read them
+#: (INT241).  ``#`` stands for a number built into the name.
+_INTERFACE_ONLY = {
+    "G": {"AXISCH": "L32941", "LUPACT": "L35441", "LUP#": "L35454", "LUP#F": "L35494", "GUP": "L35519",
+          "GUPF": "L35560", "CUP": "L35580", "CUPF": "L35596", "PLAXNAME#": "L40107", "PLANELONG": "L40131",
+          "HGS": "L40216", "HMS": "L40271", "HMS#": "L40283", "FILENAME": "L42992", "PRGPATH": "L43002"},
+    "TM": {"MZSTATUS": "L37310", "MZRUN": "L37323"},
+    "E": {k: "L43316" for k in _DEFINED["E"] if k != "PROGSELECT"},
+}
+
+
+def interface_only(name: str) -> str | None:
+    """The seed line of a variable only the PLC and the interface may read, None for the others."""
+    parts = name.replace("[]", "").split(".")
+    if len(parts) != 3 or parts[0] != "V":
+        return None
+    table = _INTERFACE_ONLY.get(parts[1], {})
+    return table.get(parts[2]) or table.get(_DIGITS.sub("#", parts[2]))

@@ -124,17 +124,19 @@ class Planner(CornerMixin):
         if lim is None:
             axes = self.machine.axes
             linear_slope = dyn is not None and dyn.slope[0] == 0
+            # V.G.DYNOVR: one percentage of the dynamics of every axis of the channel (seed 002 L36672)
+            k = dyn.dynamic_override / 100.0 if dyn is not None else 1.0
             vel, acc, jerk = [], [], []
             for a in self.axes:
                 # the axis's dynamics in its G112 parameter set (machine file axes.X.sets; set 1: its own)
                 max_velocity, max_feed, max_acceleration, max_jerk = axes[a].dynamics(
                     dyn.param_set(a) if dyn is not None and dyn.param_sets else 1)
                 v = max_velocity if rapid or max_feed <= 0 else min(max_feed, max_velocity)
-                vel.append(v / 60.0)
+                vel.append(v / 60.0 * k)
                 fa = dyn.acceleration_factor(a, rapid) if dyn is not None else 1.0
                 fj = dyn.jerk_factor(a, rapid) if dyn is not None else 1.0
-                acc.append(max_acceleration * fa)
-                jerk.append(math.inf if (not self.jerk or linear_slope) else max_jerk * fj)
+                acc.append(max_acceleration * fa * k)
+                jerk.append(math.inf if (not self.jerk or linear_slope) else max_jerk * fj * k)
             lim = self._limits[key] = AxisLimits(tuple(vel), tuple(acc), tuple(jerk))
         self._last_limits = (dyn, rapid, lim)
         return lim
