@@ -275,9 +275,13 @@ def test_a_second_link_fault_while_the_recovery_sends_again_loses_nothing():
     # The first drop mid-stream; the recovery purges the card and sends the segments not known complete again; a
     # second drop three commands into that resend.  The segments the recovery had not sent yet stayed in the window
     # (before: they were forgotten, and the second recovery never sent them).
+    # Lock-step (virtual clock): the card runs by the round trips, not the wall clock, so a busy machine cannot
+    # change which commands the drops strike.
     machine, segments = plan(spiral_program(300))
-    with Emulator(port=0, speed=2.0, resolution=1000) as emu:
+    clock, emu = lock_step(2.0, resolution=1000)
+    with emu:
         backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        backend.clock, backend.sleep = clock, clock.sleep
         backend.open()
         emu.drop_connection(after_commands=120)
         errors = []
