@@ -1,6 +1,6 @@
 """Planning: motion records -> jerk-limited timed segments -> sampled trajectory."""
 
-from .planner import Planner, PlanningError, Segment, plan
+from .planner import Planner, PlanningError, Segment, plan, planning_code
 from .trajectory import Trajectory, sample
 
-__all__ = ["Planner", "PlanningError", "Segment", "Trajectory", "plan", "sample"]
+__all__ = ["Planner", "PlanningError", "Segment", "Trajectory", "plan", "planning_code", "sample"]

@@ -75,12 +75,19 @@ class Segment:
 
 
 class PlanningError(RuntimeError):
-    """Raised when a span cannot be planned; carries the source line."""
+    """Raised when a span cannot be planned; carries the source line (and ``code``, its diagnostic's)."""
+
+    code = "PLN001"
 
     def __init__(self, message: str, line: int, record=None) -> None:
         super().__init__(message)
         self.line = line
         self.record = record
+
+
+def planning_code(exc: PlanningError) -> str:
+    """The diagnostic code of a planning error: PLN001, or the code of its kind (INT232, plan/independent.py)."""
+    return getattr(exc, "code", "PLN001")
 
 
 class Planner(CornerMixin):
@@ -113,6 +120,7 @@ class Planner(CornerMixin):
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
         self._last_end: tuple = (None, None)    # the last record's end and its vector
         self._origin = (0.0,) * len(self.axes)
+        self.independent = None                 # the independent axes of the last segments() (plan/independent.py)
 
     # ------------------------------------------------------------ records -> spans
     def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
@@ -241,7 +249,16 @@ class Planner(CornerMixin):
 
     # ------------------------------------------------------------ look-ahead and timing
     def segments(self, records: Iterable) -> Iterator[Segment]:
-        """Plan ``records`` (motion records in execution order); yields timed segments."""
+        """Plan ``records`` (motion records in execution order); yields timed segments.  #MOVE positionings
+        run alongside on their axes' own interpolators (:mod:`.independent`: ``self.independent`` holds
+        them and their notes)."""
+        from .independent import IndependentAxes
+
+        self.independent = axes = IndependentAxes(self)
+        return axes.run(self.timed(axes.general(records)))
+
+    def timed(self, records: Iterable) -> Iterator[Segment]:
+        """The general interpolator: ``records`` timed one after the other; yields timed segments."""
         queue: list[Group] = []
         self._known = []
         after: dict[int, list[Event]] = {}   # events that follow a span without a stop
