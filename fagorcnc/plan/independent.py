@@ -40,6 +40,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
+from itertools import chain
 
 from ..diagnostics import Diagnostic
 from ..interp.records import Dwell, IndependentMove, IndependentSync
@@ -120,6 +121,15 @@ class IndependentAxes:
     def run(self, segments: Iterable[Segment]) -> Iterator[Segment]:
         """The general segments with the independent ones among them, and the program's waits."""
         markers = self._markers
+        source = iter(segments)
+        for seg in source:   # until a #MOVE is read, the general segments as they are
+            if markers:
+                yield from self._alongside(chain((seg,), source))
+                return
+            yield seg
+
+    def _alongside(self, segments: Iterator[Segment]) -> Iterator[Segment]:
+        markers = self._markers
         shift = 0.0            # the program's waits so far: added to every later general segment
         burst: list[tuple[Segment, IndependentMove]] = []
         clock = 0.0            # the end of the general timeline so far
@@ -158,27 +168,29 @@ class IndependentAxes:
             yield Segment("dwell", clock, self.end - clock, line, None)
 
     def _burst(self, burst: list, shift: float):
-        """The #MOVEs the program reaches at one instant: each axis's chain planned and yielded, and the
+        """The #MOVEs the program reaches at one instant: each axis's moves planned and yielded, and the
         program's wait at each #MOVE (a dwell segment, of no time when it does not wait); returns the new shift
         and the end of the general timeline."""
         t = burst[0][0].t0 + shift
         chains: dict[str, list[IndependentMove]] = {}
         for _seg, move in burst:
             chains.setdefault(move.axis, []).append(move)
-        planned: list[IndependentSegment] = []
+        planned: dict[int, list[IndependentSegment]] = {id(m): [] for _s, m in burst}   # by #MOVE
         where: dict[int, int] = {}   # id(#MOVE) -> its index in its axis's instructions
-        for axis, chain in chains.items():
+        for axis, moves in chains.items():
             issued = self._issued.setdefault(axis, [])
+            while len(issued) > 1 and issued[0][1] <= t:   # ended: no longer stored (the last one is kept)
+                del issued[0]
             begin = t
             if issued and issued[-1][1] > t:   # the axis still runs an earlier positioning
                 begin = issued[-1][1]
                 self._note("INT230", f"#MOVE of {axis} reached while the axis still runs the positioning of "
                            f"line {issued[-1][2].src.line}: offline it starts when that one has stopped; the "
-                           "machine may join the two without stopping (L16625, L16722-L16740)", chain[0])
+                           "machine may join the two without stopping (L16625, L16722-L16740)", moves[0])
             first = len(issued)
-            times = {id(m): [None, None] for m in chain}
-            current = chain[0]
-            for seg in self._chain_planner().timed(chain):
+            times = {id(m): [None, None] for m in moves}
+            current = moves[0]
+            for seg in self._chain_planner().timed(moves):
                 rec = seg.record
                 if id(rec) in times:
                     current = rec
@@ -187,17 +199,17 @@ class IndependentAxes:
                 if span[0] is None:
                     span[0] = t0
                 span[1] = t0 + seg.duration
-                planned.append(IndependentSegment(seg.kind, t0, seg.duration, seg.line, rec, seg.piece, seg.v0,
-                                                  seg.v1, seg.profile, seg.blend, axis))
+                planned[id(current)].append(IndependentSegment(seg.kind, t0, seg.duration, seg.line, rec, seg.piece,
+                                                               seg.v0, seg.v1, seg.profile, seg.blend, axis))
             at = begin
-            for i, move in enumerate(chain):   # a positioning of no length takes no time
+            for i, move in enumerate(moves):   # a positioning of no length takes no time
                 start, end = times[id(move)]
                 start = at if start is None else start
                 at = start if end is None else end
                 issued.append([start, at, move])
                 where[id(move)] = first + i
             if at >= self.end:
-                self.end, self._last = at, chain[-1]
+                self.end, self._last = at, moves[-1]
         g = t
         for seg, move in burst:
             issued = self._issued[move.axis]
@@ -205,7 +217,8 @@ class IndependentAxes:
             wait = stored[-2] - g if len(stored) >= STORED else 0.0   # L16625: the program waits
             yield Segment("dwell", g, wait, seg.line, move)
             g += wait
-        yield from planned
+        for _seg, move in burst:   # in the program's order, each #MOVE's segments in time order
+            yield from planned[id(move)]
         return shift + (g - t), g
 
     def _chain_planner(self):
