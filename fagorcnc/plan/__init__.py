@@ -1,6 +1,7 @@
 """Planning: motion records -> jerk-limited timed segments -> sampled trajectory."""
 
-from .planner import Planner, PlanningError, Segment, plan, planning_code
+from .planner import Planner, PlanningError, Segment, plan
+from .segment import planning_code
 from .trajectory import Trajectory, sample
 
 __all__ = ["Planner", "PlanningError", "Segment", "Trajectory", "plan", "planning_code", "sample"]

@@ -26,6 +26,10 @@ How the planner does it (:class:`IndependentAxes`, two small filters around the 
   at the end of the program until the last independent axis stops, so the cycle time is when both
   are done (note INT233: the manual does not say whether M30 waits for them).
 
+WAITINPOS ("at rest, and in position before the next block", L16741) is read as the next block of the
+axis's own interpolator, as its ICORNER counterpart G07 is for the general one (L16750, L7993): the
+in-position wait is on the axis's timeline, the program does not wait for it.
+
 The sum.  A general block that moves an axis a #MOVE moved is refused until ``#SYNC POS``
 (INT232, interp/independent.py and :meth:`IndependentAxes.general`), and ``#SYNC POS`` waits for the
 independent motion to end: while an axis runs independently the general interpolator holds it, so the
@@ -44,7 +48,7 @@ from itertools import chain
 
 from ..diagnostics import Diagnostic
 from ..interp.records import Dwell, IndependentMove, IndependentSync
-from .planner import PlanningError, Segment
+from .segment import PlanningError, Segment
 
 #: Record kinds the general interpolator moves axes with.
 MOTION = frozenset({"linear", "rapid", "arc"})
