@@ -184,3 +184,15 @@ def test_the_interpcnc_card_refuses_independent_motion_before_the_start():
     u = next(s for s in segs if isinstance(s, IndependentSegment))
     why = InterpCncBackend.preflight(_Card(), u)
     assert why is not None and "#MOVE of U" in why and "nothing was sent" in why
+
+
+def test_waitinpos_holds_the_axis_in_position_on_its_own_timeline():
+    # L16741: WAITINPOS stops at the position and waits in position before the axis's next block (inposition_time
+    # 0.5 s here).  X0-50 at F500: 50 / 8.333 + 8.333 / 500 = 6.0167 s, the wait to 6.5167 s, then X50-100 to
+    # 12.5333 s.  At t = 6.3 s X stands at 50 (the general records already carry it at 100, its last target).
+    machine = {**MACHINE, "planner": {"inposition_time": 0.5}}
+    r = _run("G0 X0\n#MOVE [X50, F500, WAITINPOS]\n#MOVE [X100, F500, NULL]\nM30\n", machine)
+    assert r.cycle_time == pytest.approx(12.5333, abs=2e-3)
+    tr = r.trajectory(0.001)
+    assert tr.position["X"][6300] == pytest.approx(50.0) and tr.velocity["X"][6300] == 0.0
+    assert tr.position["X"][9000] == pytest.approx(50 + 8.3333 * (9.0 - 6.5167) - 8.3333 ** 2 / 1000, abs=2e-3)
