@@ -131,7 +131,8 @@ class Result:
         return [d for d in self.diagnostics if d.is_error]
 
     def segments(self, *, jerk: bool = True, keep_profiles: bool = True) -> Iterator[Segment]:
-        """The planned motion as timed :class:`~fagorcnc.plan.Segment` objects."""
+        """The planned motion as timed :class:`~fagorcnc.plan.Segment` objects; a #MOVE's are
+        :class:`~fagorcnc.plan.IndependentSegment` objects, on the same clock, overlapping the general ones."""
         return Planner(self.machine, jerk=jerk, keep_profiles=keep_profiles).segments(self.moves)
 
     def trajectory(self, period: float | None = None) -> Trajectory:
