@@ -195,8 +195,12 @@ CODES: dict[str, str] = {
     "INT227": "invalid #MOVE statement",
     "INT228": "#MOVE without F and no POSFEED for the axis in the machine file",
     "INT229": "#MOVE on an axis that cannot move independently",
-    "INT230": "#MOVE run before the blocks after it (one interpolator offline)",
+    "INT230": "#MOVE reached while its axis still runs a positioning: started from rest after it",
     "INT231": "#MOVE INF runs to the travel limit",
+    # #MOVE alongside the general motion (plan/independent.py): INT232-INT239
+    "INT232": "general move of an axis a #MOVE positioned, before #SYNC POS",
+    "INT233": "the program end waits for an independent axis (#MOVE) to stop",
+    "INT234": "#SYNC POS waits for the independent axes to stop",
     # threading G33 and rigid tapping G63 (issue 26 item 1): INT180-INT189
     "INT180": "G33 thread pitch missing or invalid",
     "INT181": "G33 thread does not advance along the axis of its pitch",

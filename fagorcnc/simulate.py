@@ -20,7 +20,7 @@ from .diagnostics import Diagnostic
 from .interp.interpreter import Interpreter
 from .interp.records import record_time
 from .interp.state import ChannelState
-from .plan import Planner, PlanningError, Segment, Trajectory, sample
+from .plan import Planner, PlanningError, Segment, Trajectory, planning_code, sample
 from .plan.envelope import Envelope
 from .program_files import Source, no_block, resolve, source_name
 from .runtime import fewer_collections
@@ -131,7 +131,8 @@ class Result:
         return [d for d in self.diagnostics if d.is_error]
 
     def segments(self, *, jerk: bool = True, keep_profiles: bool = True) -> Iterator[Segment]:
-        """The planned motion as timed :class:`~fagorcnc.plan.Segment` objects."""
+        """The planned motion as timed :class:`~fagorcnc.plan.Segment` objects; a #MOVE's are
+        :class:`~fagorcnc.plan.IndependentSegment` objects, on the same clock, overlapping the general ones."""
         return Planner(self.machine, jerk=jerk, keep_profiles=keep_profiles).segments(self.moves)
 
     def trajectory(self, period: float | None = None) -> Trajectory:
@@ -223,13 +224,17 @@ def _planned(mach: Machine, moves: list, diagnostics: list, file: str) -> tuple[
 
     sim = SimulatorBackend(mach, keep_segments=False)
     sim.open()
+    planner = Planner(mach)
+    planning = None
     try:
-        for seg in Planner(mach).segments(moves):
+        for seg in planner.segments(moves):
             sim.send(seg)
     except PlanningError as exc:
         where = exc.record.src.file if exc.record is not None else file
-        diagnostics.append(Diagnostic(where, exc.line, 1, "PLN001", "error", str(exc)))
-    return sim.cycle_time, next((d for d in diagnostics if d.code == "PLN001"), None)
+        planning = Diagnostic(where, exc.line, 1, planning_code(exc), "error", str(exc))
+        diagnostics.append(planning)
+    diagnostics.extend(planner.independent.diagnostics(file))   # #MOVE's notes (plan/independent.py)
+    return sim.cycle_time, planning
 
 
 def _simulate_whole(source: Source, mach: Machine, block_skip: bool) -> Result:
@@ -455,18 +460,20 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
         envelope = Envelope(mach)   # PLN100: what lies between the programmed end points
         clock = 0.0
         planning = None
+        planner = Planner(mach)
         try:
-            for seg in Planner(mach).segments(records):
-                clock = seg.t0 + seg.duration
+            for seg in planner.segments(records):
+                clock = max(clock, seg.t0 + seg.duration)   # #MOVE's segments overlap the general ones
                 envelope.add(seg)
                 if on_segment is not None:
                     on_segment(seg)
         except PlanningError as exc:
-            planning = Diagnostic(exc.record.src.file if exc.record is not None else file, exc.line, 1, "PLN001",
-                                  "error", str(exc))
+            planning = Diagnostic(exc.record.src.file if exc.record is not None else file, exc.line, 1,
+                                  planning_code(exc), "error", str(exc))
             diagnostics = [*diagnostics, planning]
             for _ in records:   # the rest is still interpreted, for its diagnostics (as simulate() does)
                 pass
+        diagnostics = [*diagnostics, *planner.independent.diagnostics(file)]   # #MOVE's notes
     finally:
         getattr(lines, "close", lambda: None)()
     out = sorted([*diagnostics, *interp.diagnostics, *envelope.diagnostics(file)], key=_place)

@@ -45,6 +45,7 @@ class SimulatorBackend:
     def open(self) -> None:
         self._status = Status(state="idle", position=self._pos_dict())
         self._stopped = False
+        self.cycle_time = 0.0
         self._t_wall = time.monotonic()
 
     def send(self, segment: Segment) -> None:
@@ -57,12 +58,13 @@ class SimulatorBackend:
         if self.keep:
             self.segments.append(segment)
         st.sent += 1
+        axis = getattr(segment, "axis", None)   # a #MOVE's segment, alongside the general ones (plan/independent.py)
         with self._lock:
             if st.state != "pause":      # a pause that came while the last segment ended stays a pause
                 st.state = "run"
-            if segment.kind == "motion":   # where the move now running goes (a PLC's target position)
+            if segment.kind == "motion" and axis is None:   # where the move now running goes (a PLC's target)
                 st.target = dict(zip(self.axes, segment.piece.end.tolist(), strict=True))
-        if self.realtime:
+        if self.realtime and axis is None:   # an independent axis is paced by the general segments it runs beside
             self._pace(segment)
             if self._stopped:
                 with self._lock:
@@ -72,9 +74,12 @@ class SimulatorBackend:
             if segment.kind == "aux" and segment.record is not None:
                 rec = segment.record
                 self.aux_log.append((segment.t0, segment.line, rec.function, rec.value))
-            if segment.kind == "motion":
+            if segment.kind == "motion" and axis is None:
                 self._position = np.array(segment.piece.end, dtype=float)
-            self.cycle_time = segment.t0 + segment.duration
+            elif segment.kind == "motion":   # only its axis: the others are the general interpolator's
+                i = self.axes.index(axis)
+                self._position[i] = segment.piece.end[i]
+            self.cycle_time = max(self.cycle_time, segment.t0 + segment.duration)   # independent ones overlap
             st.executed += 1
             st.line = segment.line
             st.position = self._pos_dict()

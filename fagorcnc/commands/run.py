@@ -24,7 +24,7 @@ from pathlib import Path
 from ..backends import Backend, BackendError, Status, get_backend
 from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import Diagnostic
-from ..plan import Planner, PlanningError, Segment
+from ..plan import Planner, PlanningError, Segment, planning_code
 from ..plan.envelope import Envelope
 from ..program_files import resolve, source_name
 from ..runtime import fewer_collections
@@ -192,7 +192,7 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
             be.send(seg)
             sent += 1
             counted.sent(seg.record)
-            clock = seg.t0 + seg.duration
+            clock = max(clock, seg.t0 + seg.duration)   # #MOVE's segments overlap the general ones
             if progress is not None:
                 progress(seg, be.status(), total)
         counted.finished()
@@ -206,7 +206,7 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
     except PlanningError as exc:
         stopped_by, message = "error", str(exc)
         file = exc.record.src.file if exc.record is not None else stream.program.file
-        planning = Diagnostic(file, exc.line, 1, "PLN001", "error", str(exc))
+        planning = Diagnostic(file, exc.line, 1, planning_code(exc), "error", str(exc))
         extra.append(planning)
         status = be.finish()
     except KeyboardInterrupt:
@@ -220,6 +220,8 @@ def _run(source, machine, backend, block_skip: bool, check_first: bool | None, p
         extra += unmapped
     if envelope is not None:
         extra += envelope.diagnostics(stream.program.file)
+    if planner.independent is not None:   # #MOVE's notes (plan/independent.py)
+        extra += planner.independent.diagnostics(stream.program.file)
     diagnostics = sorted([*stream.diagnostics, *extra], key=lambda d: (d.file, d.line, d.col))
     if stopped_by is None and any(d.is_error for d in diagnostics):
         beyond = all(d.code == "PLN100" for d in diagnostics if d.is_error)

@@ -22,7 +22,7 @@ the planner joins them without a corner (plan/links.py), each tied to the block 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -45,7 +45,9 @@ class CurveSettings:
     start_tangent: dict | None = None
     end_tangent: dict | None = None
     active: bool = False
-    moves: int = 0   # #MOVE blocks run (the note on their sequencing is given once)
+    #: axes a #MOVE moved since the last #SYNC POS -> the line of that #MOVE: the general interpolator does
+    #: not count those moves until #SYNC POS (interp/independent.py, seed 002 L16657-L16665)
+    independent: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True, slots=True)

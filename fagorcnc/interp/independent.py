@@ -1,15 +1,21 @@
-"""#MOVE: positioning of one axis by its independent interpolator (seed 002 ch. 21.1.19, L16684-L16747).
+"""#MOVE: positioning of one axis by its independent interpolator (seed 002 ch. 21.1.19, L16615-L16747).
 
 ``#MOVE [X50, F500, PRESENT]`` (absolute, also ``#MOVE ABS``), ``#MOVE ADD [X10 ...]`` (incremental) and
 ``#MOVE INF [X+ ...]`` (endless, up to the travel limit) become one
 :class:`~fagorcnc.interp.records.IndependentMove` each, at the positioning feed F, with the link that
 says how it ends: PRESENT at its own feed, NEXT at the feed of the next #MOVE, NULL at rest,
 WAITINPOS at rest and in position (L16722-L16740).  Without a link, ICORNER decides: G05 -> PRESENT,
-G50 -> NULL, G07 -> WAITINPOS (L16741-L16747).  The planner honours the links (plan/links.py).
+G50 -> NULL, G07 -> WAITINPOS (L16741-L16747).  The planner runs them on the axis's own timeline,
+alongside the general blocks after them (plan/independent.py; the links in plan/links.py).
 
-[CONSTRUCTION] offline there is one interpolator: the positioning runs before the blocks after it,
-where the machine runs it alongside them and adds both (L16620-L16623); the end positions are the
-same, the time and the way there are not, which a note (INT230) says once per program.
+Each axis's independent interpolator has its own position count (L16618-L16620) and the machine
+adds both interpolators (L16622-L16623): the general interpolator does not count a #MOVE until
+``#SYNC POS`` synchronises it with the real position (L16657-L16665, "only needed when instructions
+of both interpolators are mixed").  A general block that programs an axis a #MOVE moved before
+that synchronisation would run on a count that misses the positioning, to another place than the
+one written: it is refused (INT232) before anything moves.  ``#SYNC POS`` after #MOVEs is an
+:class:`~fagorcnc.interp.records.IndependentSync` in the record stream, where the general motion
+waits for the independent axes to stop (plan/independent.py).
 """
 
 from __future__ import annotations
@@ -18,7 +24,7 @@ from dataclasses import replace
 
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Param
 from .expressions import InterpError
-from .records import IndependentMove, Source
+from .records import IndependentMove, IndependentSync, Source
 
 LINKS = ("PRESENT", "NEXT", "NULL", "WAITINPOS")
 #: The link a #MOVE takes without one, from ICORNER (0 = G50, 1 = G05, 2 = G07) (L16741-L16747).
@@ -114,8 +120,8 @@ def _record(interp, node, src: Source, kind: str, axis: str, target, feed: float
     corner, adaptation = _LINK_DYNAMICS[link]
     dyn = replace(st.dynamics(), corner=corner, adaptation=adaptation)
     speed = iso.length(feed, axis)   # inch/min under G70 (L16716)
-    _note(interp, node)
-    return IndependentMove("linear", start, end, st.to_part(end), speed, "G94", src, dyn=dyn, link=link)
+    interp.curves.independent.setdefault(axis, src.line)   # not counted by the general interpolator
+    return IndependentMove("linear", start, end, st.to_part(end), speed, "G94", src, dyn=dyn, link=link, axis=axis)
 
 
 def _rotary_target(ax, here: float, value: float) -> float:
@@ -127,9 +133,24 @@ def _rotary_target(ax, here: float, value: float) -> float:
     return here + (d if d <= m / 2 else d - m)
 
 
-def _note(interp, node) -> None:
-    cs = interp.curves
-    cs.moves += 1
-    if cs.moves == 1:
-        interp.message("INT230", "info", "#MOVE runs here before the blocks after it (one interpolator offline); "
-                       "on the machine the independent axis moves alongside them (L16623)", node.col)
+def check_general(interp, axes, col: int) -> None:
+    """Refuse a general block programming ``axes`` when one of them was moved by a #MOVE since the last
+    ``#SYNC POS`` (INT232): the general interpolator's count misses that positioning (L16618-L16620), so the
+    machine, adding both (L16623), would take the axis elsewhere than programmed."""
+    moved = interp.curves.independent
+    for axis in axes:
+        line = moved.get(axis)
+        if line is not None:
+            raise InterpError("INT232", f"{axis} was positioned by #MOVE (line {line}): the general interpolator "
+                              f"does not count that move until #SYNC POS, and the machine adds both "
+                              f"interpolators (L16618-L16623, L16657-L16665), so {axis} would not go where this "
+                              f"block says; program #SYNC POS before moving {axis} here", col)
+
+
+def sync(interp, src: Source):
+    """``#SYNC POS`` (L16657-L16665): the general interpolator takes the axes a #MOVE moved; in the record
+    stream an :class:`IndependentSync`, where the general motion waits for the independent axes to stop."""
+    moved = interp.curves.independent
+    if moved:
+        moved.clear()
+        yield IndependentSync("dwell", 0.0, dict(interp.state.machine_pos), src)

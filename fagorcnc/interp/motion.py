@@ -9,6 +9,7 @@ import math
 from ..path import arcs
 from .expressions import InterpError
 from .gvars import arc_data
+from .independent import check_general
 from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .toolvars import refuse_turning_compensation
 from .units import INCH
@@ -34,6 +35,8 @@ class MotionMixin:
             return None
         if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
             return None
+        if self.interp.curves.independent:   # an axis a #MOVE moved, before #SYNC POS (interp/independent.py)
+            check_general(self.interp, bw.axes, next(iter(bw.axes.values()))[1] if bw.axes else 1)
         prepared = self.sync.prepare(mode, bw) if mode in (33, 63) else None   # refused before anything moves
         if st.mcs_on or self.interp.mcs_block:
             return self._mcs_move(gs, bw, src)

@@ -104,9 +104,10 @@ class CurveLine(Line):
 class IndependentMove(Line):
     """A #MOVE positioning of one axis (seed 002 L16684-L16747): ``link`` is how it ends, PRESENT
     (at its own feed), NEXT (at the next #MOVE's feed), NULL (at rest) or WAITINPOS (at rest, in
-    position)."""
+    position); ``axis`` the axis it moves (its own interpolator, plan/independent.py)."""
 
     link: str = "NULL"
+    axis: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -198,6 +199,13 @@ class Dwell(_AtPosition):
     position: dict
     src: Source
     plc_marks: tuple = ()   # PLC marks on during the dwell (a tapping cycle's: TAPPING, RIGID)
+
+
+@dataclass(frozen=True, slots=True)
+class IndependentSync(Dwell):
+    """``#SYNC POS`` after #MOVE positionings (seed 002 L16657-L16665): the general interpolator takes the
+    axes' positions; the general motion waits there until the independent axes have stopped
+    (plan/independent.py).  A dwell of no time of its own."""
 
 
 @dataclass(frozen=True, slots=True)

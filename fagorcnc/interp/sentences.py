@@ -148,6 +148,8 @@ def execute_sentence(interp, node, src):
                           "(L11114); a program or subroutine run here cannot use it", node.col)
     if kw in ("CONTJOG", "INCJOG", "MPG") or (kw == "SET" and sub == "OFFSET") or (kw == "SYNC" and sub == "POS"):
         manual.statement(interp, node)
+        if kw == "SYNC":   # after #MOVEs: the general interpolator takes their axes (interp/independent.py)
+            yield from independent.sync(interp, src)
         return
     if kw == "ERROR":
         # seed 002 L14139-L14212: stops the program with the error

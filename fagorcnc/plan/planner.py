@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
 from itertools import accumulate, islice
 
 import numpy as np
@@ -21,10 +20,12 @@ import numpy as np
 from ..config.machine import Machine, load_machine
 from ..interp.records import css_feed
 from .geometry import ArcPiece, LinePiece, Piece
+from .independent import IndependentAxes
 from .junctions import MIN_LENGTH, CornerMixin
 from .limits import AxisLimits
 from .lookahead import backward
 from .profile import Profile, ProfileError, ProfileWindow, Solver
+from .segment import PlanningError, Segment
 from .span import Event, Group, Span
 
 #: Arcs are planned in parts of at most this sweep (radians): each part's cap and tangential limits
@@ -48,39 +49,6 @@ GROUP_MEMBERS = 64
 #: alternates the two (a dry run is 11 to 22 % faster); the records read ahead are a few
 #: milliseconds of interpretation, and the look-ahead window holds far more than that anyway.
 READ_AHEAD = 1024
-
-
-@dataclass(slots=True)
-class Segment:
-    """A timed part of the motion.
-
-    ``kind`` is ``"motion"``, ``"dwell"`` or ``"aux"``; ``t0`` its start time (s)
-    and ``duration``; ``v0``/``v1`` the path speeds (mm/s) at its ends; ``piece``
-    the geometry (machine coordinates), ``profile`` the motion along it when the
-    planner was asked to keep profiles; ``record`` the motion record it comes
-    from (for a corner blend: the block whose end it rounds); ``blend`` is True
-    for a curve the planner inserted (G05/HSC).
-    """
-
-    kind: str
-    t0: float
-    duration: float
-    line: int
-    record: object
-    piece: Piece | None = None
-    v0: float = 0.0
-    v1: float = 0.0
-    profile: Profile | None = None
-    blend: bool = False
-
-
-class PlanningError(RuntimeError):
-    """Raised when a span cannot be planned; carries the source line."""
-
-    def __init__(self, message: str, line: int, record=None) -> None:
-        super().__init__(message)
-        self.line = line
-        self.record = record
 
 
 class Planner(CornerMixin):
@@ -113,6 +81,7 @@ class Planner(CornerMixin):
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
         self._last_end: tuple = (None, None)    # the last record's end and its vector
         self._origin = (0.0,) * len(self.axes)
+        self.independent = None                 # the independent axes of the last segments() (plan/independent.py)
 
     # ------------------------------------------------------------ records -> spans
     def _axis_limits(self, dyn, rapid: bool) -> AxisLimits:
@@ -243,7 +212,14 @@ class Planner(CornerMixin):
 
     # ------------------------------------------------------------ look-ahead and timing
     def segments(self, records: Iterable) -> Iterator[Segment]:
-        """Plan ``records`` (motion records in execution order); yields timed segments."""
+        """Plan ``records`` (motion records in execution order); yields timed segments.  #MOVE positionings
+        run alongside on their axes' own interpolators (:mod:`.independent`: ``self.independent`` holds
+        them and their notes)."""
+        self.independent = axes = IndependentAxes(self)
+        return axes.run(self.timed(axes.general(records)))
+
+    def timed(self, records: Iterable) -> Iterator[Segment]:
+        """The general interpolator: ``records`` timed one after the other; yields timed segments."""
         queue: list[Group] = []
         self._known = []
         after: dict[int, list[Event]] = {}   # events that follow a span without a stop

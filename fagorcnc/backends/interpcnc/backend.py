@@ -101,6 +101,7 @@ from collections.abc import Iterable
 from ...config.machine import Machine
 from ...diagnostics import Diagnostic
 from ...plan import Segment
+from ...plan.independent import IndependentSegment
 from ..base import BackendError, Status
 from . import protocol as proto
 from . import registers as regs
@@ -231,6 +232,8 @@ class InterpCncBackend(Polling, Recovery, Watchdog):
                                  accepted=False)
         if self._stopped:
             raise InterpCncError("stopped by the operator: segment refused", self._snapshot(), accepted=False)
+        if isinstance(segment, IndependentSegment):   # never sent one after the other (see preflight)
+            raise InterpCncError(self.preflight(segment), self._snapshot(), accepted=False)
         if segment.kind == "aux" and self.options.strict_outputs:    # refused before it is accepted
             rec = segment.record
             if self.outputs.unmapped(rec.function, rec.value):
@@ -396,6 +399,11 @@ class InterpCncBackend(Polling, Recovery, Watchdog):
     def preflight(self, segment: Segment) -> str | None:
         """Why ``segment`` could not be sent to the card (None when it can): the check before a real
         run asks it of every planned segment, so that a stream never stops half-way on one."""
+        if isinstance(segment, IndependentSegment):   # a #MOVE running alongside the program (plan/independent.py)
+            return (f"the #MOVE of {segment.axis} runs on its own interpolator alongside the program's blocks "
+                    f"(seed 002 L16622: the axis follows the sum of both); the {self.name} card has one "
+                    f"interpolator and runs its moves one after another, so the axes would not move as "
+                    f"planned - nothing was sent")
         if segment.kind != "motion":
             return None
         thread = getattr(segment.record, "thread", None)
