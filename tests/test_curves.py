@@ -190,6 +190,20 @@ def test_manual_spline_example_passes_every_point_and_ends_tangent_to_the_next_b
     assert r.moves[-2].src.line == 13 and not isinstance(r.moves[-2], CurveLine)
 
 
+
+def test_an_independent_move_after_the_spline_is_not_the_next_block_of_its_tangent():
+    # #ASPLINE MODE [1,2] ends the spline tangent to the next block (L15766-L15770).  A #MOVE is no block of the
+    # path (its axis has an interpolator of its own, L16615): the tangent is that of N130 X140, along +X, and the
+    # spline's chords never move U (before: the #MOVE U100 was taken as the next block, and U dipped to -3.31).
+    program = SPLINE_EXAMPLE.replace("N130 X140\n", "#MOVE ABS [U100, F1000]\nN130 X140\n")
+    r = _run(program, {"axes": {"X": {}, "Y": {}, "Z": {}, "U": {}}})
+    assert r.ok, r.diagnostics
+    chords = _chords(r)
+    assert all(c.end["U"] == 0.0 for c in chords)
+    last = chords[-1]
+    d = math.atan2(last.end["Y"] - last.start["Y"], last.end["X"] - last.start["X"])
+    assert abs(math.degrees(d)) < 2.0
+
 def test_given_tangents_start_and_end():
     # MODE [3,3] with STARTTANG X1 Y1 and ENDTANG X0 Y1 (L15803-L15812): 2 points are enough (L15722)
     r = _run("G1 X20 Y20 F750\n#ASPLINE MODE [3,3]\n#ASPLINE STARTTANG X1 Y1\n#ASPLINE ENDTANG X0 Y1\n"

@@ -208,6 +208,13 @@ def test_arc_variables_with_g265_the_manuals_example():
     assert p == pytest.approx([101.980881, 100.000417, 20.000417, -0.000417, -0.000417, 0.0], abs=5e-7)
 
 
+
+def test_cirerr_without_its_index_says_so():
+    # L40483: the variable is V.G.CIRERR[1] / [2]; without the index it is INT244 (it exists), not INT240
+    r = fagorcnc.simulate(text="G0 X0\nP1=V.G.CIRERR\nM30\n")
+    assert [(d.line, d.col, d.code) for d in r.diagnostics if d.is_error] == [(2, 4, "INT244")]
+    assert "V.G.CIRERR[1]" in r.diagnostics[0].message
+
 def test_arc_variables_with_g264_the_manuals_example():
     # seed 002 L40568: with G264 the centre stays (100, 20): I = 100, J = 20, CIRERR = 0; G.R = 101.981371,
     # sqrt(20² + 100.001²), the radius to the end point as the example prints it (spec 08 F.2: §8.3.6 says the

@@ -30,7 +30,7 @@ from ..kinematics.stage import StageError
 from ..path.spline import CHORD_TOLERANCE, CurveError, poly_points, poly_tangent, spline_points
 from ..syntax.ast import ItemList, Keyed
 from .expressions import InterpError
-from .records import Arc, CurveLine, Line, Source, _AtPosition
+from .records import Arc, CurveLine, IndependentMove, Line, Source, _AtPosition
 
 #: Tangent types of #ASPLINE MODE (L15740-L15770): automatic, tangent to the block before / after, given.
 TANGENT_TYPES = (1, 2, 3)
@@ -386,7 +386,8 @@ def splines(records, interp):
                     last, spline = spline.last_chord or last, None
             continue
         if held is not None:
-            if kind not in MOTION:
+            # an independent #MOVE is no block of the path: the spline ends tangent to the next general move
+            if kind not in MOTION or isinstance(rec, IndependentMove):
                 held[2].append(rec)
                 continue
             yield from _release(held, _direction(rec, held[0].axes, False))
@@ -408,7 +409,7 @@ def splines(records, interp):
                 continue
             spline.event(rec)
             continue
-        if kind in MOTION:
+        if kind in MOTION and not isinstance(rec, IndependentMove):
             last = rec
         yield rec
     if held is not None:

@@ -374,6 +374,9 @@ class Variables:
         found = self.machine_parameters.find(name, index, channel, col)
         if found is not None:
             return ("mp", found[0], found[1:])
+        if "[" not in name and (f"{name}[]" in self.plain_vars or f"{name}[]" in self.axis_vars):
+            # V.G.CIRERR is V.G.CIRERR[1] or [2] (L40483): a missing index, not a variable fagorcnc lacks
+            raise InterpError("INT244", f"{name} needs its index: {name}[1]", col)
         only = interface_only(name)
         if only is not None:
             raise InterpError("INT241", f"{name.replace('[]', '[..]')} is read by the PLC or the interface only, not "
