@@ -34,6 +34,8 @@ _AT_END_BEFORE = -1
 _IS_END = -1
 #: Line numbers and offsets of a row are kept in C ints ("i": 32 bits signed).
 _INT_MAX = 2**31 - 1
+#: Ints per row in Moves._rows: context, offset of the values, of the start, of the part end point, source.
+_ROW = 5
 #: Distinct contexts kept, at most: a move of yet another one is kept as an object.
 MAX_CONTEXTS = 1 << 16
 
@@ -118,22 +120,19 @@ class Moves(Sequence):
     straight moves as columns, the rest as objects.  Compares equal to a list or tuple of the same
     records; ``moves[i]``, slices and iteration make the records on access (see the module)."""
 
-    __slots__ = ("_at", "_context_of", "_contexts", "_ctx", "_feed", "_last_context", "_last_end", "_last_src",
-                 "_lines", "_objects", "_part", "_src", "_start", "_text", "_text_end", "_values", "_where")
+    __slots__ = ("_context_of", "_contexts", "_last_context", "_last_end", "_last_src", "_lines", "_objects",
+                 "_rows", "_text", "_text_end", "_values", "_where")
 
     def __init__(self, records: Iterable = ()) -> None:
         self._where = array("i")      # per record: a row (>= 0), or ~k for self._objects[k]
         self._objects: list = []      # the records not stored as rows
         self._contexts: list[tuple] = []   # (kind, feed_mode, has_feed, file, dyn, frame, joins, axes)
         self._context_of: dict[tuple, int] = {}
-        # the rows: one entry each
-        self._ctx = array("i")        # index in self._contexts
-        self._at = array("i")         # offset of the end point's coordinates in self._values
-        self._values = array("d")     # coordinates: end points, and start/part points of their own
-        self._feed = array("d")       # 0.0 where the context has no feed
-        self._start = array("i")      # _AT_END_BEFORE, or the offset of the start's coordinates
-        self._part = array("i")       # _IS_END, or the offset of the part end point's coordinates
-        self._src = array("i")        # index in the sources
+        # the rows: _ROW ints each (context, at, start, part, source), and at _values[at] the feed
+        # (0.0 without one), the end point's coordinates, then the start's and the part end point's
+        # when they have their own (start: offset, or _AT_END_BEFORE; part: offset, or _IS_END)
+        self._rows = array("i")
+        self._values = array("d")
         # the sources: one entry per Source object (consecutive rows of one block share one)
         self._lines = array("i")
         self._text_end = array("q")   # end offset of each text in self._text
@@ -197,30 +196,30 @@ class Moves(Sequence):
                 return -1
         context = self._context(rec, src.file, axes)
         values_ = self._values
-        if context < 0 or len(values_) + 3 * len(axes) > _INT_MAX or len(self._lines) >= _INT_MAX:
+        at = len(values_)
+        if context < 0 or at + 1 + 3 * len(axes) > _INT_MAX or len(self._lines) >= _INT_MAX:
             return -1
         if new_source:
             self._lines.append(line)
             self._text += text.encode("utf-8", "surrogatepass")
             self._text_end.append(len(self._text))
             self._last_src = src
-        self._ctx.append(context)
-        self._at.append(len(values_))
+        values_.append(0.0 if feed is None else feed)
         values_.extend(values)
         if start_values is None:
-            self._start.append(_AT_END_BEFORE)
+            start_at = _AT_END_BEFORE
         else:
-            self._start.append(len(values_))
+            start_at = len(values_)
             values_.extend(start_values)
         if part_values is None:
-            self._part.append(_IS_END)
+            part_at = _IS_END
         else:
-            self._part.append(len(values_))
+            part_at = len(values_)
             values_.extend(part_values)
-        self._feed.append(0.0 if feed is None else feed)
-        self._src.append(len(self._lines) - 1)
+        rows = self._rows
+        rows.extend((context, at, start_at, part_at, len(self._lines) - 1))
         self._last_end = end
-        return len(self._ctx) - 1
+        return len(rows) // _ROW - 1
 
     def _context(self, rec: Line, file: str, axes: tuple) -> int:
         """The index of the context of ``rec`` (added when new), -1 when it cannot be one."""
@@ -264,14 +263,15 @@ class Moves(Sequence):
         where = self._where[index]   # IndexError and TypeError as a list raises them
         if where < 0:
             return self._objects[~where]
-        start_at = self._start[where]
-        start = self._point(where - 1, self._at[where - 1]) if start_at == _AT_END_BEFORE \
+        i = where * _ROW
+        start_at = self._rows[i + 2]
+        start = self._point(where - 1, self._rows[i - _ROW + 1] + 1) if start_at == _AT_END_BEFORE \
             else self._point(where, start_at)
         return self._make(where, start, None)
 
     def __iter__(self) -> Iterator:
         objects = self._objects
-        sources, starts = self._src, self._start
+        rows = self._rows
         point, make = self._point, self._make
         end_before = None   # the end dict of the row before: the start of the next one
         src = None          # the Source of the row before
@@ -280,8 +280,9 @@ class Moves(Sequence):
             if where < 0:
                 yield objects[~where]
                 continue
-            start_at = starts[where]
-            s = sources[where]
+            i = where * _ROW
+            start_at = rows[i + 2]
+            s = rows[i + 4]
             record = make(where, end_before if start_at == _AT_END_BEFORE else point(where, start_at),
                           src if s == last else None)
             end_before = record.end
@@ -291,23 +292,23 @@ class Moves(Sequence):
 
     def _point(self, row: int, at: int) -> dict:
         """The point of ``row``'s axes whose coordinates begin at ``at`` in the values."""
-        axes = self._contexts[self._ctx[row]][7]
+        axes = self._contexts[self._rows[row * _ROW]][7]
         return dict(zip(axes, self._values[at:at + len(axes)]))  # noqa: B905 (as many as the axes)
 
     def _make(self, row: int, start: dict, src: Source | None) -> Line:
         """The record of ``row`` from ``start``, with ``src`` when given (the row's Source, else made)."""
-        kind, mode, has_feed, file, dyn, frame, joins, axes = self._contexts[self._ctx[row]]
+        i = row * _ROW
+        context, at, _start, part_at, s = self._rows[i:i + _ROW]
+        kind, mode, has_feed, file, dyn, frame, joins, axes = self._contexts[context]
         values = self._values
-        at = self._at[row]
-        end = dict(zip(axes, values[at:at + len(axes)]))  # noqa: B905 (as many as the axes)
-        part_at = self._part[row]
-        part = end if part_at == _IS_END else dict(zip(axes, values[part_at:part_at + len(axes)]))  # noqa: B905
+        n = len(axes)
+        end = dict(zip(axes, values[at + 1:at + 1 + n]))  # noqa: B905 (as many as the axes)
+        part = end if part_at == _IS_END else dict(zip(axes, values[part_at:part_at + n]))  # noqa: B905
         if src is None:
-            s = self._src[row]
             begin = self._text_end[s - 1] if s else 0
             src = _new_source(file, self._lines[s], self._text[begin:self._text_end[s]].decode("utf-8",
                                                                                               "surrogatepass"))
-        return _new_line(kind, start, end, part, self._feed[row] if has_feed else None, mode, src, dyn, frame, joins)
+        return _new_line(kind, start, end, part, values[at] if has_feed else None, mode, src, dyn, frame, joins)
 
     # ------------------------------------------------------------------------------- as a list
     def __eq__(self, other: object) -> bool:
