@@ -224,6 +224,7 @@ class _Kept:
 
     def __init__(self, records: Iterator, moves: Moves) -> None:
         self._records = records
+        self.moves = moves
         self._keep = moves.append
 
     def __iter__(self) -> _Kept:
@@ -251,6 +252,7 @@ def _planned(mach: Machine, records: _Kept, file: str) -> tuple[float, Diagnosti
         planning = Diagnostic(where, exc.line, 1, "PLN001", "error", str(exc))
     for _ in records:   # the rest of the program still runs (its records and diagnostics are kept)
         pass
+    records.moves.flush()
     return sim.cycle_time, planning
 
 

@@ -36,6 +36,8 @@ _IS_END = -1
 _INT_MAX = 2**31 - 1
 #: Ints per row in Moves._rows: context, offset of the values, of the start, of the part end point, source.
 _ROW = 5
+#: Records added are stored in batches of this many (see Moves.flush).
+BATCH = 256
 #: Distinct contexts kept, at most: a move of yet another one is kept as an object.
 MAX_CONTEXTS = 1 << 16
 
@@ -121,7 +123,7 @@ class Moves(Sequence):
     records; ``moves[i]``, slices and iteration make the records on access (see the module)."""
 
     __slots__ = ("_context_of", "_contexts", "_last_context", "_last_end", "_last_src", "_lines", "_objects",
-                 "_rows", "_text", "_text_end", "_values", "_where")
+                 "_pending", "_rows", "_text", "_text_end", "_values", "_where")
 
     def __init__(self, records: Iterable = ()) -> None:
         self._where = array("i")      # per record: a row (>= 0), or ~k for self._objects[k]
@@ -140,25 +142,39 @@ class Moves(Sequence):
         self._last_src: Source | None = None
         self._last_end: dict | None = None   # the end dict of the last row stored
         self._last_context = -1
+        self._pending: list = []      # records added, not stored yet (at most BATCH)
         self.extend(records)
+        self.flush()
 
     # ------------------------------------------------------------------------------------ storing
     def append(self, record) -> None:
-        """Add ``record`` at the end (as a row when it is a plain straight move)."""
-        if type(record) is Line and (record.comp is None and record.thread is None and record.css is None
-                                     if _KNOWN else _others(record) == _OTHER_DEFAULTS):
-            row = self._row_of(record)
-            if row >= 0:
-                self._where.append(row)
-                return
-        self._where.append(~len(self._objects))
-        self._objects.append(record)
+        """Add ``record`` at the end (stored with the next batch: see :meth:`flush`)."""
+        pending = self._pending
+        pending.append(record)
+        if len(pending) >= BATCH:
+            self.flush()
 
     def extend(self, records: Iterable) -> None:
         """Add every record of ``records`` (as :meth:`append`)."""
         append = self.append
         for record in records:
             append(record)
+
+    def flush(self) -> None:
+        """Store the records waiting in ``_pending`` (every access does it first): a plain straight move
+        as a row, any other record as the object it is."""
+        where, objects = self._where, self._objects
+        row_of = self._row_of
+        for record in self._pending:
+            if type(record) is Line and (record.comp is None and record.thread is None and record.css is None
+                                         if _KNOWN else _others(record) == _OTHER_DEFAULTS):
+                row = row_of(record)
+                if row >= 0:
+                    where.append(row)
+                    continue
+            where.append(~len(objects))
+            objects.append(record)
+        self._pending = []
 
     def _row_of(self, rec: Line) -> int:
         """Store ``rec`` as a new row and return its index; -1 (nothing stored) when it does not fit."""
@@ -249,7 +265,7 @@ class Moves(Sequence):
 
     # ---------------------------------------------------------------------------------- accessing
     def __len__(self) -> int:
-        return len(self._where)
+        return len(self._where) + len(self._pending)
 
     @overload
     def __getitem__(self, index: int): ...
@@ -258,6 +274,8 @@ class Moves(Sequence):
     def __getitem__(self, index: slice) -> list: ...
 
     def __getitem__(self, index):
+        if self._pending:
+            self.flush()
         if isinstance(index, slice):
             return [self[i] for i in range(*index.indices(len(self._where)))]
         where = self._where[index]   # IndexError and TypeError as a list raises them
@@ -270,6 +288,8 @@ class Moves(Sequence):
         return self._make(where, start, None)
 
     def __iter__(self) -> Iterator:
+        if self._pending:
+            self.flush()
         objects = self._objects
         rows = self._rows
         point, make = self._point, self._make
