@@ -10,7 +10,7 @@ planner; ``trajectory()`` samples the planned motion.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,6 +18,7 @@ from .config.machine import Machine, MachineError, load_machine
 from .config.parameter_file import attach_parameter_file
 from .diagnostics import Diagnostic
 from .interp.interpreter import Interpreter
+from .interp.movestore import Moves
 from .interp.records import record_time
 from .interp.state import ChannelState
 from .plan import Planner, PlanningError, Segment, Trajectory, planning_code, sample
@@ -113,7 +114,7 @@ class Result:
 
     ok: bool
     diagnostics: list[Diagnostic]
-    moves: list
+    moves: Sequence   # a Moves (records stored as columns, made on access), equal to the list of the records
     state: FinalState | None
     cycle_time: float
     program: Program | None = _ParsedOnUse()   # type: ignore[assignment]
@@ -167,7 +168,7 @@ def simulate(source: str | os.PathLike | None = None, machine: Machine | dict | 
         mach = load_machine(machine)
     except MachineError as exc:
         d = Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))
-        return Result(False, [d], [], None, 0.0, None)
+        return Result(False, [d], Moves(), None, 0.0, None)
     with fewer_collections():
         return _simulate(program_source, mach, block_skip)
 
@@ -205,11 +206,11 @@ def _simulate_streamed(source: Source, file: str, encoding: str, mach: Machine, 
         head, body = stream_program(lines, file, mach.compat)
         interp = Interpreter(head, mach, block_skip=block_skip, stream=body)
         attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
-        moves = list(interp.run())
+        moves, notes = Moves(), []
+        cycle_time, planning = _planned(mach, _Kept(interp.run(), moves), file, notes)
     finally:
         getattr(lines, "close", lambda: None)()
-    diagnostics = [*syntax, *interp.diagnostics]
-    cycle_time, planning = _planned(mach, moves, diagnostics, file)
+    diagnostics = [*syntax, *interp.diagnostics, *([planning] if planning is not None else []), *notes]
     ending = program_ending(interp.ended, stopping_error(interp.diagnostics, planning), file)
     diagnostics.sort(key=lambda d: (d.file, d.line, d.col))
     ok = not any(d.is_error for d in diagnostics)
@@ -217,9 +218,29 @@ def _simulate_streamed(source: Source, file: str, encoding: str, mach: Machine, 
                   ending.program_end, mach, ending)
 
 
-def _planned(mach: Machine, moves: list, diagnostics: list, file: str) -> tuple[float, Diagnostic | None]:
-    """The cycle time of ``moves`` on the embedded simulator back-end (segments not kept), and the PLN001
-    added to ``diagnostics`` when planning fails."""
+class _Kept:
+    """The interpreter's records, each kept in ``moves`` on its way to the planner (planned as they are
+    made, not made again from the columns).  An iterator object, not a generator: after a planning
+    error the rest is still interpreted and kept."""
+
+    def __init__(self, records: Iterator, moves: Moves) -> None:
+        self._records = records
+        self.moves = moves
+        self._keep = moves.append
+
+    def __iter__(self) -> _Kept:
+        return self
+
+    def __next__(self):
+        record = next(self._records)
+        self._keep(record)
+        return record
+
+
+def _planned(mach: Machine, records: _Kept, file: str, notes: list) -> tuple[float, Diagnostic | None]:
+    """The cycle time of ``records`` on the embedded simulator back-end (segments not kept), and the
+    PLN001 when planning fails; every record is drawn from ``records`` (the rest after a failure).  The
+    planner's own notes (#MOVE's timeline) are added to ``notes``."""
     from .backends.sim import SimulatorBackend
 
     sim = SimulatorBackend(mach, keep_segments=False)
@@ -227,13 +248,15 @@ def _planned(mach: Machine, moves: list, diagnostics: list, file: str) -> tuple[
     planner = Planner(mach)
     planning = None
     try:
-        for seg in planner.segments(moves):
+        for seg in planner.segments(records):
             sim.send(seg)
     except PlanningError as exc:
         where = exc.record.src.file if exc.record is not None else file
         planning = Diagnostic(where, exc.line, 1, planning_code(exc), "error", str(exc))
-        diagnostics.append(planning)
-    diagnostics.extend(planner.independent.diagnostics(file))   # #MOVE's notes (plan/independent.py)
+    for _ in records:   # the rest of the program still runs (its records and diagnostics are kept)
+        pass
+    records.moves.flush()
+    notes.extend(planner.independent.diagnostics(file))   # #MOVE's notes (plan/independent.py)
     return sim.cycle_time, planning
 
 
@@ -244,9 +267,9 @@ def _simulate_whole(source: Source, mach: Machine, block_skip: bool) -> Result:
         program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))
     interp = Interpreter(program, mach, block_skip=block_skip)
     attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
-    moves = list(interp.run())
-    diagnostics = [*program.diagnostics, *interp.diagnostics]
-    cycle_time, planning = _planned(mach, moves, diagnostics, program.file)
+    moves, notes = Moves(), []
+    cycle_time, planning = _planned(mach, _Kept(interp.run(), moves), program.file, notes)
+    diagnostics = [*program.diagnostics, *interp.diagnostics, *([planning] if planning is not None else []), *notes]
     if not program.ok:
         ending = not_started(program.diagnostics, program.file)
     else:

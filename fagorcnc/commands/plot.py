@@ -145,10 +145,13 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
     idx = [axes_names.index(a) for a in view]
 
     result = simulate(source, mach, block_skip=block_skip)
+    # the records once, as objects: the tool of each is found by its id, and result.moves makes them
+    # again at each access (fagorcnc.interp.movestore)
+    moves = list(result.moves)
     polylines: list[tuple[np.ndarray, bool, int]] = []   # points, rapid?, tool
     tool = next_tool = 0
     by_record = {}
-    for rec in result.moves:   # the tool in the spindle for each record (M06 loads the preselected T)
+    for rec in moves:   # the tool in the spindle for each record (M06 loads the preselected T)
         if rec.kind == "aux" and rec.function == "T":
             next_tool = int(rec.value)
         elif rec.kind == "aux" and rec.function == "M" and int(rec.value) == 6:
@@ -158,11 +161,11 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
     tool = 0
     tool_axes = ToolAxes()
     tipped = False   # some move drawn at the tool tip (the tip view of a move under a kinematics)
-    if result.moves:
-        from ..plan import PlanningError
+    if moves:
+        from ..plan import Planner, PlanningError
 
         try:
-            for seg in result.segments(keep_profiles=False):
+            for seg in Planner(result.machine, keep_profiles=False).segments(moves):
                 if seg.piece is None:
                     continue
                 tool = by_record.get(id(seg.record), tool)
@@ -185,7 +188,7 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
             pass   # reported in result.diagnostics; draw what was planned
 
     contour: list[np.ndarray] = []
-    compensated = any(getattr(r, "comp", None) and r.comp[1] for r in result.moves)
+    compensated = any(getattr(r, "comp", None) and r.comp[1] for r in moves)
     if programmed and compensated:
         zero = simulate(source, _zero_radius(mach), block_skip=block_skip)
         contour = [_record_points(r, axes_names)[:, idx] for r in zero.moves if r.kind in ("linear", "arc")]
@@ -210,7 +213,7 @@ def plot_program(source: str | Path, output: str | Path, machine: Machine | dict
         ax.plot(*pts.T, color="black", linewidth=0.5, label="programmed contour" if i == 0 else None)
     if not three_d:   # holes: feed moves along the view's normal only (drilling, canned cycles) are points
         holes: dict[tuple, int] = {}
-        for rec in result.moves:
+        for rec in moves:
             if rec.kind == "linear" and rec.length > 0 and all(abs(rec.end[a] - rec.start[a]) < 1e-9 for a in view):
                 holes.setdefault((round(rec.end[view[0]], 6), round(rec.end[view[1]], 6)), by_record[id(rec)])
         for i, ((hx, hy), t) in enumerate(holes.items()):
