@@ -51,7 +51,8 @@ def stream_lock_step(machine, segments, speed: float, **options):
     """Stream in lock-step; returns (card, backend) after finish(); the executed log matches the plan."""
     clock, emu = lock_step(speed, resolution=1000)
     with emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, **options)
+        # a Modbus request timeout of 10 s, not 1: a busy test machine may hold a reply that long
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, **{"timeout": 10.0, **options})
         backend.clock, backend.sleep = clock, clock.sleep
         backend.open()
         for seg in segments:
@@ -280,7 +281,7 @@ def test_a_second_link_fault_while_the_recovery_sends_again_loses_nothing():
     machine, segments = plan(spiral_program(300))
     clock, emu = lock_step(2.0, resolution=1000)
     with emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000)
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=10.0)
         backend.clock, backend.sleep = clock, clock.sleep
         backend.open()
         emu.drop_connection(after_commands=120)

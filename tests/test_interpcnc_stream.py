@@ -66,7 +66,9 @@ def stream_all(machine, segments, speed: float):
     """Stream every segment in lock-step to an emulated card at ``speed``; check the executed log against the plan."""
     clock = VirtualClock(ROUND_TRIP)
     with Emulator(port=0, speed=speed, resolution=1000, clock=clock) as emu:
-        backend = get_backend("interpcnc", machine, port=emu.port, outputs=OUTPUTS, resolution=1000)
+        # a Modbus request timeout of 10 s, not 1: a busy test machine may hold a reply that long (the card's
+        # time is the virtual clock's; this test is about the protocol, not about the link's latency)
+        backend = get_backend("interpcnc", machine, port=emu.port, outputs=OUTPUTS, resolution=1000, timeout=10.0)
         assert isinstance(backend, InterpCncBackend)
         backend.clock, backend.sleep = clock, clock.sleep
         backend.open()
