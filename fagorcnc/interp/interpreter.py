@@ -35,6 +35,7 @@ from .laser import Laser
 from .macros import expanded_blocks
 from .manual import ManualIntervention
 from .parameters import Parameters
+from .plain import NOT_PLAIN, PlainBlocks
 from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
 from .spindle import SpindleModes
@@ -157,6 +158,9 @@ class Interpreter(FlowMixin):
             pass
 
     failed = False
+    #: Plain blocks (literal G00-G03 moves) take the fast path of :mod:`fagorcnc.interp.plain`; False runs
+    #: every block through the general executor (the tests compare both).
+    plain_blocks = True
     cycle_time = 0.0   # seconds of the records handed on (after the corner aids)
 
     def _aid_error(self, aid, message: str) -> None:
@@ -170,6 +174,7 @@ class Interpreter(FlowMixin):
         frames = self.frames
         state = self.state
         stream = self.stream
+        plain = PlainBlocks(self).run if self.plain_blocks else None
         while len(frames) > depth:
             frame = frames[-1]
             if frame.repeat is not None and frame.pc > frame.repeat[1]:
@@ -195,6 +200,17 @@ class Interpreter(FlowMixin):
             if self.recover:
                 yield from self._skipping_errors(block)
                 continue
+            if plain is not None:   # the commonest CAM block, without the general executor (interp/plain.py)
+                record = plain(block)
+                if record is not NOT_PLAIN:
+                    if record is not None:
+                        if state.sync:
+                            yield self._sync(block, record.start)
+                        state.elapsed += record_time(self.machine, record)
+                        yield record
+                    if state.sync:
+                        yield self._sync(block, None)
+                    continue
             for record in self._block(block):
                 if state.sync:   # the block read an execution value: the motion before it ends first
                     yield self._sync(block, getattr(record, "start", None))

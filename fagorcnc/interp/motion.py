@@ -46,7 +46,8 @@ class MotionMixin:
             st.arc_radius = None   # a polar move clears the stored arc radius (L6533)
         self._length_compensation(bw)
         end_prog = end_part
-        end_part = st.transform.apply(end_prog)
+        tr = st.transform
+        end_part = dict(end_prog) if tr.identity else tr.apply(end_prog)
         end = st.shared_end(st.to_machine(end_part), end_part)
         self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
         st.moved_to(end)
