@@ -360,6 +360,8 @@ class IsoExecutor(MotionMixin, WordsMixin):
         orientation.  It takes effect on the next move of the longitudinal axis.
         """
         st = self.state
+        if not st.length_offset and (not st.offset or not st.tool):
+            return   # no offset, none applied: nothing changes (_tool_offset is None, the length 0)
         axis, direction = st.longitudinal()
         if axis is None or axis not in bw.axes:
             return

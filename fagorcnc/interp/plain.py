@@ -18,8 +18,13 @@ the general way.  ``tests/test_plain_blocks.py`` runs programs both ways and com
 
 from __future__ import annotations
 
+import math
+
+from ..path import arcs
 from ..syntax.ast import Block, Word
 from . import compat
+from .records import Line, Source, feed_mode, shared_tuple
+from .units import INCH
 from .words import BlockWords
 
 #: What :meth:`PlainBlocks.run` returns for a block it does not take: the general executor runs it.
@@ -28,23 +33,39 @@ NOT_PLAIN = object()
 #: G functions a plain block may hold: their number and modal group (``gtable.G_FUNCTIONS``).
 _PLAIN_G = {0.0: (0, "motion"), 1.0: (1, "motion"), 2.0: (2, "motion"), 3.0: (3, "motion"),
             90.0: (90, "distance"), 91.0: (91, "distance")}
-#: Letters of a plain block that are the parameters of its motion (arc centre, radius).
-_PLAIN_PARAMS = frozenset("IJKR")
 #: The largest block number (``Evaluator.integer``'s range for N).
 _MAX_N = 4294967295.0
 #: Feed modes whose moves are not checked against a stopped spindle (as ``IsoExecutor.execute``).
 _NO_SPINDLE_LINT = ("G95", "G33", "G63")
 
 
+_G, _N, _F, _PARAM = 1, 2, 3, 4   # roles of the letters that are not axes
+
+
+def _roles(by_name: dict, configured) -> dict:
+    """What each address of a plain block is, as ``WordsMixin._classify`` tests them in turn: G, N and F
+    first, then the channel's axes (program name -> machine axis), then I J K R when no configured axis
+    has that name (an axis of the machine outside the channel is an error of the general path)."""
+    roles: dict = {}
+    for letter in "IJKR":
+        if letter not in configured and letter not in by_name:
+            roles[letter] = _PARAM
+    roles.update(by_name)
+    roles.update({"G": _G, "N": _N, "F": _F})
+    return roles
+
+
 class PlainBlocks:
     """Runs plain blocks for an :class:`~fagorcnc.interp.interpreter.Interpreter` (see the module)."""
 
-    __slots__ = ("interp", "iso", "state")
+    __slots__ = ("_names", "_roles", "interp", "iso", "state")
 
     def __init__(self, interp) -> None:
         self.interp = interp
         self.iso = interp.iso
         self.state = interp.state
+        self._names: dict | None = None   # the channel's by_name the roles were made for
+        self._roles: dict = {}
 
     def run(self, block: Block):
         """The record of ``block`` (None when it moves nothing, as ``F800`` alone), or :data:`NOT_PLAIN`
@@ -56,7 +77,9 @@ class PlainBlocks:
                 or channel.parked:
             return NOT_PLAIN   # #MCALL after the move, #MCS, a canned cycle, coupled or parked axes
         by_name = channel.by_name
-        machine_axes = st.machine.axes
+        if self._names is not by_name:   # the channel's axes changed (#SET AX, #RENAME AX ...): roles again
+            self._names, self._roles = by_name, _roles(by_name, st.machine.axes)
+        roles = self._roles
         axes: dict = {}
         params: dict = {}
         gl: list = []
@@ -70,7 +93,12 @@ class PlainBlocks:
             addr, value, col, eq = w
             if type(value) is not float or eq is not None:
                 return NOT_PLAIN   # an expression, a parameter, a word without a value, G159=n
-            if addr == "G":   # G, N and F before the axes, in classify()'s order
+            role = roles.get(addr)
+            if type(role) is str:   # an axis of the channel: its machine axis
+                if role in axes:
+                    return NOT_PLAIN   # INT023
+                axes[role] = (value, col)
+            elif role is _G:
                 g = _PLAIN_G.get(value)
                 if g is None:
                     return NOT_PLAIN
@@ -81,20 +109,16 @@ class PlainBlocks:
                 if bit == 1:
                     motion = g[0]
                 gl.append((g, col))
-            elif addr == "N":
-                if not (0.0 <= value <= _MAX_N and value.is_integer()):
-                    return NOT_PLAIN   # INT036, INT037
-                number = value
-            elif addr == "F":
-                feed = (value, col)   # the last F counts, as in classify()
-            elif (axis := by_name.get(addr)) is not None:
-                if axis in axes:
-                    return NOT_PLAIN   # INT023
-                axes[axis] = (value, col)
-            elif addr in _PLAIN_PARAMS and addr not in machine_axes:
+            elif role is _PARAM:
                 if addr in params:
                     return NOT_PLAIN   # INT023
                 params[addr] = (value, col)
+            elif role is _F:
+                feed = (value, col)   # the last F counts, as in classify()
+            elif role is _N:
+                if not (0.0 <= value <= _MAX_N and value.is_integer()):
+                    return NOT_PLAIN   # INT036, INT037
+                number = value
             else:
                 return NOT_PLAIN
         modes = st.modes
@@ -106,25 +130,84 @@ class PlainBlocks:
         interp.axis_sentence = None
         if number is not None:
             st.last_n = int(number)
-        text = block.text
-        for (n, _group), col in gl:
-            if n >= 10:
-                compat.leading_zero(interp, n, col, text)   # "G090" is G90
+        if gl:
+            text = block.text
+            for (n, _group), col in gl:
+                if n >= 10:
+                    compat.leading_zero(interp, n, col, text)   # "G090" is G90
         iso = self.iso
         iso.sync.previous_motion = modes["motion"]   # G33 joins the thread of the block before (L7366)
-        gs = {}
-        for (n, group), col in gl:
-            gs[n] = (col, None)
+        for (n, group), _col in gl:
             modes[group] = n
-        st.block_modes = {}
-        bw = BlockWords()
-        bw.g = [(n, col, None) for (n, _group), col in gl]
-        bw.axes = axes
-        bw.params = params
-        bw.feed = feed
+        if st.block_modes:
+            st.block_modes = {}
         if feed is not None:
             iso._feed(*feed)
-        rec = iso._motion(gs, bw, interp._src(block))
+        mode = modes["motion"]
+        src = interp._src(block)
+        rec = self._line(mode, axes, src) if mode < 2 and axes and not params and self._simple() else NOT_PLAIN
+        if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
+            bw = BlockWords()
+            bw.g = [(n, col, None) for (n, _group), col in gl]
+            bw.axes = axes
+            bw.params = params
+            bw.feed = feed
+            rec = iso._motion({n: (col, None) for (n, _group), col in gl}, bw, src)
         if rec is not None and rec.kind != "rapid" and rec.feed_mode not in _NO_SPINDLE_LINT:
             compat.spindle_lint(interp, rec, 1)
         return rec
+
+    # ------------------------------------------------------------ G00/G01 in the simplest state
+    def _simple(self) -> bool:
+        """No transformation, tool length or radius compensation, kinematics or per-block planning
+        context: then :meth:`_line` is ``MotionMixin._motion`` for a G00/G01 of axis words."""
+        st = self.state
+        kin = st.kin
+        tr = st.transform
+        return (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and not st.length_offset
+                and (not st.offset or not st.tool) and st.modes["compensation"] not in (41, 42)
+                and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
+                and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes)
+
+    def _line(self, mode: int, words: dict, src: Source):
+        """``MotionMixin._motion`` of a G00/G01 with axis words under :meth:`_simple`, step by step (the
+        same arithmetic in the same order): the programmed point is the part point (no transformation),
+        the origin chain does not change in the block (no length compensation), no rotary axis word
+        (:data:`NOT_PLAIN`: ``_motion`` itself)."""
+        st = self.state
+        iso = self.iso
+        configured = st.machine.axes
+        for axis in words:
+            if configured[axis].rotary:
+                return NOT_PLAIN   # _motion itself: unrolled positions, directions (IsoExecutor._rotary)
+        a, o, _ = st.plane_axes()
+        off = st.offsets()
+        pos = st.machine_pos
+        cur_part = {x: pos[x] - off[x] for x in st.axes}   # programmed_pos(): part_pos(), no transform
+        start = st.move_start()
+        modes = st.modes
+        incremental = modes["distance"] == 91
+        inch = modes["units"] == 70
+        diameter = modes["diameter"] == 151
+        end_prog = dict(cur_part)   # target()
+        for axis, (v, _col) in words.items():
+            if inch:
+                v *= INCH
+            if diameter and configured[axis].diameter:
+                v /= 2.0
+            end_prog[axis] = cur_part[axis] + v if incremental else v
+        end_part = dict(end_prog)   # transform.apply() under no transformation
+        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine(): the chain did not change
+        end = st.shared_end(end, end_part)
+        iso.interp.check_limits(end, next(iter(words.values()))[1], start)
+        st.moved_to(end)
+        if a is not None and o is not None:
+            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
+                or st.tangent
+        if mode == 0:   # _compensation() is None, _joins(None) the modal pair
+            return Line("rapid", start, end, end_part, None, "G94", src, None, st.dynamics(),
+                        joins=shared_tuple((modes["transition"], modes["comp_start"])))
+        length = math.sqrt(sum((end[x] - start[x]) ** 2 for x in end))
+        feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
+        return Line("linear", start, end, end_part, feed, feed_mode(modes["feed"]), src, None, st.dynamics(),
+                    joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())

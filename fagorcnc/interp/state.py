@@ -193,10 +193,10 @@ class ChannelState:
         Planes are defined by the first three slots of the channel's axis configuration (L14730).
         """
         slots = self.channel.slots
-        a = slots[:3] + [None] * max(0, 3 - len(slots))
         plane = self.modes["plane"]
         if plane == 20 and self.g20_plane is not None:
             return self.g20_plane
+        a = slots[:3] if len(slots) >= 3 else slots[:3] + [None] * (3 - len(slots))
         if len(slots) == 2 and None not in slots:
             # seed 002 L3013-L3016, L3043: a lathe with a "plane" axis configuration (two axes) always
             # works in G18, formed by the second axis (abscissa) and the first (X, Z: the plane ZX)
