@@ -137,11 +137,13 @@ def test_mixed_program_mostly_fast(monkeypatch):
     assert 0.3 < share < 0.8
 
 
-def test_cam_raster_takes_the_fast_path(monkeypatch):
-    raster = "G90 G1 X0 Y0 Z2 F3000\nG05\n" + "\n".join(f"X{i * 0.5:.4f} Y{(i // 20) * 0.5:.4f} Z{i % 7 * 0.1:.4f}"
-                                                         for i in range(200)) + "\nM30\n"
-    assert _plain_share(raster, None, monkeypatch) > 0.98
-    _same(raster, monkeypatch)
+@pytest.mark.parametrize("head", ["", "T1 D1 M6\nS8000 M3\nG54\n"])
+def test_cam_raster_takes_the_fast_path(head, monkeypatch):
+    # with and without a tool (its length applies at the first Z move) and a work offset
+    raster = head + "G90 G1 X0 Y0 Z2 F3000\nG05\n" + "\n".join(
+        f"X{i * 0.5:.4f} Y{(i // 20) * 0.5:.4f} Z{i % 7 * 0.1:.4f}" for i in range(200)) + "\nG0 Z80\nM30\n"
+    assert _plain_share(raster, MACHINE, monkeypatch) > 0.97
+    _same(raster, monkeypatch, MACHINE)
 
 
 @pytest.mark.parametrize("name", sorted(p.name for p in PROGRAMS.glob("*.nc")))

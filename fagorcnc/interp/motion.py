@@ -13,6 +13,12 @@ from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
 
+#: Words of a move in polar coordinates, and every word that makes a G02/G03 without axis words an arc.
+_POLAR = frozenset("RQ")
+_ARC_WORDS = frozenset("IJKRQ")
+#: The centre letters of each plane (abscissa, ordinate) and the helix pitch letter (seed 002 ch. 8.3).
+_CENTRE_LETTERS = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}
+
 
 class MotionMixin:
     """G00/G01, G02/G03 and their forms, polar and #MCS moves: :meth:`_motion` and its helpers."""
@@ -29,9 +35,9 @@ class MotionMixin:
             st.arc_radius = self.length(r)
             if a not in bw.axes and o not in bw.axes:
                 return None   # "G02 G263=50" only stores the radius
-        if not bw.axes and not ({"R", "Q"} & bw.params.keys()) and mode not in (2, 3):
+        if not bw.axes and _POLAR.isdisjoint(bw.params) and mode not in (2, 3):
             return None
-        if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
+        if not bw.axes and mode in (2, 3) and _ARC_WORDS.isdisjoint(bw.params):
             return None
         prepared = self.sync.prepare(mode, bw) if mode in (33, 63) else None   # refused before anything moves
         if st.mcs_on or self.interp.mcs_block:
@@ -67,7 +73,7 @@ class MotionMixin:
         """A G02/G03 block with no centre, radius or polar word whose target is where the tool stands:
         no arc, a null move (seed 002 L9996-L10009: "G91 G40 Y0" after a G03 cancels the
         compensation where the tool stands); mode 0 or 1 handles it as such."""
-        if {"I", "J", "K", "R", "Q"} & bw.params.keys():
+        if not _ARC_WORDS.isdisjoint(bw.params):
             return False
         end_part = self.target(bw, cur_part)
         return all(end_part[x] == cur_part[x] for x in end_part)
@@ -211,7 +217,7 @@ class MotionMixin:
         col = next(iter(bw.axes.values()))[1] if bw.axes else next(iter(p.values()), (0, 1))[1]
         a, o, n = self.plane(f"G0{mode} (an arc)", col)
         # centre words of the plane (G17 I J, G18 K I, G19 J K; G20 I J) and the helix pitch letter
-        ci, cj, ck = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}.get(
+        ci, cj, ck = _CENTRE_LETTERS.get(
             st.modes["plane"], ("I", "J", "K"))
         pitch = p.pop(ck)[0] if ck in p and mode != 9 else None
         in_plane = a in bw.axes or o in bw.axes

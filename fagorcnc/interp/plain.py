@@ -159,21 +159,20 @@ class PlainBlocks:
 
     # ------------------------------------------------------------ G00/G01 in the simplest state
     def _simple(self) -> bool:
-        """No transformation, tool length or radius compensation, kinematics or per-block planning
-        context: then :meth:`_line` is ``MotionMixin._motion`` for a G00/G01 of axis words."""
+        """No transformation, radius compensation, kinematics or per-block planning context: then
+        :meth:`_line` is ``MotionMixin._motion`` for a G00/G01 of axis words."""
         st = self.state
         kin = st.kin
         tr = st.transform
-        return (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and not st.length_offset
-                and (not st.offset or not st.tool) and st.modes["compensation"] not in (41, 42)
+        return (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and st.modes["compensation"] not in (41, 42)
                 and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
                 and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes)
 
     def _line(self, mode: int, words: dict, src: Source):
         """``MotionMixin._motion`` of a G00/G01 with axis words under :meth:`_simple`, step by step (the
         same arithmetic in the same order): the programmed point is the part point (no transformation),
-        the origin chain does not change in the block (no length compensation), no rotary axis word
-        (:data:`NOT_PLAIN`: ``_motion`` itself)."""
+        the origin chain is worked out again only when the tool length compensation changed it, no
+        rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
         st = self.state
         iso = self.iso
         configured = st.machine.axes
@@ -196,8 +195,12 @@ class PlainBlocks:
             if diameter and configured[axis].diameter:
                 v /= 2.0
             end_prog[axis] = cur_part[axis] + v if incremental else v
+        applied = st.length_offset
+        iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
+        if st.length_offset is not applied:
+            off = st.offsets()
         end_part = dict(end_prog)   # transform.apply() under no transformation
-        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine(): the chain did not change
+        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
         end = st.shared_end(end, end_part)
         iso.interp.check_limits(end, next(iter(words.values()))[1], start)
         st.moved_to(end)
@@ -211,3 +214,12 @@ class PlainBlocks:
         feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
         return Line("linear", start, end, end_part, feed, feed_mode(modes["feed"]), src, None, st.dynamics(),
                     joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())
+
+
+class _Words:
+    """The axis words of a block, as ``IsoExecutor._length_compensation`` reads a :class:`BlockWords`."""
+
+    __slots__ = ("axes",)
+
+    def __init__(self, axes: dict) -> None:
+        self.axes = axes
