@@ -190,3 +190,35 @@ def test_random_blocks_same_both_ways(blocks, monkeypatch_session):
 def monkeypatch_session():
     with pytest.MonkeyPatch.context() as mp:
         yield mp
+
+
+def test_record_maker_makes_the_same_records():
+    # Line, Arc and Source made without their __init__ compare, hash and print as the class makes them;
+    # the fields left out take their defaults; a class that needs its __init__ is returned as it is
+    import dataclasses
+    import pickle
+
+    from fagorcnc.interp.records import Arc, Line, Source
+
+    src = Source("p.nc", 3, "G1 X1")
+    assert plain.record_maker(Source)(file="p.nc", line=3, text="G1 X1") == src
+    start, end = {"X": 0.0, "Y": 0.0}, {"X": 1.0, "Y": 0.0}
+    made = plain.record_maker(Line)(kind="linear", start=start, end=end, end_part=end, feed=800.0, feed_mode="G94",
+                                    src=src)
+    line = Line("linear", start, end, end, 800.0, "G94", src)
+    assert type(made) is Line and made == line and repr(made) == repr(line) and hash(made.src) == hash(src)
+    assert pickle.loads(pickle.dumps(made)) == line
+    assert dataclasses.replace(made, feed=100.0) == dataclasses.replace(line, feed=100.0)
+    arc = Arc("arc", start, end, end, {"X": 0.5, "Y": 0.0}, {"X": 0.5, "Y": 0.0}, "cw", ("X", "Y", "Z"), 0.5, 0,
+              800.0, "G94", src, joins=(40, 138))
+    assert plain.record_maker(Arc)(kind="arc", start=start, end=end, end_part=end, center={"X": 0.5, "Y": 0.0},
+                                   center_part={"X": 0.5, "Y": 0.0}, direction="cw", plane=("X", "Y", "Z"),
+                                   radius=0.5, turns=0, feed=800.0, feed_mode="G94", src=src,
+                                   joins=(40, 138)) == arc
+
+    @dataclasses.dataclass
+    class Plain:
+        x: int
+        y: list = dataclasses.field(default_factory=list)
+
+    assert plain.record_maker(Plain) is Plain

@@ -9,10 +9,13 @@ import math
 from ..path import arcs
 from .expressions import InterpError
 from .gvars import arc_data
+from .plain import record_maker
 from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
 
+#: Arc(...) without its dataclass __init__ (interp/plain.py: record_maker)
+_arc_record = record_maker(Arc)
 #: Words of a move in polar coordinates, and every word that makes a G02/G03 without axis words an arc.
 _POLAR = frozenset("RQ")
 _ARC_WORDS = frozenset("IJKRQ")
@@ -287,9 +290,11 @@ class MotionMixin:
         other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
         comp = self._compensation()
-        return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
-                   (a, o, n), math.dist(ep, center) * scale, turns, feed, feed_mode(st.modes["feed"]), src,
-                   comp, st.dynamics(), joins=self._joins(comp), css=self._css())
+        return _arc_record(kind="arc", start=start, end=end, end_part=end_part, center=center_m,
+                           center_part=center_part, direction="ccw" if ccw_path else "cw", plane=(a, o, n),
+                           radius=math.dist(ep, center) * scale, turns=turns, feed=feed,
+                           feed_mode=feed_mode(st.modes["feed"]), src=src, comp=comp, dyn=st.dynamics(),
+                           joins=self._joins(comp), css=self._css())
 
     def _radius_check(self, s, e, c, col: int):
         """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""

@@ -18,6 +18,7 @@ the general way.  ``tests/test_plain_blocks.py`` runs programs both ways and com
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 from ..path import arcs
@@ -144,7 +145,7 @@ class PlainBlocks:
         if feed is not None:
             iso._feed(*feed)
         mode = modes["motion"]
-        src = interp._src(block)
+        src = _source(file=interp.frames[-1].program.file, line=block.line, text=block.text)   # interp._src(block)
         rec = self._line(mode, axes, src) if mode < 2 and axes and not params and self._simple() else NOT_PLAIN
         if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
             bw = BlockWords()
@@ -208,12 +209,44 @@ class PlainBlocks:
             st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
                 or st.tangent
         if mode == 0:   # _compensation() is None, _joins(None) the modal pair
-            return Line("rapid", start, end, end_part, None, "G94", src, None, st.dynamics(),
-                        joins=shared_tuple((modes["transition"], modes["comp_start"])))
+            return _line_record(kind="rapid", start=start, end=end, end_part=end_part, feed=None, feed_mode="G94",
+                                src=src, comp=None, dyn=st.dynamics(),
+                                joins=shared_tuple((modes["transition"], modes["comp_start"])))
         length = math.sqrt(sum((end[x] - start[x]) ** 2 for x in end))
         feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
-        return Line("linear", start, end, end_part, feed, feed_mode(modes["feed"]), src, None, st.dynamics(),
-                    joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())
+        return _line_record(kind="linear", start=start, end=end, end_part=end_part, feed=feed,
+                            feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
+                            joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())
+
+
+def record_maker(cls):
+    """A function that makes ``cls(**fields)`` without its ``__init__``: a frozen dataclass with slots sets each
+    field through ``object.__setattr__``, half the cost of a move's record; this sets the slots directly, to
+    an object that compares, hashes and prints the same.  Called with keywords; the fields left out take
+    their defaults.  ``cls`` itself when it is not such a class (a ``__post_init__``, a default factory, no
+    slots)."""
+    if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__") or "__slots__" not in cls.__dict__:
+        return cls
+    fields = dataclasses.fields(cls)
+    if any(f.default_factory is not dataclasses.MISSING or not f.init for f in fields):
+        return cls
+    space = {"_new": object.__new__, "_cls": cls}
+    params, body = [], []
+    for i, f in enumerate(fields):
+        space[f"_set{i}"] = cls.__dict__[f.name].__set__
+        if f.default is dataclasses.MISSING:
+            params.append(f.name)
+        else:
+            space[f"_default{i}"] = f.default
+            params.append(f"{f.name}=_default{i}")
+        body.append(f"    _set{i}(o, {f.name})\n")
+    code = f"def make(*, {', '.join(params)}):\n    o = _new(_cls)\n{''.join(body)}    return o\n"
+    exec(code, space)   # the code is made here, from the field names of a class of records
+    return space["make"]
+
+
+_line_record = record_maker(Line)
+_source = record_maker(Source)
 
 
 class _Words:
