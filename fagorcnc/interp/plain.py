@@ -13,7 +13,10 @@ same feed (:meth:`~fagorcnc.interp.iso.IsoExecutor._feed`), the same motion
 lint.  Records, diagnostics and errors are the general path's; anything else (an expression, a
 parameter, another G function, a word written twice, an active canned cycle, #MCALL, #MCS, a
 coupled or parked axis ...) returns :data:`NOT_PLAIN` before anything changed, and the block goes
-the general way.  ``tests/test_plain_blocks.py`` runs programs both ways and compares everything.
+the general way.  A G00/G01 of axis words without transformation, radius compensation or kinematics
+is made by :meth:`PlainBlocks._line`, ``_motion``'s steps for that case in the same order and with
+the same arithmetic; its record by :func:`record_maker` (no dataclass ``__init__``).
+``tests/test_plain_blocks.py`` runs programs both ways and compares everything.
 """
 
 from __future__ import annotations
