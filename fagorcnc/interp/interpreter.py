@@ -29,13 +29,14 @@ from .channelvars import interpreter_variables
 from .curves import CurveSettings, splines
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
-from .files import SubroutineFiles, is_stream
+from .files import SubroutineFiles
 from .flow import FlowMixin, _Stop
 from .iso import IsoExecutor
 from .laser import Laser
 from .macros import expanded_blocks
 from .manual import ManualIntervention
 from .parameters import Parameters
+from .plain import NOT_PLAIN, PlainBlocks
 from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
 from .spindle import SpindleModes
@@ -111,6 +112,9 @@ class Interpreter(FlowMixin):
         self.files = SubroutineFiles(self.search_paths, base, machine.compat)
         self._messages = 0   # warnings and notes reported so far (limits.max_messages)
         self.clock = _Clock(machine.limits.max_seconds)
+        #: id -> (record, record_time) of the records the block loop timed, for run() to reuse when the
+        #: path stages hand the same record on (most of them); bounded (see :meth:`_time`)
+        self._timed: dict[int, tuple] = {}
 
     # ------------------------------------------------------------------ run
     def run(self) -> Iterator:
@@ -129,8 +133,11 @@ class Interpreter(FlowMixin):
             moves = follow(splines(self._guarded(), self), self)
             records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
             # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
+            timed = self._timed
             for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
-                self.cycle_time += record_time(machine, record)
+                known = timed.pop(id(record), None)   # the time _loop worked out for the same record
+                self.cycle_time += known[1] if known is not None and known[0] is record else \
+                    record_time(machine, record)
                 handed = cpu_time()
                 yield record
                 clock.exclude(handed)   # the consumer's time is not interpretation time
@@ -159,6 +166,9 @@ class Interpreter(FlowMixin):
             pass
 
     failed = False
+    #: Plain blocks (literal G00-G03 moves) take the fast path of :mod:`fagorcnc.interp.plain`; False runs
+    #: every block through the general executor (the tests compare both).
+    plain_blocks = True
     cycle_time = 0.0   # seconds of the records handed on (after the corner aids)
 
     def _aid_error(self, aid, message: str) -> None:
@@ -172,14 +182,16 @@ class Interpreter(FlowMixin):
         frames = self.frames
         state = self.state
         stream = self.stream
+        plain = PlainBlocks(self).run if self.plain_blocks else None
+        max_blocks = self.machine.limits.max_blocks
         while len(frames) > depth:
             frame = frames[-1]
             if frame.repeat is not None and frame.pc > frame.repeat[1]:
                 self._repeat_next(frame)
                 continue
             block = frame.source.get(frame.pc)
-            if is_stream(frame.source):   # the main program, or a large subroutine file, read lazily
-                if frame.source is stream and not self.recover and any(d.is_error for d in stream.diagnostics):
+            if type(frame.source) is StreamSource:   # the main program, or a large subroutine file, read lazily
+                if frame.source is stream and not self.recover and stream.has_error():
                     raise _Stop  # a syntax error ahead: nothing more is executed
                 if frame.pc & 1023 == 0:
                     keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
@@ -189,7 +201,11 @@ class Interpreter(FlowMixin):
                 continue
             frame.pc += 1
             self._current_block = block
-            self.count_block(1)
+            executed = state.executed_blocks + 1   # count_block(1), its checks only when they can fail
+            if executed > max_blocks or not executed & 1023:
+                self.count_block(1)
+            else:
+                state.executed_blocks = executed
             if block.skip and state.block_skip:
                 continue
             if block.number is not None:
@@ -197,13 +213,34 @@ class Interpreter(FlowMixin):
             if self.recover:
                 yield from self._skipping_errors(block)
                 continue
+            if plain is not None:   # the commonest CAM block, without the general executor (interp/plain.py)
+                record = plain(block)
+                if record is not NOT_PLAIN:
+                    if record is not None:
+                        if state.sync:
+                            yield self._sync(block, record.start)
+                        state.elapsed += self._time(record)
+                        yield record
+                    if state.sync:
+                        yield self._sync(block, None)
+                    continue
             for record in self._block(block):
                 if state.sync:   # the block read an execution value: the motion before it ends first
                     yield self._sync(block, getattr(record, "start", None))
-                state.elapsed += record_time(self.machine, record)   # V.G.CYTIME while running
+                state.elapsed += self._time(record)   # V.G.CYTIME while running
                 yield record
             if state.sync:
                 yield self._sync(block, None)
+
+    def _time(self, record) -> float:
+        """:func:`record_time` of a record made by the block loop, kept for :meth:`run` (a record is
+        immutable, so its time is the same when a path stage hands it on unchanged)."""
+        t = record_time(self.machine, record)
+        timed = self._timed
+        if len(timed) >= 256:   # records a stage replaced or still holds: worked out again if they come
+            timed.clear()
+        timed[id(record)] = (record, t)
+        return t
 
     def _skipping_errors(self, block: Block) -> Iterator:
         """One block in recovery mode: an error is reported and the rest of the block skipped (as if its

@@ -76,16 +76,25 @@ class IsoExecutor(MotionMixin, WordsMixin):
     def target(self, bw: BlockWords, current_part: dict[str, float]) -> dict[str, float]:
         """Part coordinates of the programmed end point (cartesian words)."""
         st = self.state
-        incremental = st.modes["distance"] == 91
+        modes = st.modes
+        incremental = modes["distance"] == 91
+        inch = modes["units"] == 70
+        diameter = modes["diameter"] == 151
+        configured = st.machine.axes
         out = dict(current_part)
         for axis, (v, col) in bw.axes.items():
-            ax = st.machine.axes[axis]
-            if ax.rotary and ax.rotary_mode != "linearlike" and axis not in st.kin.as_linear:
-                out[axis] = self._rotary(ax, current_part[axis], v, incremental, col)
-            elif incremental:
-                out[axis] = current_part[axis] + self.length(v, axis)
-            else:
-                out[axis] = self.length(v, axis)
+            ax = configured[axis]
+            if ax.rotary:
+                if ax.rotary_mode != "linearlike" and axis not in st.kin.as_linear:
+                    out[axis] = self._rotary(ax, current_part[axis], v, incremental, col)
+                    continue
+                v = self.length(v, axis)
+            else:   # self.length(v, axis) of a linear axis, inline (one call per axis word)
+                if inch:
+                    v *= INCH
+                if diameter and ax.diameter:
+                    v /= 2.0
+            out[axis] = current_part[axis] + v if incremental else v
         kin = st.kin
         if kin.pending_ori or kin.angax or kin.tangential or kin.c_axes:   # #TOOL ORI, #ANGAX SUSP, G45, #CAX
             adjust_target(self.interp, bw, out)
@@ -355,6 +364,8 @@ class IsoExecutor(MotionMixin, WordsMixin):
         orientation.  It takes effect on the next move of the longitudinal axis.
         """
         st = self.state
+        if not st.length_offset and (not st.offset or not st.tool):
+            return   # no offset, none applied: nothing changes (_tool_offset is None, the length 0)
         axis, direction = st.longitudinal()
         if axis is None or axis not in bw.axes:
             return

@@ -10,10 +10,19 @@ from ..path import arcs
 from .expressions import InterpError
 from .gvars import arc_data
 from .independent import check_general
+from .plain import record_maker
 from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .toolvars import refuse_turning_compensation
 from .units import INCH
 from .words import BlockWords
+
+#: Arc(...) without its dataclass __init__ (interp/plain.py: record_maker)
+_arc_record = record_maker(Arc)
+#: Words of a move in polar coordinates, and every word that makes a G02/G03 without axis words an arc.
+_POLAR = frozenset("RQ")
+_ARC_WORDS = frozenset("IJKRQ")
+#: The centre letters of each plane (abscissa, ordinate) and the helix pitch letter (seed 002 ch. 8.3).
+_CENTRE_LETTERS = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}
 
 
 class MotionMixin:
@@ -31,9 +40,9 @@ class MotionMixin:
             st.arc_radius = self.length(r)
             if a not in bw.axes and o not in bw.axes:
                 return None   # "G02 G263=50" only stores the radius
-        if not bw.axes and not ({"R", "Q"} & bw.params.keys()) and mode not in (2, 3):
+        if not bw.axes and _POLAR.isdisjoint(bw.params) and mode not in (2, 3):
             return None
-        if not bw.axes and mode in (2, 3) and not ({"I", "J", "K", "R", "Q"} & bw.params.keys()):
+        if not bw.axes and mode in (2, 3) and _ARC_WORDS.isdisjoint(bw.params):
             return None
         if self.interp.curves.independent:   # an axis a #MOVE moved, before #SYNC POS (interp/independent.py)
             check_general(self.interp, bw.axes, next(iter(bw.axes.values()))[1] if bw.axes else 1)
@@ -50,7 +59,8 @@ class MotionMixin:
             st.arc_radius = None   # a polar move clears the stored arc radius (L6533)
         self._length_compensation(bw)
         end_prog = end_part
-        end_part = st.transform.apply(end_prog)
+        tr = st.transform
+        end_part = dict(end_prog) if tr.identity else tr.apply(end_prog)
         end = st.shared_end(st.to_machine(end_part), end_part)
         self.interp.check_limits(end, next(iter(bw.axes.values()))[1] if bw.axes else 1, start)
         st.moved_to(end)
@@ -70,7 +80,7 @@ class MotionMixin:
         """A G02/G03 block with no centre, radius or polar word whose target is where the tool stands:
         no arc, a null move (seed 002 L9996-L10009: "G91 G40 Y0" after a G03 cancels the
         compensation where the tool stands); mode 0 or 1 handles it as such."""
-        if {"I", "J", "K", "R", "Q"} & bw.params.keys():
+        if not _ARC_WORDS.isdisjoint(bw.params):
             return False
         end_part = self.target(bw, cur_part)
         return all(end_part[x] == cur_part[x] for x in end_part)
@@ -216,7 +226,7 @@ class MotionMixin:
         col = next(iter(bw.axes.values()))[1] if bw.axes else next(iter(p.values()), (0, 1))[1]
         a, o, n = self.plane(f"G0{mode} (an arc)", col)
         # centre words of the plane (G17 I J, G18 K I, G19 J K; G20 I J) and the helix pitch letter
-        ci, cj, ck = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}.get(
+        ci, cj, ck = _CENTRE_LETTERS.get(
             st.modes["plane"], ("I", "J", "K"))
         pitch = p.pop(ck)[0] if ck in p and mode != 9 else None
         in_plane = a in bw.axes or o in bw.axes
@@ -286,9 +296,11 @@ class MotionMixin:
         other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
         feed = self._active_feed(math.hypot(planar, math.sqrt(other)), start)
         comp = self._compensation()
-        return Arc("arc", start, end, end_part, center_m, center_part, "ccw" if ccw_path else "cw",
-                   (a, o, n), math.dist(ep, center) * scale, turns, feed, feed_mode(st.modes["feed"]), src,
-                   comp, st.dynamics(), joins=self._joins(comp), css=self._css())
+        return _arc_record(kind="arc", start=start, end=end, end_part=end_part, center=center_m,
+                           center_part=center_part, direction="ccw" if ccw_path else "cw", plane=(a, o, n),
+                           radius=math.dist(ep, center) * scale, turns=turns, feed=feed,
+                           feed_mode=feed_mode(st.modes["feed"]), src=src, comp=comp, dyn=st.dynamics(),
+                           joins=self._joins(comp), css=self._css())
 
     def _radius_check(self, s, e, c, col: int):
         """Start/end radius mismatch with G264/G265 (seed 002 L6969-L7018; spec 03 §B.9)."""

@@ -72,6 +72,20 @@ class StreamSource:
         self._base = 0                   # index of builder.blocks[0]
         self._done = False
         self.released = 0                # blocks dropped so far (for tests and benchmarks)
+        self._seen: tuple = (None, 0, False)   # (diagnostics list, how many looked at, an error among them)
+
+    def has_error(self) -> bool:
+        """Whether a diagnostic read so far is an error (a syntax error ahead stops the run): only the
+        diagnostics added since the last call are looked at, so a stream of warnings stays linear."""
+        diagnostics = self.diagnostics
+        listed, seen, error = self._seen
+        n = len(diagnostics)
+        if listed is not diagnostics or n < seen:   # the list was replaced or emptied: look again
+            seen, error = 0, False
+        if n > seen and not error:
+            error = any(d.is_error for d in diagnostics[seen:])
+        self._seen = (diagnostics, n, error)
+        return error
 
     # -- reading
     def _read_one(self) -> bool:
@@ -101,12 +115,14 @@ class StreamSource:
         return self._base + len(self._builder.blocks)
 
     def get(self, i: int) -> Block | None:
-        while i >= self._available():
+        blocks = self._builder.blocks
+        while i >= self._base + len(blocks):   # self._available(), inline (one call per block)
             if not self._read_one():
                 return None
+            blocks = self._builder.blocks
         if i < self._base:
             raise IndexError(f"block {i} was released from memory")
-        return self._builder.blocks[i - self._base]
+        return blocks[i - self._base]
 
     def link(self, i: int) -> int:
         structure = self._builder.structure

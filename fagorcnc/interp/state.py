@@ -129,6 +129,16 @@ class ChannelState:
         """Machine minus part coordinate on ``axis``: origin chain plus tool length compensation."""
         return self.chain(axis) + self.length_offset.get(axis, 0.0)
 
+    def offsets(self) -> dict[str, float]:
+        """:meth:`axis_offset` of every axis of the machine, in one pass (the same sums, in the same order)."""
+        fix = self.fixture_table.get(self.fixture, {}) if self.fixture else None
+        ab, inc, lo = self.abs_offset, self.inc_offset, self.length_offset
+        if fix is None and not lo:
+            return {a: 0.0 + ab[a] + inc[a] + 0.0 for a in self.axes}
+        if fix is None:
+            fix = {}
+        return {a: fix.get(a, 0.0) + ab[a] + inc[a] + lo.get(a, 0.0) for a in self.axes}
+
     def joints(self) -> dict[str, float]:
         """The machine axes' positions: ``machine_pos`` is in the programmed plane's coordinates while
         a transformation is active (#CS, #RTCP, #FACE...; fagorcnc.kinematics.frame)."""
@@ -137,14 +147,18 @@ class ChannelState:
 
     def part_pos(self) -> dict[str, float]:
         """Tool tip in (transformed) part coordinates."""
-        return {a: self.machine_pos[a] - self.axis_offset(a) for a in self.axes}
+        off = self.offsets()
+        pos = self.machine_pos
+        return {a: pos[a] - off[a] for a in self.axes}
 
     def programmed_pos(self) -> dict[str, float]:
         """Tool tip in programmed coordinates (before scaling, mirror and rotation)."""
-        return self.transform.invert(self.part_pos())
+        part = self.part_pos()
+        return part if self.transform.identity else self.transform.invert(part)   # part is a new dict
 
     def to_machine(self, part: dict[str, float]) -> dict[str, float]:
-        return {a: v + self.axis_offset(a) for a, v in part.items()}
+        off = self.offsets()
+        return {a: v + off[a] for a, v in part.items()}
 
     # the points of consecutive records are shared where they are equal (a record never changes
     # its points): simulate() keeps every record, and three dicts per move were most of its memory
@@ -170,7 +184,8 @@ class ChannelState:
         return end_part if end == end_part and tuple(end) == tuple(end_part) else end
 
     def to_part(self, machine: dict[str, float]) -> dict[str, float]:
-        return {a: v - self.axis_offset(a) for a, v in machine.items()}
+        off = self.offsets()
+        return {a: v - off[a] for a, v in machine.items()}
 
     def longitudinal(self) -> tuple[str | None, int]:
         """The tool's longitudinal axis and the tool orientation (-1: the tool points to -axis)."""
@@ -185,10 +200,10 @@ class ChannelState:
         Planes are defined by the first three slots of the channel's axis configuration (L14730).
         """
         slots = self.channel.slots
-        a = slots[:3] + [None] * max(0, 3 - len(slots))
         plane = self.modes["plane"]
         if plane == 20 and self.g20_plane is not None:
             return self.g20_plane
+        a = slots[:3] if len(slots) >= 3 else slots[:3] + [None] * (3 - len(slots))
         if len(slots) == 2 and None not in slots:
             # seed 002 L3013-L3016, L3043: a lathe with a "plane" axis configuration (two axes) always
             # works in G18, formed by the second axis (abscissa) and the first (X, Z: the plane ZX)

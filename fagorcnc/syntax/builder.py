@@ -65,22 +65,25 @@ _NUMBERS: dict[str, float] = {}
 _NUMBERS_MAX = 512
 
 
-def _number(sign: str, digits: str) -> float:
-    key = sign + digits if sign == "-" else digits
-    v = _NUMBERS.get(key)
-    if v is None:
-        if len(_NUMBERS) >= _NUMBERS_MAX:
-            _NUMBERS.clear()
-        v = _NUMBERS[key] = -float(digits) if sign == "-" else float(digits)
+def _signed(key: str) -> float:
+    """The value of a signed number text (``"-1.5"``, ``"+2"``, ``"3."``), shared through :data:`_NUMBERS`
+    (``float("-1.5")`` is exactly ``-float("1.5")``, ``float("-0")`` is ``-0.0``)."""
+    if len(_NUMBERS) >= _NUMBERS_MAX:
+        _NUMBERS.clear()
+    v = _NUMBERS[key] = float(key)
     return v
 
 
-def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.finditer, _num=_number) -> list:
+def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.finditer, _known=_NUMBERS.get,
+                _signed=_signed) -> list:
     """Split a WORDS run starting at column ``col`` into :class:`Word` nodes.
 
-    Hot path (one call per CAM block): builds the tuples directly.
+    Hot path (one call per CAM block): builds the tuples directly, the values of the numbers met
+    lately from :data:`_NUMBERS` by their signed text (a ``0.0`` found there is looked for again:
+    ``or``).
     """
-    return [_new(Word, (m[1], _num(m[2], m[3]), col + m.start(), None)) for m in _finditer(text)]
+    return [_new(Word, (m[1], _known(key := m[2] + m[3]) or _signed(key), col + m.start(), None))
+            for m in _finditer(text)]
 
 
 def small_int(digits: str, limit: int = 4294967295) -> int | None:

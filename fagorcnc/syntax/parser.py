@@ -35,6 +35,7 @@ from .macros import macro_block
 #: refused here, by the parser, with SYN040 rather than failing later (issue 30).  [CONSTRUCTION]
 MAX_EXPRESSION_DEPTH = 250
 _NESTING = (Binary, Unary, Call, Param, Var, ItemList)
+_new = tuple.__new__   # a NamedTuple made from its field values, as split_words makes its words
 
 
 def grammar_path() -> Path:
@@ -149,7 +150,7 @@ class LineParser:
                 if len(digits) > 10 or int(digits) > 4294967295:
                     return self.parse_full(text, line, file)
                 number = int(digits)
-            return Block(line, text, False, number, None, items), ()
+            return _new(Block, (line, text, False, number, None, items)), ()   # Block(...) without its __new__
         return self.parse_full(text, line, file)
 
     def parse_full(self, text: str, line: int, file: str = "<string>") -> tuple:

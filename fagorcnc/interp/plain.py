@@ -1,0 +1,263 @@
+"""The fast path of the commonest CAM block: a plain move of literal words.
+
+Most blocks of a CAM program are ``N1230 G1 X12.5 Y-3.25 Z-1 F800`` or ``G2 X.. Y.. I.. J..``:
+an optional block number, a motion G function (G00-G03) and G90/G91, axis words, the arc's
+I J K or R and a feed, all literal numbers.  For such a block the general executor
+(:meth:`~fagorcnc.interp.words.WordsMixin.classify` then :meth:`~fagorcnc.interp.iso.IsoExecutor.execute`)
+walks some sixty checks of functions the block does not hold (origins, spindles, tools, M and H
+functions, cycles, transformations ...), each of which does nothing.  :class:`PlainBlocks`
+recognises the block from its words and the few modal conditions that would make those checks
+do something, and runs only what the general path would have run: the same modal changes, the
+same feed (:meth:`~fagorcnc.interp.iso.IsoExecutor._feed`), the same motion
+(:meth:`~fagorcnc.interp.motion.MotionMixin._motion`, shared with the general path) and the same
+lint.  Records, diagnostics and errors are the general path's; anything else (an expression, a
+parameter, another G function, a word written twice, an active canned cycle, #MCALL, #MCS, a
+coupled or parked axis ...) returns :data:`NOT_PLAIN` before anything changed, and the block goes
+the general way.  A G00/G01 of axis words without transformation, radius compensation or kinematics
+is made by :meth:`PlainBlocks._line`, ``_motion``'s steps for that case in the same order and with
+the same arithmetic; its record by :func:`record_maker` (no dataclass ``__init__``).
+``tests/test_plain_blocks.py`` runs programs both ways and compares everything.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from ..path import arcs
+from ..syntax.ast import Block, Word
+from . import compat
+from .records import Line, Source, feed_mode, shared_tuple
+from .units import INCH
+from .words import BlockWords
+
+#: What :meth:`PlainBlocks.run` returns for a block it does not take: the general executor runs it.
+NOT_PLAIN = object()
+
+#: G functions a plain block may hold: their number and modal group (``gtable.G_FUNCTIONS``).
+_PLAIN_G = {0.0: (0, "motion"), 1.0: (1, "motion"), 2.0: (2, "motion"), 3.0: (3, "motion"),
+            90.0: (90, "distance"), 91.0: (91, "distance")}
+#: The largest block number (``Evaluator.integer``'s range for N).
+_MAX_N = 4294967295.0
+#: Feed modes whose moves are not checked against a stopped spindle (as ``IsoExecutor.execute``).
+_NO_SPINDLE_LINT = ("G95", "G33", "G63")
+
+
+_G, _N, _F, _PARAM = 1, 2, 3, 4   # roles of the letters that are not axes
+
+
+def _roles(by_name: dict, configured) -> dict:
+    """What each address of a plain block is, as ``WordsMixin._classify`` tests them in turn: G, N and F
+    first, then the channel's axes (program name -> machine axis), then I J K R when no configured axis
+    has that name (an axis of the machine outside the channel is an error of the general path)."""
+    roles: dict = {}
+    for letter in "IJKR":
+        if letter not in configured and letter not in by_name:
+            roles[letter] = _PARAM
+    roles.update(by_name)
+    roles.update({"G": _G, "N": _N, "F": _F})
+    return roles
+
+
+class PlainBlocks:
+    """Runs plain blocks for an :class:`~fagorcnc.interp.interpreter.Interpreter` (see the module)."""
+
+    __slots__ = ("_names", "_roles", "interp", "iso", "state")
+
+    def __init__(self, interp) -> None:
+        self.interp = interp
+        self.iso = interp.iso
+        self.state = interp.state
+        self._names: dict | None = None   # the channel's by_name the roles were made for
+        self._roles: dict = {}
+
+    def run(self, block: Block):
+        """The record of ``block`` (None when it moves nothing, as ``F800`` alone), or :data:`NOT_PLAIN`
+        when it is not a plain block.  Raises the general path's :class:`InterpError` where it would."""
+        st = self.state
+        interp = self.interp
+        channel = st.channel
+        if interp.modal_call is not None or st.mcs_on or st.cycles.active is not None or channel.links \
+                or channel.parked or interp.curves.independent:
+            # #MCALL after the move, #MCS, a canned cycle, coupled or parked axes, an axis a #MOVE moved
+            # before #SYNC POS (MotionMixin._motion refuses a general move of it: INT232)
+            return NOT_PLAIN
+        by_name = channel.by_name
+        if self._names is not by_name:   # the channel's axes changed (#SET AX, #RENAME AX ...): roles again
+            self._names, self._roles = by_name, _roles(by_name, st.machine.axes)
+        roles = self._roles
+        axes: dict = {}
+        params: dict = {}
+        gl: list = []
+        groups = 0   # bit 1: a motion G, bit 2: a G90/G91 (two of one group: the general path says)
+        motion = None
+        feed = None
+        number = None
+        for w in block.items:
+            if type(w) is not Word:
+                return NOT_PLAIN
+            addr, value, col, eq = w
+            if type(value) is not float or eq is not None:
+                return NOT_PLAIN   # an expression, a parameter, a word without a value, G159=n
+            role = roles.get(addr)
+            if type(role) is str:   # an axis of the channel: its machine axis
+                if role in axes:
+                    return NOT_PLAIN   # INT023
+                axes[role] = (value, col)
+            elif role is _G:
+                g = _PLAIN_G.get(value)
+                if g is None:
+                    return NOT_PLAIN
+                bit = 1 if g[1] == "motion" else 2
+                if groups & bit:
+                    return NOT_PLAIN   # INT012, or a repeated G function
+                groups |= bit
+                if bit == 1:
+                    motion = g[0]
+                gl.append((g, col))
+            elif role is _PARAM:
+                if addr in params:
+                    return NOT_PLAIN   # INT023
+                params[addr] = (value, col)
+            elif role is _F:
+                feed = (value, col)   # the last F counts, as in classify()
+            elif role is _N:
+                if not (0.0 <= value <= _MAX_N and value.is_integer()):
+                    return NOT_PLAIN   # INT036, INT037
+                number = value
+            else:
+                return NOT_PLAIN
+        modes = st.modes
+        if (modes["motion"] if motion is None else motion) not in (0, 1, 2, 3):
+            return NOT_PLAIN   # G33, G63 ... active: the general path
+        # from here on, what IsoExecutor.classify() and execute() do for these words, in their order
+        st.line = block.line
+        interp.mcs_block = False
+        interp.axis_sentence = None
+        if number is not None:
+            st.last_n = int(number)
+        if gl:
+            text = block.text
+            for (n, _group), col in gl:
+                if n >= 10:
+                    compat.leading_zero(interp, n, col, text)   # "G090" is G90
+        iso = self.iso
+        iso.sync.previous_motion = modes["motion"]   # G33 joins the thread of the block before (L7366)
+        for (n, group), _col in gl:
+            modes[group] = n
+        if st.block_modes:
+            st.block_modes = {}
+        if feed is not None:
+            iso._feed(*feed)
+        mode = modes["motion"]
+        src = _source(file=interp.frames[-1].program.file, line=block.line, text=block.text)   # interp._src(block)
+        rec = self._line(mode, axes, src) if mode < 2 and axes and not params and self._simple() else NOT_PLAIN
+        if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
+            bw = BlockWords()
+            bw.g = [(n, col, None) for (n, _group), col in gl]
+            bw.axes = axes
+            bw.params = params
+            bw.feed = feed
+            rec = iso._motion({n: (col, None) for (n, _group), col in gl}, bw, src)
+        if rec is not None and rec.kind != "rapid" and rec.feed_mode not in _NO_SPINDLE_LINT:
+            compat.spindle_lint(interp, rec, 1)
+        return rec
+
+    # ------------------------------------------------------------ G00/G01 in the simplest state
+    def _simple(self) -> bool:
+        """No transformation, radius compensation, kinematics or per-block planning context: then
+        :meth:`_line` is ``MotionMixin._motion`` for a G00/G01 of axis words."""
+        st = self.state
+        kin = st.kin
+        tr = st.transform
+        return (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and st.modes["compensation"] not in (41, 42)
+                and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
+                and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes)
+
+    def _line(self, mode: int, words: dict, src: Source):
+        """``MotionMixin._motion`` of a G00/G01 with axis words under :meth:`_simple`, step by step (the
+        same arithmetic in the same order): the programmed point is the part point (no transformation),
+        the origin chain is worked out again only when the tool length compensation changed it, no
+        rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
+        st = self.state
+        iso = self.iso
+        configured = st.machine.axes
+        for axis in words:
+            if configured[axis].rotary:
+                return NOT_PLAIN   # _motion itself: unrolled positions, directions (IsoExecutor._rotary)
+        a, o, _ = st.plane_axes()
+        off = st.offsets()
+        pos = st.machine_pos
+        cur_part = {x: pos[x] - off[x] for x in st.axes}   # programmed_pos(): part_pos(), no transform
+        start = st.move_start()
+        modes = st.modes
+        incremental = modes["distance"] == 91
+        inch = modes["units"] == 70
+        diameter = modes["diameter"] == 151
+        end_prog = dict(cur_part)   # target()
+        for axis, (v, _col) in words.items():
+            if inch:
+                v *= INCH
+            if diameter and configured[axis].diameter:
+                v /= 2.0
+            end_prog[axis] = cur_part[axis] + v if incremental else v
+        applied = st.length_offset
+        iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
+        if st.length_offset is not applied:
+            off = st.offsets()
+        end_part = dict(end_prog)   # transform.apply() under no transformation
+        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
+        end = st.shared_end(end, end_part)
+        iso.interp.check_limits(end, next(iter(words.values()))[1], start)
+        st.moved_to(end)
+        if a is not None and o is not None:
+            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
+                or st.tangent
+        if mode == 0:   # _compensation() is None, _joins(None) the modal pair
+            return _line_record(kind="rapid", start=start, end=end, end_part=end_part, feed=None, feed_mode="G94",
+                                src=src, comp=None, dyn=st.dynamics(),
+                                joins=shared_tuple((modes["transition"], modes["comp_start"])))
+        length = math.sqrt(sum((end[x] - start[x]) ** 2 for x in end))
+        feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
+        return _line_record(kind="linear", start=start, end=end, end_part=end_part, feed=feed,
+                            feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
+                            joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())
+
+
+def record_maker(cls):
+    """A function that makes ``cls(**fields)`` without its ``__init__``: a frozen dataclass with slots sets each
+    field through ``object.__setattr__``, half the cost of a move's record; this sets the slots directly, to
+    an object that compares, hashes and prints the same.  Called with keywords; the fields left out take
+    their defaults.  ``cls`` itself when it is not such a class (a ``__post_init__``, a default factory, no
+    slots)."""
+    if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__") or "__slots__" not in cls.__dict__:
+        return cls
+    fields = dataclasses.fields(cls)
+    if any(f.default_factory is not dataclasses.MISSING or not f.init for f in fields):
+        return cls
+    space = {"_new": object.__new__, "_cls": cls}
+    params, body = [], []
+    for i, f in enumerate(fields):
+        space[f"_set{i}"] = cls.__dict__[f.name].__set__
+        if f.default is dataclasses.MISSING:
+            params.append(f.name)
+        else:
+            space[f"_default{i}"] = f.default
+            params.append(f"{f.name}=_default{i}")
+        body.append(f"    _set{i}(o, {f.name})\n")
+    code = f"def make(*, {', '.join(params)}):\n    o = _new(_cls)\n{''.join(body)}    return o\n"
+    exec(code, space)   # the code is made here, from the field names of a class of records
+    return space["make"]
+
+
+_line_record = record_maker(Line)
+_source = record_maker(Source)
+
+
+class _Words:
+    """The axis words of a block, as ``IsoExecutor._length_compensation`` reads a :class:`BlockWords`."""
+
+    __slots__ = ("axes",)
+
+    def __init__(self, axes: dict) -> None:
+        self.axes = axes

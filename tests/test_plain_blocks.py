@@ -1,0 +1,224 @@
+"""The fast path of plain blocks (:mod:`fagorcnc.interp.plain`) must be invisible.
+
+A plain block (``N10 G1 X1 Y2 F800``, ``G2 X.. Y.. I.. J..``: literal G00-G03, G90/G91, axis words,
+I J K R, F, N) skips the general executor.  Every program here runs twice, with the fast path and
+with :attr:`Interpreter.plain_blocks` off, and everything must be the same: each record (its
+``repr``, so every float to the last bit, and its type), the diagnostics (code, line, column,
+message), the ending, the cycle time and the final state.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import fagorcnc
+from fagorcnc.interp import plain
+from fagorcnc.interp.interpreter import Interpreter
+
+PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
+
+MACHINE = {
+    "origins": {"G54": {"X": 100.0, "Y": -20.0, "Z": 5.0}, "G55": {"X": -3.25}},
+    "tools": {"1": {"1": {"length": 50.0, "radius": 4.0}}, "2": {"1": {"radius": 1.5}}},
+}
+
+
+def _run(source, machine, fast: bool, monkeypatch) -> tuple:
+    monkeypatch.setattr(Interpreter, "plain_blocks", fast)
+    r = fagorcnc.simulate(source, machine)
+    state = r.state
+    final = None if state is None else (
+        state.position("machine"), state.position("part"), state.modes, state.feed, state.tool, state.offset,
+        state.origin, state._state.last_n, state._state.elapsed, state._state.executed_blocks,
+        state.param(1) if "P1" in str(source) else None)
+    return ([(type(m).__name__, repr(m)) for m in r.moves], [repr(d) for d in r.diagnostics], r.ok,
+            repr(r.ending), r.cycle_time, final)
+
+
+def _same(source, monkeypatch, machine=None) -> None:
+    fast = _run(source, machine, True, monkeypatch)
+    general = _run(source, machine, False, monkeypatch)
+    assert fast[1] == general[1]          # diagnostics first: the clearest message when they differ
+    assert fast == general
+
+
+def _plain_share(source, machine, monkeypatch) -> float:
+    """The share of executed blocks the fast path took."""
+    taken = []
+    run = plain.PlainBlocks.run
+
+    def counting(self, block):
+        out = run(self, block)
+        taken.append(out is not plain.NOT_PLAIN)
+        return out
+
+    monkeypatch.setattr(Interpreter, "plain_blocks", True)
+    monkeypatch.setattr(plain.PlainBlocks, "run", counting)
+    fagorcnc.simulate(source, machine)
+    return sum(taken) / max(len(taken), 1)
+
+
+# A bit of everything a CAM program holds around its plain moves: G91 stretches, origin changes, inch
+# units, comments, labels and jumps, parameters and expressions, plane changes, tool length and radius
+# compensation, mirror, scale, rotation, a canned cycle, a modal subroutine, arcs by centre and radius,
+# leading zeros (CAM010), a move at feed with the spindle stopped (CAM014).
+MIXED = """\
+%L MYSUB
+G91 G1 X0.1
+G90
+M17
+%MIXED
+G90 G0 X0 Y0 Z5 F1000
+N10 G1 X1 Y2 Z-1 F800
+X1.5 Y2.5 Z-1.25
+N20 G2 X3.5 Y2.5 I1 J0
+G3 X1.5 Y2.5 R1
+G03 X3.5 Y2.5 R-1 ; a comment
+G90 G01 X4 Y4 (another comment)
+G090 X4.5
+G91 X1 Y-1
+X-0.5 Y0.25 Z0.1
+G2 X2 Y0 I1 J0
+G90 G54 G1 X10 Y10
+G1 X11 Y11 Z2
+G55 X12
+G70 X1 Y1
+X1.25 Y1.5 F20
+G71 G1 X5 Y5 F600
+P1 = 3.5
+G1 X[P1] Y[P1 * 2]
+X P1
+[LABEL1] G1 X6 Y6
+N30: X7 Y7
+G91 G18 G2 X1 Z0 I0.5 K0
+G90 G17
+T1 D1 M6
+G1 Z60
+X9 Y9
+G41 G1 X10 Y10
+X12 Y10
+G40 X14 Y12
+G11 X1 Y1
+G2 X2 Y2 I0.5 J0.5
+G10 G1
+G72 S2 X1 Y1
+X1.5 Y1.5
+G72 S1
+G73 Q30
+X2 Y0
+G73
+G00 Z20
+G98 G81 X10 Y20 Z2 I-15 K0.5 F200
+X3 Y3
+G80
+M3 S1000
+G1 X4 Y4 Z1
+#MCALL MYSUB
+G1 X5 Y5
+#MDOFF
+N40 X6 Y6 NR2
+G91 G1 X1 NR3
+G90
+M30
+"""
+
+
+def test_mixed_program_same_records_both_ways(monkeypatch):
+    _same(MIXED, monkeypatch, MACHINE)
+
+
+def test_mixed_program_mostly_fast(monkeypatch):
+    # the plain blocks of MIXED take the fast path, the others not (about half of them are plain)
+    share = _plain_share(MIXED, MACHINE, monkeypatch)
+    assert 0.3 < share < 0.8
+
+
+@pytest.mark.parametrize("head", ["", "T1 D1 M6\nS8000 M3\nG54\n"])
+def test_cam_raster_takes_the_fast_path(head, monkeypatch):
+    # with and without a tool (its length applies at the first Z move) and a work offset
+    raster = head + "G90 G1 X0 Y0 Z2 F3000\nG05\n" + "\n".join(
+        f"X{i * 0.5:.4f} Y{(i // 20) * 0.5:.4f} Z{i % 7 * 0.1:.4f}" for i in range(200)) + "\nG0 Z80\nM30\n"
+    assert _plain_share(raster, MACHINE, monkeypatch) > 0.97
+    _same(raster, monkeypatch, MACHINE)
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in PROGRAMS.glob("*.nc")))
+def test_example_programs_same_both_ways(name, monkeypatch):
+    _same(PROGRAMS / name, monkeypatch)
+
+
+# Errors: the fast path raises the general path's error at the same block and column.
+ERRORS = [
+    "G90 G1 X1 F-5\n",                                   # INT029 negative feed
+    "G90 G1 X1\n",                                       # INT060 no feed
+    "G90 G1 X1 F100\nG2 X3 Y0 I1 J0.5\n",                # INT062 start and end radius differ
+    "G90 G1 X1 F100\nG2 X30 Y0 R1\n",                    # INT064 radius too small for the chord
+    "G90 G1 X1 F100\nG2 X1 Y0 I0 J0\n",                  # INT061 centre on the start point
+    "G90 G1 X1 F100\nX100000\n",                         # INT100 beyond the soft limit
+    "G90 G1 X1 X2 F100\n",                               # INT023 an axis twice (general path)
+    "G90 G1 G2 X1 F100\n",                               # INT012 two motion G functions (general path)
+    "G1 X1 F100\nN-5 X2\n",                              # INT037 block number out of range
+    "G1 X1 F100\nN1.5 X2\n",                             # INT036 block number not whole
+    "G1 X1 F100\nI1 I2\n",                               # INT023 a parameter twice
+]
+
+
+@pytest.mark.parametrize("program", ERRORS)
+def test_errors_same_both_ways(program, monkeypatch):
+    _same("%ERR\n" + program + "M30\n", monkeypatch)
+
+
+_axis = st.sampled_from(["X", "Y", "Z", "I", "J", "K", "R", "F", "N", "G", "A", "B", "S", "M", "Q"])
+_value = st.sampled_from(["0", "1", "2", "3", "-1", "0.5", "-2.25", "90", "91", "17", "18", "10", "1.5",
+                          "100", "500", "-0.001", "3.0000", "01", "090"])
+_block = st.lists(st.tuples(_axis, _value).map("".join), min_size=1, max_size=6).map(" ".join)
+
+
+@settings(max_examples=60, deadline=None)
+@given(blocks=st.lists(_block, min_size=1, max_size=8))
+def test_random_blocks_same_both_ways(blocks, monkeypatch_session):
+    # whatever the words (plain or not, valid or not), both ways give the same run
+    program = "%RAND\nG90 G1 X0 Y0 Z0 F1000\n" + "\n".join(blocks) + "\nM30\n"
+    _same(program, monkeypatch_session)
+
+
+@pytest.fixture(scope="module")
+def monkeypatch_session():
+    with pytest.MonkeyPatch.context() as mp:
+        yield mp
+
+
+def test_record_maker_makes_the_same_records():
+    # Line, Arc and Source made without their __init__ compare, hash and print as the class makes them;
+    # the fields left out take their defaults; a class that needs its __init__ is returned as it is
+    import dataclasses
+    import pickle
+
+    from fagorcnc.interp.records import Arc, Line, Source
+
+    src = Source("p.nc", 3, "G1 X1")
+    assert plain.record_maker(Source)(file="p.nc", line=3, text="G1 X1") == src
+    start, end = {"X": 0.0, "Y": 0.0}, {"X": 1.0, "Y": 0.0}
+    made = plain.record_maker(Line)(kind="linear", start=start, end=end, end_part=end, feed=800.0, feed_mode="G94",
+                                    src=src)
+    line = Line("linear", start, end, end, 800.0, "G94", src)
+    assert type(made) is Line and made == line and repr(made) == repr(line) and hash(made.src) == hash(src)
+    assert pickle.loads(pickle.dumps(made)) == line
+    assert dataclasses.replace(made, feed=100.0) == dataclasses.replace(line, feed=100.0)
+    arc = Arc("arc", start, end, end, {"X": 0.5, "Y": 0.0}, {"X": 0.5, "Y": 0.0}, "cw", ("X", "Y", "Z"), 0.5, 0,
+              800.0, "G94", src, joins=(40, 138))
+    assert plain.record_maker(Arc)(kind="arc", start=start, end=end, end_part=end, center={"X": 0.5, "Y": 0.0},
+                                   center_part={"X": 0.5, "Y": 0.0}, direction="cw", plane=("X", "Y", "Z"),
+                                   radius=0.5, turns=0, feed=800.0, feed_mode="G94", src=src,
+                                   joins=(40, 138)) == arc
+
+    @dataclasses.dataclass
+    class Plain:
+        x: int
+        y: list = dataclasses.field(default_factory=list)
+
+    assert plain.record_maker(Plain) is Plain
