@@ -424,6 +424,8 @@ def _basis(u: np.ndarray, order: int) -> np.ndarray:
 
 #: B and its first three derivatives at the 97 bound parameters, stacked (4 * 97, 6)
 _BOUND_B = np.vstack([_basis(_BOUND_U, r) for r in range(4)])
+#: The rows of the points and the first derivative alone (see :func:`curve_samples`)
+_SAMPLE_B = np.ascontiguousarray(_BOUND_B[:2 * len(_BOUND_U)])
 #: The 8 Gauss-Legendre nodes of each of the 32 arc-length table intervals, and B' there (256, 6)
 TABLE_GAUSS = (_TABLE_NODES[:-1, None] + _GL_X[None, :] / 32.0).ravel()
 _TABLE_B1 = _basis(TABLE_GAUSS, 1)
@@ -497,6 +499,19 @@ def _curve_bounds(controls: np.ndarray):
     d3 = np.abs(dk, out=dk).max(axis=0).T * 1.10
     d1[degenerate] = d2[degenerate] = d3[degenerate] = np.inf
     return q, d1, d2, d3, degenerate
+
+
+def curve_samples(controls: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The points at the 97 bound parameters (97, D, n) of curves with control points (n, 6, D) and
+    which curves are degenerate, as :func:`_curve_bounds` gives them (the same products, to the
+    bit) without the bounds: half the products and none of the frames, for a curve whose
+    deviation is tested before its bounds are asked (a corner curve shrunk to its tolerance)."""
+    m = len(_BOUND_U)
+    b = _apply(_SAMPLE_B, controls)
+    q, b1 = b[:m], b[m:]
+    q += controls[:, 0].T
+    sig = np.sqrt(_dot(b1, b1))
+    return q, sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]
 
 
 def arc_tables(controls: np.ndarray) -> np.ndarray:
