@@ -105,6 +105,9 @@ class MoveSummary:
         self._tool = self._next_tool = 0
         self._part_here: dict[str, float] | None = None
         self._interp = None
+        # the last move's end point, the box it went into and whether it was a rapid: a line that
+        # starts there (the same dict: consecutive records share it) widens the boxes by its end alone
+        self._after: tuple = (None, None, None)
 
     def add(self, rec, interp) -> None:
         self._interp = interp
@@ -134,9 +137,24 @@ class MoveSummary:
             used[label] = OriginUse(label, rec.line)
         used[label].moves += 1
         part_here = self._part_here
+        start, end = rec.start, rec.end
+        rapid = rec.rapid
+        last_end, last_box, last_rapid = self._after
+        if kind != "arc" and start is last_end and part_here is not None and rapid is last_rapid:
+            box = self._boxes.get(self._tool)
+            if box is last_box:
+                # its start is already in these boxes (the last move ended there): the box of
+                # start and end widens them exactly as its end alone does
+                box.machine.add(end)
+                box.part.add(end_part)
+                if not rapid:
+                    box.feed_machine.add(end)
+                    box.feed_part.add(end_part)
+                self._part_here = end_part
+                self._after = (end, box, rapid)
+                return
         start_part = part_here if part_here is not None else \
             {a: rec.start.get(a, 0.0) - (rec.end.get(a, 0.0) - end_part[a]) for a in end_part}
-        start, end = rec.start, rec.end
         if kind == "arc":
             sweep = rec.sweep
             machine_lo, machine_hi = extent(start, end, arc_points(start, end, rec.center, rec.plane, sweep))
@@ -151,10 +169,11 @@ class MoveSummary:
             box = self._boxes[self._tool] = ToolBox(self._tool)
         box.machine.merge(machine_lo, machine_hi)
         box.part.merge(part_lo, part_hi)
-        if not rec.rapid:
+        if not rapid:
             box.feed_machine.merge(machine_lo, machine_hi)
             box.feed_part.merge(part_lo, part_hi)
         self._part_here = end_part
+        self._after = (end, box, rapid)
 
     def tools(self) -> list[ToolUse]:
         return list(self._tools.values())

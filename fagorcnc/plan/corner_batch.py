@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .corners import SHAPE
-from .geometry import BlendPiece, Piece, _controls, _curve_bounds, arc_tables
+from .geometry import BlendPiece, Piece, _controls, _curve_bounds, arc_tables, curve_samples
 from .limits import CENTRIPETAL, CURVE_JERK
 from .stretch import PieceRows, stretch_deviations
 
@@ -44,14 +44,25 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
     live = (lim_p > 1e-9) & (lim_q > 1e-9)
     longest = np.maximum(lim_p, lim_q)
 
-    def curves(rows: np.ndarray, size: np.ndarray):
+    def made(rows: np.ndarray, size: np.ndarray):
         d1, d2 = np.minimum(size, lim_p[rows]), np.minimum(size, lim_q[rows])
         q, t, k = sides.frames(np.concatenate([p_len[rows] - d1, d2]), np.concatenate([incoming[rows], outgoing[rows]]))
         m = len(rows)
         p0, t0, k0, p5, t5, k5 = q[:m], t[:m], k[:m], q[m:], t[m:], k[m:]
-        controls = _controls(p0, t0, k0, (SHAPE * d1)[:, None], p5, t5, k5, (SHAPE * d2)[:, None])
+        return d1, d2, _controls(p0, t0, k0, (SHAPE * d1)[:, None], p5, t5, k5, (SHAPE * d2)[:, None])
+
+    def curves(rows: np.ndarray, size: np.ndarray):
+        d1, d2, controls = made(rows, size)
         samples, b1, b2, b3, _ = _curve_bounds(controls)
         return d1, d2, controls, samples, b1, b2, b3, np.isfinite(b3).all(axis=1)
+
+    def sampled(rows: np.ndarray, size: np.ndarray):
+        # the curves' points alone: their bounds once they keep the tolerance (below).  A curve
+        # that is not degenerate has finite bounds (its speed |B'| stays above 1e-6 of its
+        # largest), so ``valid`` is the same as from the bounds
+        d1, d2, controls = made(rows, size)
+        samples, degenerate = curve_samples(controls)
+        return d1, d2, controls, samples, ~degenerate & np.isfinite(samples).all(axis=(0, 1))
 
     size = longest.copy()
     if speed is not None:
@@ -80,23 +91,26 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         rows = np.flatnonzero(active)
         if not len(rows):
             break
-        d1, d2, controls, samples, b1, b2, b3, valid = curves(rows, size[rows])
-        active[rows[~valid]] = False
         if tolerance is None:
+            d1, d2, controls, _samples, b1, b2, b3, valid = curves(rows, size[rows])
             ok = valid
         else:
+            d1, d2, controls, samples, valid = sampled(rows, size[rows])
             dev = stretch_deviations(sides, incoming[rows], outgoing[rows], p_len[rows], d1, d2, samples,
                                      vertex[rows], corner)
             ok = valid & (dev <= 0.95 * tolerance)
             shrink = valid & ~ok
             size[rows[shrink]] *= np.maximum(0.1, 0.9 * tolerance / dev[shrink])
+        active[rows[~valid]] = False
         active[rows[ok]] = False
         if ok.any():
             done_rows.append(rows[ok])
-            done.append((d1[ok], d2[ok], controls[ok], b1[ok], b2[ok], b3[ok]))
+            done.append((d1[ok], d2[ok], controls[ok]))
     if done:
         rows = np.concatenate(done_rows)
-        d1, d2, controls, b1, b2, b3 = (np.concatenate(x) for x in zip(*done, strict=True))
+        d1, d2, controls = (np.concatenate(x) for x in zip(*done, strict=True))
+        # the bounds of the curves kept, all at once (the same products row by row as in the loop)
+        _samples, b1, b2, b3, _ = _curve_bounds(controls)
         tables = arc_tables(controls)
         for i, row in enumerate(rows.tolist()):
             c = controls[i]

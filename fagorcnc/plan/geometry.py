@@ -424,6 +424,8 @@ def _basis(u: np.ndarray, order: int) -> np.ndarray:
 
 #: B and its first three derivatives at the 97 bound parameters, stacked (4 * 97, 6)
 _BOUND_B = np.vstack([_basis(_BOUND_U, r) for r in range(4)])
+#: The rows of the points and the first derivative alone (see :func:`curve_samples`)
+_SAMPLE_B = np.ascontiguousarray(_BOUND_B[:2 * len(_BOUND_U)])
 #: The 8 Gauss-Legendre nodes of each of the 32 arc-length table intervals, and B' there (256, 6)
 TABLE_GAUSS = (_TABLE_NODES[:-1, None] + _GL_X[None, :] / 32.0).ravel()
 _TABLE_B1 = _basis(TABLE_GAUSS, 1)
@@ -478,6 +480,28 @@ def _frames(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray, square: np.ndarray |
     return t, k, dk
 
 
+def _frame_bounds(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray, square: np.ndarray):
+    """The largest magnitudes over the samples (axis 0) of the unit tangent, the curvature vector and
+    its arc-length derivative per axis, each (D, n): :func:`_frames`' formulas, operation for
+    operation (the same floats), worked in two buffers instead of a new array per operation."""
+    inv2 = 1.0 / square
+    inv1 = np.sqrt(inv2)
+    inv3 = inv2 * inv1
+    ai = _dot(b1, b2) * inv2
+    buf = np.multiply(b1, inv1)
+    top_t = np.abs(buf, out=buf).max(axis=0)
+    np.multiply(ai, b1, out=buf)
+    np.subtract(b2, buf, out=buf)
+    buf *= inv2
+    top_k = np.abs(buf, out=buf).max(axis=0)
+    tmp = np.multiply(3.0 * ai * inv3, b2)
+    np.multiply(b3, inv3, out=buf)
+    buf -= tmp
+    np.multiply((4.0 * ai * ai - (_dot(b1, b3) + _dot(b2, b2)) * inv2) * inv3, b1, out=tmp)
+    buf += tmp
+    return top_t, top_k, np.abs(buf, out=buf).max(axis=0)
+
+
 def _curve_bounds(controls: np.ndarray):
     """For control points (n, 6, D): the points at the 97 bound parameters (97, D, n), per-axis
     bounds ``d1, d2, d3`` (n, D) (sampled maxima with a margin: the curves are smooth polynomials
@@ -491,12 +515,25 @@ def _curve_bounds(controls: np.ndarray):
     sig = np.sqrt(square)
     degenerate = sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]
     with np.errstate(all="ignore"):   # a degenerate curve divides by zero; its bounds are set below
-        t, k, dk = _frames(b1, b2, b3, square)
-    d1 = np.minimum(np.abs(t, out=t).max(axis=0).T * 1.02, 1.0)
-    d2 = np.abs(k, out=k).max(axis=0).T * 1.05
-    d3 = np.abs(dk, out=dk).max(axis=0).T * 1.10
+        top_t, top_k, top_dk = _frame_bounds(b1, b2, b3, square)
+    d1 = np.minimum(top_t.T * 1.02, 1.0)
+    d2 = top_k.T * 1.05
+    d3 = top_dk.T * 1.10
     d1[degenerate] = d2[degenerate] = d3[degenerate] = np.inf
     return q, d1, d2, d3, degenerate
+
+
+def curve_samples(controls: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The points at the 97 bound parameters (97, D, n) of curves with control points (n, 6, D) and
+    which curves are degenerate, as :func:`_curve_bounds` gives them (the same products, to the
+    bit) without the bounds: half the products and none of the frames, for a curve whose
+    deviation is tested before its bounds are asked (a corner curve shrunk to its tolerance)."""
+    m = len(_BOUND_U)
+    b = _apply(_SAMPLE_B, controls)
+    q, b1 = b[:m], b[m:]
+    q += controls[:, 0].T
+    sig = np.sqrt(_dot(b1, b1))
+    return q, sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]
 
 
 def arc_tables(controls: np.ndarray) -> np.ndarray:

@@ -102,7 +102,7 @@ class CornerMixin:
                 speed = feed
             made = self._spline(prev, nxt, tolerance)
             if made is not None:
-                return self._blend_span(prev, nxt, made, feed)
+                return self._blend_span(prev, nxt, made, feed, self._spline_limit(made[0], prev, feed))
         else:   # G05 / G61 with #ROUNDPAR
             corner_measure = True
             if dyn.roundpar[0] == 5:
@@ -344,6 +344,16 @@ class CornerMixin:
         self._spline_used = True
         return blend, d1, d2
 
+    def _spline_limit(self, blend, prev: Span, feed: float) -> tuple | None:
+        """The limits of the spline ``blend`` computed with its batch (see :meth:`_batch`) when they
+        were made with what its span now takes (``prev``'s axis and path limits, ``feed``); None:
+        the span makes them itself."""
+        found = self._spline_limits.get(id(blend))
+        if (found is not None and found[0] is blend and found[1] == feed and found[2] is prev.lim
+                and found[3] == prev.path_acc and found[4] == prev.path_jerk):
+            return found[5]
+        return None
+
     def _single(self, prev: Span, nxt: Span, d1: float, cached: tuple) -> tuple:
         """The spline candidate of the corner prev -> nxt made again from prev's curvature as it
         now stands, with the end (d2, curvature) of the batched one."""
@@ -410,11 +420,40 @@ class CornerMixin:
         devs = corner_deviations(samples, p0, vertex, p5)
         devs[[not c.valid for c in curves]] = np.inf
         curved = (np.abs(kmid).max(axis=1) > 0.0).tolist()
+        self._spline_batch_limits(chain, curves)
         previous_k = prev.mid_k
         for i, (curve, d_1, d_2, dev) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(), strict=True)):
             k5 = kmid[i + 1] if curved[i + 1] else None
             self._candidates[id(chain[i + 1])] = (chain[i], previous_k, d_1, curve, d_2, k5, dev)
             previous_k = k5
+
+    def _spline_batch_limits(self, chain: list[Span], curves: list[BlendPiece]) -> None:
+        """The limits of the spline candidates ``curves`` (corner i: chain[i] -> chain[i + 1]) at
+        once (:func:`~fagorcnc.plan.limits.curve_limits_rows`, the same numbers as each span's
+        own :func:`~fagorcnc.plan.limits.curve_limits`), with what :meth:`_junction` will give
+        each one's span: the lower feed of its two lines (FAST: times its share), the axis and
+        path limits of the first line of the chain (a corner whose line has others makes its own)."""
+        self._spline_limits = {}
+        first = chain[0]
+        rows = [i for i, c in enumerate(curves) if c.valid]
+        if len(rows) < BATCH_LEAST:
+            return
+        feeds = []
+        for i in rows:
+            a, b = chain[i], chain[i + 1]
+            feed = a.feed if a.feed <= b.feed else b.feed
+            hsc = a.dyn.hsc
+            if hsc.mode == "FAST":
+                feed *= hsc.fast / 100.0
+            feeds.append(feed)
+        picked = [curves[i] for i in rows]
+        limits = curve_limits_rows(np.array([c.d1 for c in picked]), np.array([c.d2 for c in picked]),
+                                   np.array([c.d3 for c in picked]), first.lim, np.array(feeds), first.path_acc,
+                                   first.path_jerk)
+        path = (first.lim, first.path_acc, first.path_jerk)
+        # keyed by the curves' identity; the entries hold the curves, so no other curve can take their ids
+        self._spline_limits = {id(c): (c, f, *path, row) for c, f, row in
+                               zip(picked, feeds, zip(*(x.tolist() for x in limits), strict=True), strict=True)}
 
     def _transition(self, span: Span) -> Span | None:
         """A span that starts on an HSC spline with curvature but does not end on one: a short

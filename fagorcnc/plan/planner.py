@@ -75,6 +75,7 @@ class Planner(CornerMixin):
         self.solver = Solver()
         self._ahead: deque = deque()             # the corner stage's look-ahead
         self._candidates: dict[int, tuple] = {}  # batched HSC spline curves by the id of their second line
+        self._spline_limits: dict[int, tuple] = {}  # their limits by the curve's id (see CornerMixin._batch)
         self._line_blends: dict[tuple[int, int], tuple] = {}  # batched G05 line corners by their directions' ids
         self._arc_blends: dict[tuple[int, int], tuple] = {}   # batched corners at arcs by their spans' ids
         self._spline_used = False

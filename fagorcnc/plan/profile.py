@@ -183,6 +183,11 @@ def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> b
     return length < shortest_length(v0, v1, acc, jerk) * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM
 
 
+#: A lower cap is not solved when the best duration found, times this, is at most the length over
+#: the cap (no motion within it is faster): the margin keeps ruckig's rounding out of the decision.
+RUNG_MARGIN = 1.0 + 1e-9
+
+
 class Solver:
     """A reusable ruckig 1-DOF solver."""
 
@@ -246,8 +251,13 @@ class Solver:
                 rungs.append((cap, *span.limits_at(cap)))
         best = (math.inf, span.vc, 0.0, 0.0)
         held = False   # whether the trajectory holds the best profile (the last one solved)
+        length = span.length
         for scale in (1.0, EDGE_SCALE):
             for vc, acc, jerk in rungs:
+                if best[0] * RUNG_MARGIN <= length / vc:
+                    # no motion below this cap (nor below the lower caps after it) is shorter than
+                    # length / vc: the best found stands, and ruckig is not asked
+                    break
                 if acc <= 0 or jerk <= 0:
                     continue
                 acc, jerk = acc * scale, jerk * scale

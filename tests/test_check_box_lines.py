@@ -1,0 +1,41 @@
+"""check's boxes per tool when a line widens them by its end alone (commands/extents.py: a line
+that starts where the last move ended, in the same tool's boxes and of the same kind)."""
+
+from __future__ import annotations
+
+from fagorcnc.commands.check import check_file
+
+
+def _boxes(tmp_path, text: str) -> dict[int, dict]:
+    path = tmp_path / "p.nc"
+    path.write_text(text, encoding="utf-8")
+    report = check_file(path)
+    assert report.verdict() == "pass", [str(d) for d in report.diagnostics]
+    return {b.tool: b.to_dict() for b in report.boxes}
+
+
+def test_boxes_of_lines_across_a_tool_change_and_rapid_feed_switches(tmp_path):
+    # tool 0: G0 from the machine's start (0, 0, 0) to (0, 0, 10), feed lines to (10, 0, 10),
+    #   (10, 5, 10), (10, 5, 2): all moves X 0..10 Y 0..5 Z 0..10; feeds from (0, 0, 10) on (the
+    #   first feed line starts at the rapid's end, and its start counts in the feed box): Z 2..10
+    # T2 M6, then tool 2: G0 to (-3, 5, 2)... its first move starts at (10, 5, 2), which must count
+    #   in tool 2's box even though it ended the last move of tool 0: X -3..10, Y 5..5, Z 2..20
+    #   (a rapid up to Z 20 at the end); feeds of tool 2: G1 from (-3, 5, 2) to (-3, 8, 2):
+    #   X -3..-3 Y 5..8 Z 2..2 (the rapid before it is not a feed, its start comes in as the
+    #   feed line's start), and the rapid to Z 20 adds nothing to the feed box
+    boxes = _boxes(tmp_path, "G90 G0 X0 Y0 Z10\nG1 X10 F1000\nY5\nZ2\nT2 M6\nG0 X-3\nG1 Y8\nG0 Z20\nM30\n")
+    assert boxes[0]["machine"] == {"min": {"X": 0.0, "Y": 0.0, "Z": 0.0}, "max": {"X": 10.0, "Y": 5.0, "Z": 10.0}}
+    assert boxes[0]["feed"]["machine"] == {"min": {"X": 0.0, "Y": 0.0, "Z": 2.0},
+                                           "max": {"X": 10.0, "Y": 5.0, "Z": 10.0}}
+    assert boxes[2]["machine"] == {"min": {"X": -3.0, "Y": 5.0, "Z": 2.0}, "max": {"X": 10.0, "Y": 8.0, "Z": 20.0}}
+    assert boxes[2]["feed"]["machine"] == {"min": {"X": -3.0, "Y": 5.0, "Z": 2.0},
+                                           "max": {"X": -3.0, "Y": 8.0, "Z": 2.0}}
+    assert boxes[2]["part"] == boxes[2]["machine"]   # no origin offset: part = machine
+
+
+def test_a_line_after_an_arc_widens_by_both(tmp_path):
+    # G0 (0, 0, 0); G2 from (0, 0) to (10, 0) about (5, 0), clockwise in G17: through (5, 5), so Y 0..5;
+    # then G1 to (10, -4): Y -4..5, X 0..10
+    boxes = _boxes(tmp_path, "G90 G17 G0 X0 Y0 Z0\nG2 X10 Y0 I5 J0 F1000\nG1 Y-4\nM30\n")
+    assert boxes[0]["feed"]["machine"]["min"] == {"X": 0.0, "Y": -4.0, "Z": 0.0}
+    assert boxes[0]["feed"]["machine"]["max"] == {"X": 10.0, "Y": 5.0, "Z": 0.0}
