@@ -201,6 +201,7 @@ CODES: dict[str, str] = {
     "INT232": "general move of an axis a #MOVE positioned, before #SYNC POS",
     "INT233": "the program end waits for an independent axis (#MOVE) to stop",
     "INT234": "#SYNC POS waits for the independent axes to stop",
+    "INT235": "execution read of an axis a #MOVE may still be positioning (fagorcnc gives the end of it)",
     # threading G33 and rigid tapping G63 (issue 26 item 1): INT180-INT189
     "INT180": "G33 thread pitch missing or invalid",
     "INT181": "G33 thread does not advance along the axis of its pitch",

@@ -196,3 +196,13 @@ def test_waitinpos_holds_the_axis_in_position_on_its_own_timeline():
     tr = r.trajectory(0.001)
     assert tr.position["X"][6300] == pytest.approx(50.0) and tr.velocity["X"][6300] == 0.0
     assert tr.position["X"][9000] == pytest.approx(50 + 8.3333 * (9.0 - 6.5167) - 8.3333 ** 2 / 1000, abs=2e-3)
+
+
+def test_an_execution_read_of_an_axis_a_move_may_still_position_is_warned():
+    # L16615-L16623: U has its own interpolator; the general motion stops for V.A.POS.U (an execution read) while
+    # U may still be moving, so the machine reads it mid-way; offline the end, 100, with warning INT235.  After
+    # #SYNC POS the general interpolator has U again: no warning.
+    r = _run("#MOVE ABS [U100, F1000]\nG1 X50 F600\nP1=V.A.POS.U\n#SYNC POS\nP2=V.A.POS.U\nM30\n")
+    warned = [(d.line, d.col, d.severity) for d in r.diagnostics if d.code == "INT235"]
+    assert warned == [(3, 4, "warning")]
+    assert r.state.param(1) == 100.0 and r.state.param(2) == 100.0

@@ -104,6 +104,7 @@ class Interpreter(FlowMixin):
         self.variables.plain_vars.update(axes.variables(self.state))   # V.G.AXISNAMEn, V.G.LINKACTIVE
         self.variables.axis_vars.update(axes.axis_variables())          # V.A.ACTCH.Xn
         self.curves = CurveSettings()   # #ASPLINE state, #SPLINE on/off (interp/curves.py)
+        self.variables.moving_alone, self.variables.warn = self.curves.independent, self.message   # INT235
         self.cam = compat.CamState()   # CAM constructs and lint (interp/compat.py)
         self.ended: str | None = None
         base = Path(program.file).resolve().parent if program.file not in ("<string>", "") else None

@@ -76,6 +76,10 @@ class Variables:
     def __init__(self, state: ChannelState) -> None:
         self.state = state
         s = state
+        #: the axes a #MOVE positioned since the last #SYNC POS, and the interpreter's warning hook: an
+        #: execution read of such an axis gets a warning (the interpreter sets both; see :meth:`get`)
+        self.moving_alone: dict = {}
+        self.warn: Callable | None = None
         self.machine_parameters = MachineParameters(state)   # V.MPG, V.MPA, V.SP, V.MPMAN, V.MPM, V.TM, V.MTB
         # name -> (getter, setter or None); axis variables take the axis as 3rd argument
         self.axis_vars: dict[str, tuple[Getter, Setter | None]] = {
@@ -408,6 +412,13 @@ class Variables:
             entry = self.spindle_vars[key]
             return entry[0](extra) if type(entry) is tuple else entry(extra)
         idx, axis = extra
+        if axis in self.moving_alone and key in self.execution and self.warn is not None:
+            # L16615-L16623: the axis's own interpolator may still be positioning it when the general motion
+            # stops for this read; offline its #MOVE has no instant to be read at, so the end is given
+            self.warn("INT235", "warning", f"{key}.{axis} is read while the #MOVE of line {self.moving_alone[axis]} "
+                      f"may still be positioning {axis} (its own interpolator, L16615): fagorcnc gives the end of "
+                      f"that positioning, the machine the position at that moment; program #SYNC POS before "
+                      f"reading it", col)
         try:
             return self.axis_vars[key][0](self.state, tuple(_index(x) for x in idx), axis) / self._unit(axis)
         except InterpError as exc:
