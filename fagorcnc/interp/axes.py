@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from ..syntax.ast import ItemList, Keyed, Name, Num
 from .expressions import InterpError, whole
 from .mpvars import name_code
+from .renaming import Renaming, item_name, rename
 from .spindle import targets
 from .spindle_config import cancel_renames, rename_cancel, spindle_busy
 
@@ -173,16 +174,6 @@ def _exchange(machine, axis: str) -> int:
 
 
 # ---------------------------------------------------------------------- statement helpers
-def _name(item, col: int) -> str | None:
-    """The text of an axis or spindle name item: ``X``, ``X1`` (read as X with value 1), ``?2``."""
-    t = type(item)
-    if t is Name:
-        return item.name
-    if t is Keyed and type(item.value) is Num and whole(item.value.value) is not None and len(item.name) == 1:
-        return f"{item.name}{int(item.value.value)}"
-    return None
-
-
 def _entries(node, start: int, what: str) -> tuple[list, list[str]]:
     """The bracket list after the sentence's keywords and the blank-separated offset keywords after it."""
     args = list(node.args)
@@ -297,7 +288,7 @@ def set_ax(interp, node) -> None:
         if type(item) is Num and item.value == 0:
             new.append(None)
             continue
-        name = _name(item, col) if item is not None else None
+        name = item_name(item) if item is not None else None
         if name is None:
             raise InterpError("INT204", f"{what}: each position is an axis or 0 for a hole: #SET AX [X, Y, 0, Z]", col)
         axis = _any_axis(ch, name, col, what)
@@ -337,7 +328,7 @@ def call_ax(interp, node) -> None:
     while i < len(seqs):
         item = seqs[i]
         col = getattr(item, "col", node.col)
-        name = _name(item, col) if item is not None else None
+        name = item_name(item) if item is not None else None
         if name is None:
             raise InterpError("INT204", f"{what}: expected an axis, optionally followed by its position: "
                               "#CALL AX [V, 4, C]", col)
@@ -387,7 +378,7 @@ def free_ax(interp, node) -> None:
         for seq in entries:
             item = seq[0] if len(seq) == 1 else None
             col = getattr(item, "col", node.col)
-            name = _name(item, col) if item is not None else None
+            name = item_name(item) if item is not None else None
             if name is None:
                 raise InterpError("INT204", f"{what}: expected the axes: #FREE AX [X, A]", col)
             axes.append((_channel_axis(ch, name, col, what), col))
@@ -400,54 +391,14 @@ def free_ax(interp, node) -> None:
     _changed(interp, before, [], [])
 
 
-_NAME_MSG = "a new name is X, Y ... C, optionally followed by a digit 1-9 (L1196)"
+_RENAME_AX = Renaming("AX", "axis", "axes", "INT207", _AXIS_NAME,
+                      "a new name is X, Y ... C, optionally followed by a digit 1-9 (L1196)", "[X, X1] [Z, V2]", "[X]")
 
 
 def rename_ax(interp, node) -> None:
     """``#RENAME AX [X, X1][..]``: the first axis takes the second name; an axis of the channel with that
     name takes the first (L14943-L14966).  ``#RENAME AX OFF <[X, ..]>``: the own names back (L15030)."""
-    ch = interp.state.channel
-    args = list(node.args)
-    first = args[0] if args else None
-    if type(first) is Name and first.name == "AX" and len(args) == 2 and type(args[1]) in (Name, Keyed) \
-            and args[1].name == "OFF":
-        off = args[1]
-        if type(off) is Name:
-            ch.names.clear()
-        else:
-            if type(off.value) is not ItemList:
-                raise InterpError("INT207", "#RENAME AX OFF takes the axes in brackets: #RENAME AX OFF [X]", off.col)
-            for seq in off.value.items:
-                item = seq[0] if len(seq) == 1 else None
-                col = getattr(item, "col", off.col)
-                name = _name(item, col) if item is not None else None
-                axis = ch.by_name.get(name) if name else None
-                if axis is None:
-                    raise InterpError("INT207", f"#RENAME AX OFF: there is no axis {name or '?'} in the channel", col)
-                ch.names.pop(axis, None)
-        _renamed(ch, node.col)
-        return
-    if type(first) is not Keyed or first.name != "AX" or type(first.value) is not ItemList:
-        raise InterpError("INT207", "#RENAME AX takes pairs in brackets: #RENAME AX [X, X1] [Z, V2]", node.col)
-    pairs = [first.value, *args[1:]]
-    for pair in pairs:
-        if type(pair) is not ItemList or len(pair.items) != 2 or any(len(s) != 1 for s in pair.items):
-            raise InterpError("INT207", "#RENAME AX: each pair is [axis, new name]: #RENAME AX [X, X1]",
-                              getattr(pair, "col", node.col))
-        (a,), (b,) = pair.items
-        old, new = _name(a, a.col), _name(b, b.col)
-        if old is None or not _AXIS_NAME.fullmatch(old):
-            raise InterpError("INT207", f"#RENAME AX: expected an axis of the channel; {_NAME_MSG}", a.col)
-        if new is None or not _AXIS_NAME.fullmatch(new):
-            raise InterpError("INT207", f"#RENAME AX: {_NAME_MSG}", b.col)
-        axis = ch.by_name.get(old)
-        if axis is None:
-            raise InterpError("INT207", f"#RENAME AX: there is no axis {old} in the channel", a.col)
-        other = ch.by_name.get(new)
-        if other is not None and other != axis:
-            ch.names[other] = old   # the swap (L14947)
-        ch.names[axis] = new
-        _renamed(ch, node.col)
+    rename(node, interp.state.channel, _RENAME_AX, _renamed)
 
 
 def _renamed(ch: ChannelAxes, col: int) -> None:
@@ -464,7 +415,7 @@ def park(interp, node, unpark: bool) -> None:
     ch = st.channel
     what = "#UNPARK" if unpark else "#PARK"
     item = node.args[0] if len(node.args) == 1 else None
-    name = _name(item, node.col) if item is not None else None
+    name = item_name(item) if item is not None else None
     if name is None:
         raise InterpError("INT208", f"{what} takes one axis or spindle: {what} A, {what} S2 (L14649)", node.col)
     col = item.col
@@ -549,7 +500,7 @@ def link(interp, node) -> None:
 def _link_axis(interp, item, role: str) -> str:
     ch = interp.state.channel
     col = getattr(item, "col", 1)
-    name = _name(item, col)
+    name = item_name(item)
     if name is None:
         raise InterpError("INT209", f"#LINK: expected the {role} axis", col)
     if name.startswith("?") and name[1:].isdigit():

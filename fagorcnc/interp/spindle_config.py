@@ -19,12 +19,14 @@ from __future__ import annotations
 
 import re
 
-from ..syntax.ast import ItemList, Keyed, Name, Num
-from .expressions import InterpError, whole
+from ..syntax.ast import ItemList, Keyed, Name
+from .expressions import InterpError
 from .mpvars import name_code
+from .renaming import Renaming, item_name, rename
 
 _SPINDLE_NAME = re.compile(r"S[1-9]?")
 _NAME_MSG = "a spindle is named S or S1 ... S9"
+_RENAME_SP = Renaming("SP", "spindle", "spindles", "INT249", _SPINDLE_NAME, _NAME_MSG, "[S, S1] [S3, S]", "[S3]")
 
 
 def parameter(machine, name: str, target: str | None = None, default: float = 0.0) -> float:
@@ -100,16 +102,6 @@ class ChannelSpindles:
 
 
 # ---------------------------------------------------------------------- statement helpers
-def item_name(item) -> str | None:
-    """The text of an axis or spindle name item: ``S`` (a Name) or ``S1`` (read as S with value 1)."""
-    t = type(item)
-    if t is Name:
-        return item.name
-    if t is Keyed and type(item.value) is Num and whole(item.value.value) is not None and len(item.name) == 1:
-        return f"{item.name}{int(item.value.value)}"
-    return None
-
-
 def _list(items: ItemList, what: str, code: str = "INT247") -> list[tuple[str, int]]:
     """The spindle names of a bracket list ``[S, S1]`` with their columns (``code``: the statement's error)."""
     out = []
@@ -265,46 +257,7 @@ def rename_sp(interp, node) -> None:
     """``#RENAME SP [S, S1] [..]``: each pair's first spindle takes the second name; a spindle of the channel
     with that name takes the first (L15144-L15154, L15189-L15190).  ``#RENAME SP OFF <[S3, ..]>``: the own
     names back, whatever RENAMECANCEL says (L15214-L15233)."""
-    cfg = interp.state.spindle_config
-    args = list(node.args)
-    first = args[0] if args else None
-    if type(first) is Name and first.name == "SP" and len(args) == 2 and type(args[1]) in (Name, Keyed) \
-            and args[1].name == "OFF":
-        off = args[1]
-        if type(off) is Name:
-            cfg.names.clear()
-        elif type(off.value) is not ItemList:
-            raise InterpError("INT249", "#RENAME SP OFF takes the spindles in brackets: #RENAME SP OFF [S3]", off.col)
-        else:
-            for name, col in _list(off.value, "#RENAME SP OFF", "INT249"):
-                spindle = cfg.by_name.get(name)
-                if spindle is None:
-                    raise InterpError("INT249", f"#RENAME SP OFF: there is no spindle {name} in the channel", col)
-                cfg.names.pop(spindle, None)
-        _renamed(cfg, node.col)
-        return
-    if type(first) is not Keyed or first.name != "SP" or type(first.value) is not ItemList:
-        raise InterpError("INT249", "#RENAME SP takes pairs in brackets: #RENAME SP [S, S1] [S3, S]", node.col)
-    for pair in [first.value, *args[1:]]:
-        if type(pair) is not ItemList or len(pair.items) != 2 or any(len(s) != 1 for s in pair.items):
-            raise InterpError("INT249", "#RENAME SP: each pair is [spindle, new name]: #RENAME SP [S, S1]",
-                              getattr(pair, "col", node.col))
-        (a,), (b,) = pair.items
-        old, new = item_name(a), item_name(b)
-        if old is None or not _SPINDLE_NAME.fullmatch(old):
-            raise InterpError("INT249", f"#RENAME SP: expected a spindle of the channel; {_NAME_MSG}", a.col)
-        if new is None or not _SPINDLE_NAME.fullmatch(new):
-            raise InterpError("INT249", f"#RENAME SP: the new name: {_NAME_MSG}", b.col)
-        spindle = cfg.by_name.get(old)
-        if spindle is None:
-            raise InterpError("INT249", f"#RENAME SP: there is no spindle {old} in the channel", a.col)
-        other = cfg.by_name.get(new)
-        if other is not None and other != spindle:
-            cfg.names[other] = old   # the swap (L15148-L15149)
-        cfg.names[spindle] = new
-        cfg.names = {s: n for s, n in cfg.names.items() if n != s}
-        cfg._index()
-    _renamed(cfg, node.col)
+    rename(node, interp.state.spindle_config, _RENAME_SP, _renamed)
 
 
 def _renamed(cfg: ChannelSpindles, col: int) -> None:

@@ -229,7 +229,7 @@ def cax_statement(interp, node, src) -> list:
     axis, which is referenced (moved to its home position); the records to hand on."""
     from ..interp.expressions import InterpError
     from ..interp.records import Line
-    from ..interp.spindle_config import item_name
+    from ..interp.renaming import item_name
     from ..syntax.ast import ItemList, Name
 
     st = interp.state
