@@ -38,7 +38,7 @@ windows meet: dropping that coupling relaxes the problem, so with each window at
 sum is a LOWER bound of the stretch's optimum (and never below the jerk-free optimum, every
 window's cap).  Each window is still solved by the SLP above (locally optimal, feasible for the
 window), so the windowed figure is a lower bound up to that local-optimality gap; on the 2-row
-rasters it comes within 0.01-0.3 % below the whole-stretch solution, in a third of the time.
+rasters it comes within 0.01-0.3 % below the whole-stretch solution, 1.6 to 5.7 times faster.
 """
 
 from __future__ import annotations

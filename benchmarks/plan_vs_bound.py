@@ -2,7 +2,8 @@
 
 Run from the repository root::
 
-    python benchmarks/plan_vs_bound.py [--quick] [--no-check] [--plain-grid]
+    python benchmarks/plan_vs_bound.py [--quick] [--no-check] [--plain-grid] [--no-jerk-reference]
+                                       [--jerk-window N]
 
 For every test path (generated below) the program is interpreted once with
 ``fagorcnc.simulate`` and planned twice with the fagorcnc planner: with unlimited
@@ -51,6 +52,11 @@ small paths (until 0.2 s are spent), one run for the raster.
 After the table: the grid convergence of the bound (spacing / 4), a jerk-informed
 estimate (see :func:`jerk_estimate`; not a bound), the trajectory limit check and
 the anomalies (a ratio below 1, a limit exceeded, a planner error).
+
+The jerk-limited reference (``jerk_bound.py``) is computed on every path; on the rasters it is
+solved in windows of ``--jerk-window`` grid points (default 400) with free speed and acceleration
+where two windows meet: a relaxation, so its time is a lower bound of the whole problem's optimum
+(up to the SLP's local optimality in each window) and "jerk on / reference" an upper estimate.
 
 ``--quick`` shrinks the big finishing raster from 10 049 to 2 009 segments.
 ``--no-check`` skips the trajectory limit check (sampling both plans every 1 ms
