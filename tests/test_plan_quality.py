@@ -13,9 +13,17 @@ import numpy as np
 import pytest
 
 import fagorcnc
-from fagorcnc.plan.corners import split_blend
+from fagorcnc.plan.corners import part_bounds, split_blend
 from fagorcnc.plan.geometry import BlendPiece
-from fagorcnc.plan.limits import AxisLimits, curve_limits, curve_limits_rows, piece_cap
+from fagorcnc.plan.limits import (
+    AxisLimits,
+    axis_terms,
+    curve_limits,
+    curve_limits_rows,
+    piece_cap,
+    reach_without_jerk,
+    tangential,
+)
 
 _BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 if str(_BENCH) not in sys.path:
@@ -86,3 +94,49 @@ def test_jerk_free_plans_keep_the_limits(case: str) -> None:
     # the finer caps pay: R2 circle, five turns at F6000: 1.4536 s (1.5417 s in 30° parts with the 90 % rule)
     if case == "circle":
         assert sum(s.duration for s in off) < 1.47
+
+
+def test_reach_without_jerk_is_the_exact_trapezoid() -> None:
+    # bounds d1 = (0.6, 0.8), d2 = (2, 1), A = 1000 on both axes, from v = 10 mm/s over L = 0.01 mm (2L = 0.02):
+    # X: c² = (100 + 0.02 x 1000 / 0.6) / (1 + 0.02 x 2 / 0.6) = 133.333 / 1.066667 = 125.0
+    # Y: c² = (100 + 0.02 x 1000 / 0.8) / (1 + 0.02 x 1 / 0.8) = 125 / 1.025 = 121.951 -> c = 11.0432 mm/s
+    terms = axis_terms([0.6, 0.8], [2.0, 1.0], [0.0, 0.0], LIM)
+    c = reach_without_jerk(terms, 10.0, 0.01, math.inf)
+    assert c * c == pytest.approx(125.0 / 1.025, rel=1e-12)
+    # at that cap the tangential acceleration min((1000 - 2 c²) / 0.6, (1000 - c²) / 0.8) = 1097.56 mm/s²
+    # runs the trapezoid exactly: 100 + 0.02 x 1097.56 = 121.951 = c²
+    acc, _ = tangential(terms, c)
+    assert acc == pytest.approx((1000.0 - 125.0 / 1.025) / 0.8, rel=1e-12)
+    assert 100.0 + 0.02 * acc == pytest.approx(c * c, rel=1e-12)
+    # the array form gives the same speed; a path acceleration of 500 mm/s² binds first: c² = 100 + 0.02 x 500
+    assert reach_without_jerk(terms.arrays(), 10.0, 0.01, math.inf) == pytest.approx(c, rel=1e-15)
+    assert reach_without_jerk(terms, 10.0, 0.01, 500.0) == pytest.approx(math.sqrt(110.0), rel=1e-15)
+
+
+def test_part_bounds_hold_between_the_samples() -> None:
+    # a 90-degree corner curve in 32 parts: each part's bounds of |q'| and |q''| (97 samples, 0.5 % plus twice
+    # the largest second difference) are above the values at 20 001 points of the part, and below the whole
+    # curve's margins (2 % and 5 % over the samples' largest)
+    blend = BlendPiece(np.array([0.0, 0.0]), np.array([1.0, 0.0]), np.zeros(2), 0.375 * 0.025,
+                       np.array([0.025, -0.025]), np.array([0.0, -1.0]), np.zeros(2), 0.375 * 0.025)
+    dense = np.linspace(0.0, 1.0, 20001)
+    for part in split_blend(blend, 32):
+        _, t, k, _ = part._geometric(dense)
+        assert np.all(np.abs(t).max(axis=0) <= part.d1 * (1 + 1e-12))   # |t| = 1: the cap at 1 is exact
+        assert np.all(np.abs(k).max(axis=0) <= part.d2)
+        _, ts, ks, _ = part._geometric(np.linspace(0.0, 1.0, 97))
+        assert np.all(part.d1 <= np.minimum(np.abs(ts).max(axis=0) * 1.02, 1.0) + 1e-15)
+        assert np.all(part.d2 <= np.abs(ks).max(axis=0) * 1.05)
+    # a constant sampled |f| gets exactly its 0.5 %; a kink (|f| through 0) widens the bound by its second difference
+    assert part_bounds(np.full((97, 1), 2.0))[0] == pytest.approx(2.01, rel=1e-15)
+    kink = np.abs(np.linspace(-1.0, 1.0, 97))[:, None]   # second difference 2 x (2 / 96) at the middle
+    assert part_bounds(kink)[0] == pytest.approx(1.005 + 2.0 * 2.0 * 2.0 / 96.0, rel=1e-12)
+
+
+def test_g05_zigzag_jerk_off_within_5_percent_of_the_bound() -> None:
+    # issue 27 item 3: 80 steps of 0.05 mm at +-45 degrees, G05, jerk off: planned / time-optimal bound <= 1.05
+    # (1.089 on the 400-step zig-zag in 16 parts with the whole curve's margins, 1.035 now; plan_vs_bound.py)
+    result = fagorcnc.simulate(pvb.zigzag("G05", n=80))
+    off = list(result.segments(jerk=False, keep_profiles=False))
+    bound = pvb.bound_time(pvb.build_grid(off, result.machine))
+    assert 1.0 <= sum(s.duration for s in off) / bound <= 1.05

@@ -37,14 +37,23 @@ CURVATURE_EPS = 1e-10
 
 
 #: Parts a corner curve is planned in when the planner has no jerk limit (see :func:`split_blend`).
-BLEND_PARTS = 16
+#: G05 zig-zag of 0.05 mm steps, jerk off, planned ÷ time-optimal bound: 1.089 in 16 parts with the
+#: whole curve's margins, 1.066 in 32; with :data:`PART_MARGIN` 1.066 in 16 and 1.04 in 32.
+BLEND_PARTS = 32
+#: A part's bounds of ``|q'|`` and ``|q''|`` per axis: the largest of its 97 samples times
+#: ``1 + PART_MARGIN`` plus :data:`PART_CURVE` times the samples' largest second difference (see
+#: :func:`part_bounds`), never above the whole curve's margins (2 % and 5 %).
+PART_MARGIN = 0.005
+PART_CURVE = 2.0
 
 
 def split_blend(blend: BlendPiece, parts: int) -> list[BlendPiece]:
     """The corner curve as ``parts`` curves of equal parameter range (de Casteljau subdivision of its
     control points: the same curve, point for point), each with the derivative bounds of its own
     stretch.  A corner curve's curvature runs from the pieces' at its ends to its largest in the
-    middle; in parts, the ends get caps from their own (lower) curvature instead of the middle's."""
+    middle; in parts, the ends get caps from their own (lower) curvature instead of the middle's.
+    The first two bounds of each part are :func:`part_bounds` (the third, which only a jerk limit
+    uses, keeps its margin)."""
     out = []
     rest = blend.controls
     for i in range(parts, 1, -1):
@@ -56,8 +65,26 @@ def split_blend(blend: BlendPiece, parts: int) -> list[BlendPiece]:
         piece = BlendPiece.__new__(BlendPiece)
         piece._set(controls)
         piece._bounds()
+        if piece.samples is not None:   # not degenerate (a degenerate part's bounds are infinite)
+            _, t, k, _ = piece._geometric(_BOUND_U)
+            piece.d1 = np.minimum(np.minimum(part_bounds(t), piece.d1), 1.0)
+            piece.d2 = np.minimum(part_bounds(k), piece.d2)
         pieces.append(piece)
     return pieces
+
+
+def part_bounds(samples: np.ndarray) -> np.ndarray:
+    """Per-axis bound of ``|f|`` over a part from ``f`` at its 97 bound parameters (97, D): the largest
+    ``|f_i|`` sampled, times ``1 + PART_MARGIN``, plus ``PART_CURVE`` times the largest second
+    difference of ``|f_i|``.  Between two samples ``h`` apart a smooth ``|f_i|`` exceeds the larger
+    by at most ``h² max|f_i''| / 8``, about an eighth of a second difference: the rule keeps 16
+    times that, and a kink (``|f_i|`` through 0) only widens it.  A part is a 32nd of a corner curve,
+    sampled as finely as 3 000 points over the whole: its tangent and curvature vary little between
+    samples, where the whole curve's 5 % on ``q''`` stood for 97 samples over the whole turn
+    (dense check, 4 001 points on 2 400 random curves and turns in 16 and 32 parts: never above)."""
+    a = np.abs(samples)
+    second = np.abs(a[2:] - 2.0 * a[1:-1] + a[:-2]).max(axis=0)
+    return a.max(axis=0) * (1.0 + PART_MARGIN) + PART_CURVE * second
 
 
 def _subdivide(controls: np.ndarray, u: float) -> tuple[np.ndarray, np.ndarray]:

@@ -198,6 +198,28 @@ def tangential_arrays(terms: TermArrays, vc: float, path_acc: float = 0.0,
     return acc, jerk
 
 
+def reach_without_jerk(terms: Terms | TermArrays, v: float, length: float, path_acc: float) -> float:
+    """Highest speed ``c`` at one end of curved pieces of total ``length`` (their :func:`axis_terms`
+    together) from the speed ``v`` at the other, with no jerk limit: the constant tangential
+    acceleration allowed below the cap ``c`` is ``a(c) = min_i (A_i - c² d2_i) / d1_i`` (and
+    ``path_acc``), and the trapezoid needs ``c² = v² + 2 L a(c)``.  Each term is affine in ``c²``, so
+    each gives its own root ``c² = (v² + 2 L A_i / d1_i) / (1 + 2 L d2_i / d1_i)``; ``v² + 2 L a(c) - c²``
+    decreases with ``c``, so the least root is where the least term is met: the exact speed, where
+    a ladder of lower caps only comes within a rung of it (the caller applies its cap and margins).
+    """
+    two_l, v2 = 2.0 * length, v * v
+    best = v2 + two_l * path_acc if 0.0 < path_acc < math.inf else math.inf
+    if isinstance(terms, Terms):
+        for a, k, g in terms.acc:
+            if (x := (v2 + two_l * a / g) / (1.0 + two_l * k / g)) < best:
+                best = x
+    else:
+        a, k, g = terms.acc
+        if len(a) and (x := float(((v2 + two_l * a / g) / (1.0 + two_l * k / g)).min())) < best:
+            best = x
+    return math.sqrt(best)
+
+
 def line_limits(d1, lim: AxisLimits, feed: float, path_acc: float = 0.0,
                 path_jerk: float = 0.0) -> tuple[float, float, float]:
     """``(vc, A_s, J_s)`` of a line, its cap (:func:`piece_cap`) and :func:`tangential` limits
