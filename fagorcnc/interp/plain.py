@@ -66,7 +66,7 @@ def _roles(by_name: dict, configured) -> dict:
 class PlainBlocks:
     """Runs plain blocks for an :class:`~fagorcnc.interp.interpreter.Interpreter` (see the module)."""
 
-    __slots__ = ("_names", "_roles", "interp", "iso", "state")
+    __slots__ = ("_diameter", "_linear", "_names", "_roles", "interp", "iso", "seconds", "state")
 
     def __init__(self, interp) -> None:
         self.interp = interp
@@ -74,10 +74,16 @@ class PlainBlocks:
         self.state = interp.state
         self._names: dict | None = None   # the channel's by_name the roles were made for
         self._roles: dict = {}
+        axes = interp.state.machine.axes   # the machine's configuration does not change during a run
+        self._linear = frozenset(a for a, ax in axes.items() if not ax.rotary)
+        self._diameter = frozenset(a for a, ax in axes.items() if ax.diameter)
+        #: record_time() of the last record :meth:`run` made, when it worked it out on the way (a G01), else None
+        self.seconds: float | None = None
 
     def run(self, block: Block):
         """The record of ``block`` (None when it moves nothing, as ``F800`` alone), or :data:`NOT_PLAIN`
         when it is not a plain block.  Raises the general path's :class:`InterpError` where it would."""
+        self.seconds = None
         st = self.state
         interp = self.interp
         channel = st.channel
@@ -188,10 +194,8 @@ class PlainBlocks:
         rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
         st = self.state
         iso = self.iso
-        configured = st.machine.axes
-        for axis in words:
-            if configured[axis].rotary:
-                return NOT_PLAIN   # _motion itself: unrolled positions, directions (IsoExecutor._rotary)
+        if not self._linear.issuperset(words):
+            return NOT_PLAIN   # a rotary axis: _motion itself (unrolled positions, directions: IsoExecutor._rotary)
         a, o, _ = st.plane_axes()
         off = st.offsets()
         pos = st.machine_pos
@@ -205,7 +209,7 @@ class PlainBlocks:
         for axis, (v, _col) in words.items():
             if inch:
                 v *= INCH
-            if diameter and configured[axis].diameter:
+            if diameter and axis in self._diameter:
                 v /= 2.0
             end_prog[axis] = cur_part[axis] + v if incremental else v
         applied = st.length_offset
@@ -226,9 +230,12 @@ class PlainBlocks:
                                 joins=shared_tuple((modes["transition"], modes["comp_start"])))
         length = math.sqrt(sum((end[x] - start[x]) ** 2 for x in end))
         feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
+        css = iso._css()
+        if css is None:   # record_time() of the record: the same length (Line.length), the same division
+            self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
         return _line_record(kind="linear", start=start, end=end, end_part=end_part, feed=feed,
                             feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
-                            joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())
+                            joins=shared_tuple((modes["transition"], modes["comp_start"])), css=css)
 
     # ------------------------------------------------------------ G02/G03 in the simplest state
     def _arc(self, mode: int, words: dict, params: dict, src: Source):
@@ -245,10 +252,8 @@ class PlainBlocks:
         if letters is None:
             return NOT_PLAIN   # G20: the general path
         ci, cj, ck = letters
-        configured = st.machine.axes
-        for axis in words:
-            if configured[axis].rotary:
-                return NOT_PLAIN
+        if not self._linear.issuperset(words):
+            return NOT_PLAIN   # a rotary axis
         a, o, n = st.plane_axes()
         if a is None or o is None:
             return NOT_PLAIN   # INT150: the general path says it
@@ -275,7 +280,7 @@ class PlainBlocks:
         for axis, (v, _col) in words.items():
             if inch:
                 v *= INCH
-            if diameter and configured[axis].diameter:
+            if diameter and axis in self._diameter:
                 v /= 2.0
             end_part[axis] = cur_part[axis] + v if incremental else v
         ccw = mode == 3
