@@ -200,29 +200,36 @@ class PlainBlocks:
         off = st.offsets()
         pos = st.machine_pos
         cur_part = {x: pos[x] - off[x] for x in st.axes}   # programmed_pos(): part_pos(), no transform
-        start = st.move_start()
+        last = st._last_end   # move_start(): the last end point when the tool is still there
+        start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
         modes = st.modes
         incremental = modes["distance"] == 91
         inch = modes["units"] == 70
         diameter = modes["diameter"] == 151
-        end_prog = dict(cur_part)   # target()
+        end_part = dict(cur_part)   # target(); transform.apply() under no transformation is the same point
         for axis, (v, _col) in words.items():
             if inch:
                 v *= INCH
             if diameter and axis in self._diameter:
                 v /= 2.0
-            end_prog[axis] = cur_part[axis] + v if incremental else v
+            end_part[axis] = cur_part[axis] + v if incremental else v
         applied = st.length_offset
-        iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
-        if st.length_offset is not applied:
-            off = st.offsets()
-        end_part = dict(end_prog)   # transform.apply() under no transformation
+        if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
+            iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
+            if st.length_offset is not applied:
+                off = st.offsets()
         end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
-        end = st.shared_end(end, end_part)
-        iso.interp.check_limits(end, next(iter(words.values()))[1], start)
-        st.moved_to(end)
+        if end == end_part and tuple(end) == tuple(end_part):   # shared_end()
+            end = end_part
+        lower, upper = st.lower_limits, st.upper_limits
+        for x, v in end.items():   # check_limits() says more only for a point outside the limits
+            if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
+                iso.interp.check_limits(end, next(iter(words.values()))[1], start)
+                break
+        st.machine_pos = dict(end)   # moved_to()
+        st._last_end = end
         if a is not None and o is not None:
-            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
+            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_part[a], end_part[o]), None, True) \
                 or st.tangent
         if mode == 0:   # _compensation() is None, _joins(None) the modal pair
             return _line_record(kind="rapid", start=start, end=end, end_part=end_part, feed=None, feed_mode="G94",
@@ -230,7 +237,7 @@ class PlainBlocks:
                                 joins=shared_tuple((modes["transition"], modes["comp_start"])))
         length = math.sqrt(sum((end[x] - start[x]) ** 2 for x in end))
         feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
-        css = iso._css()
+        css = iso._css() if modes["feed"] == 95 else None   # _css() is None outside G95
         if css is None:   # record_time() of the record: the same length (Line.length), the same division
             self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
         return _line_record(kind="linear", start=start, end=end, end_part=end_part, feed=feed,
