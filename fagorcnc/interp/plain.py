@@ -275,7 +275,8 @@ class PlainBlocks:
         off = st.offsets()
         pos = st.machine_pos
         cur_part = {x: pos[x] - off[x] for x in st.axes}
-        start = st.move_start()
+        last = st._last_end   # move_start()
+        start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
         # _arc
         col = next(iter(words.values()))[1] if words else next(iter(params.values()))[1]
         inch = modes["units"] == 70
@@ -321,13 +322,21 @@ class PlainBlocks:
             delta, turns, ep = iso._helix(delta, pitch, cur_part, end_part, center, r0, ccw, col)
             end_part[a], end_part[o] = ep
         applied = st.length_offset
-        iso._length_compensation(_Words(words))
-        if st.length_offset is not applied:
-            off = st.offsets()
+        if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
+            iso._length_compensation(_Words(words))
+            if st.length_offset is not applied:
+                off = st.offsets()
         st.tangent = arcs.end_tangent(sp, ep, center, ccw)
-        end = st.shared_end({x: v + off[x] for x, v in end_part.items()}, end_part)   # to_machine()
-        iso.interp.check_limits(end, col, start)
-        st.moved_to(end)
+        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
+        if end == end_part and tuple(end) == tuple(end_part):   # shared_end()
+            end = end_part
+        lower, upper = st.lower_limits, st.upper_limits
+        for x, v in end.items():   # check_limits() says more only for a point outside the limits
+            if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
+                iso.interp.check_limits(end, col, start)
+                break
+        st.machine_pos = dict(end)   # moved_to()
+        st._last_end = end
         center_part = {a: center[0], o: center[1]}
         center_m = {a: center[0] + off[a], o: center[1] + off[o]}
         planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
@@ -337,7 +346,8 @@ class PlainBlocks:
                            center_part=center_part, direction="ccw" if ccw else "cw", plane=(a, o, n),
                            radius=math.dist(ep, center) * 1.0, turns=turns, feed=feed,
                            feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
-                           joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())
+                           joins=shared_tuple((modes["transition"], modes["comp_start"])),
+                           css=iso._css() if modes["feed"] == 95 else None)
 
 
 def record_maker(cls):
