@@ -194,9 +194,12 @@ class Interpreter(FlowMixin):
             if frame.repeat is not None and frame.pc > frame.repeat[1]:
                 self._repeat_next(frame)
                 continue
-            block = frame.source.get(frame.pc)
-            if type(frame.source) is StreamSource:   # the main program, or a large subroutine file, read lazily
-                if frame.source is stream and not self.recover and stream.has_error():
+            source = frame.source
+            block = source.get(frame.pc)
+            if type(source) is StreamSource:   # the main program, or a large subroutine file, read lazily
+                seen = source._seen   # has_error() has something to look at only when diagnostics came
+                if source is stream and not self.recover and (
+                        seen[2] or seen[0] is not source.diagnostics or len(seen[0]) != seen[1]) and stream.has_error():
                     raise _Stop  # a syntax error ahead: nothing more is executed
                 if frame.pc & 1023 == 0:
                     keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]

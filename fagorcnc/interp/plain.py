@@ -172,7 +172,8 @@ class PlainBlocks:
             bw.params = params
             bw.feed = feed
             rec = iso._motion({n: (col, None) for (n, _group), col in gl}, bw, src)
-        if rec is not None and rec.kind != "rapid" and rec.feed_mode not in _NO_SPINDLE_LINT:
+        if rec is not None and st.spindle_state and st.tool and rec.kind != "rapid" \
+                and rec.feed_mode not in _NO_SPINDLE_LINT:   # spindle_lint() looks no further without them
             compat.spindle_lint(interp, rec, 1)
         return rec
 
