@@ -15,7 +15,9 @@ parameter, another G function, a word written twice, an active canned cycle, #MC
 coupled or parked axis ...) returns :data:`NOT_PLAIN` before anything changed, and the block goes
 the general way.  A G00/G01 of axis words without transformation, radius compensation or kinematics
 is made by :meth:`PlainBlocks._line`, ``_motion``'s steps for that case in the same order and with
-the same arithmetic; its record by :func:`record_maker` (no dataclass ``__init__``).
+the same arithmetic, and a G02/G03 by its centre or its radius (helix included) by
+:meth:`PlainBlocks._arc`, ``_motion`` then ``_arc``'s steps; their records by :func:`record_maker` (no
+dataclass ``__init__``).
 ``tests/test_plain_blocks.py`` runs programs both ways and compares everything.
 """
 
