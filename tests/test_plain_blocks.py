@@ -62,6 +62,22 @@ def _plain_share(source, machine, monkeypatch) -> float:
     return sum(taken) / max(len(taken), 1)
 
 
+def _direct_arcs(source, machine, monkeypatch) -> int:
+    """How many arcs :meth:`PlainBlocks._arc` made itself."""
+    made = []
+    arc = plain.PlainBlocks._arc
+
+    def counting(self, *args):
+        out = arc(self, *args)
+        made.append(out is not plain.NOT_PLAIN)
+        return out
+
+    monkeypatch.setattr(Interpreter, "plain_blocks", True)
+    monkeypatch.setattr(plain.PlainBlocks, "_arc", counting)
+    fagorcnc.simulate(source, machine)
+    return sum(made)
+
+
 # A bit of everything a CAM program holds around its plain moves: G91 stretches, origin changes, inch
 # units, comments, labels and jumps, parameters and expressions, plane changes, tool length and radius
 # compensation, mirror, scale, rotation, a canned cycle, a modal subroutine, arcs by centre and radius,
@@ -170,6 +186,61 @@ ERRORS = [
 @pytest.mark.parametrize("program", ERRORS)
 def test_errors_same_both_ways(program, monkeypatch):
     _same("%ERR\n" + program + "M30\n", monkeypatch)
+
+
+# Arcs made directly (PlainBlocks._arc) against the general _arc.  Each program is valid and is checked to
+# run to its end; the figures are chosen so every arc closes (start and end radius equal):
+ARCS = {
+    # G17 by centre and by R: (0,0) -> (10,0) about (5,0), back about (5,0), R5 both ways, then R-12 from
+    # (0,0) to (20,0): the arc over 180 degrees of a chord 20 < 2 * 12
+    "centre and R": "G2 X10 Y0 I5 J0\nG3 X0 Y0 I-5 J0\nG2 X10 Y0 R5\nG3 X0 Y0 R5\nG2 X20 Y0 R-12\n",
+    # G91: the same half circles as increments; an I alone (J = 0), a J alone from (10,0): centre (10,5),
+    # end (10,10); R with an end point in the plane
+    "G91": "G91 G2 X10 Y0 I5 J0\nG3 X-10 Y0 R5\nG2 X10 Y0 I5\nG3 X0 Y10 J5\nG90\n",
+    # helices: K2 pitch with 6 mm of Z is 3 turns (1080 degrees) back to (10,0); a quarter without pitch
+    # from (10,0) about (0,0) to (0,10) with 3 mm of Z; a full circle without axis words
+    "helix": "G0 X10 Y0 Z0\nG1 F800\nG3 X10 Y0 Z-6 I-10 J0 K2\nG2 X0 Y10 Z-9 I-10 J0\nG2 I0 J-10\n",
+    # G18 (abscissa Z, ordinate X, centre K I, pitch J): (Z0,X0) about (Z5,X0) to (Z10,X0), back by R5,
+    # then a helix along Y: 3 mm at pitch 4 is 270 degrees
+    "G18": "G18\nG2 X0 Z10 I0 K5\nG3 X0 Z0 R5\nG2 X0 Z10 Y3 I0 K5 J4\nG17\n",
+    # G19 (abscissa Y, ordinate Z, centre J K): (Y0,Z0) about (Y5,Z0) to (Y10,Z0), back by R5
+    "G19": "G19\nG2 Y10 Z0 J5 K0\nG3 Y0 Z0 R5\nG17\n",
+    # inches: I0.5 = 12.7 mm, R0.5 the same; F10 inch/min
+    "G70": "G70\nG1 F10\nG2 X1 Y0 I0.5 J0\nG3 X0 Y0 R0.5\nG71\n",
+    # G261: the centre is absolute, (5,0) from (0,0) to (10,0); G262 back to incremental centres
+    "G261": "G261\nG2 X10 Y0 I5 J0\nG262\nG3 X0 Y0 I-5 J0\nG2 X10 Y0 I5 J0\n",
+    # G265 corrects a centre off by 0.001 mm (end radius 5.0000001, within CIRINERR 0.01), G264 keeps it
+    "G264 G265": "G265\nG2 X10 Y0.001 I5 J0\nG264\nG3 X0 Y0 I-5 J-0.001\nG2 X10 Y0 I5 J0\n",
+    # a tool whose length applies on the first move of Z (an arc here), under G54
+    "tool": "T1 D1 M6\nG54 G0 X0 Y0 Z100\nG1 F800\nG2 X10 Y0 Z90 I5 J0\nG3 X0 Y0 R5\n",
+}
+
+
+@pytest.mark.parametrize("name", sorted(ARCS))
+def test_arcs_same_both_ways(name, monkeypatch):
+    program = "%ARCS\nG90 G0 X0 Y0 Z0 F800\nG1 F800\n" + ARCS[name] + "P1 = V.G.R\nM30\n"
+    assert _run(program, MACHINE, True, monkeypatch)[2]   # it runs to its end
+    assert _direct_arcs(program, MACHINE, monkeypatch) >= 2
+    _same(program, monkeypatch, MACHINE)
+
+
+ARC_ERRORS = [
+    "G2 X3 Y0 I1 J0.5\n",                # INT062 start radius 1.118 and end radius 2.06 differ
+    "G2 X30 Y0 R1\n",                    # INT064 a radius smaller than half the chord
+    "G2 X1 Y0 I0 J0\n",                  # INT061 centre on the start point
+    "G2 X10 Y0 Z-5 I5 J0 K0\n",          # INT069 helix pitch 0
+    "G2 X2000 Y0 I1000 J0\n",            # INT100 the end beyond the soft limit
+    "G2 X10 Y0 I5 J0 R5\n",              # R with a centre: the general path
+    "G2 Y1 R5\n",                        # an end point in the plane: R is the radius
+    "G2 Z5 R5\n",                        # no end point in the plane: R is polar (general path: INT061)
+    "G2 K2\n",                           # only a pitch: the stored radius, none here (INT061)
+]
+
+
+@pytest.mark.parametrize("program", ARC_ERRORS)
+def test_arc_errors_same_both_ways(program, monkeypatch):
+    _same("%ERR\nG90 G0 X0 Y0 Z0\nG1 F800\n" + program + "M30\n", monkeypatch)
+    _same("%ERR\nG90 G0 X0 Y0 Z0\nG2 X10 Y0 I5 J0\nM30\n", monkeypatch)   # INT060 no feed on an arc
 
 
 _axis = st.sampled_from(["X", "Y", "Z", "I", "J", "K", "R", "F", "N", "G", "A", "B", "S", "M", "Q"])

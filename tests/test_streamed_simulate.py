@@ -48,8 +48,8 @@ def test_repeated_coordinates_share_one_float_in_the_parser():
     import fagorcnc
     from fagorcnc.syntax import builder
 
-    first, again = builder.split_words("X-1.5", 1)[0][1], builder.split_words("Y-1.5", 1)[0][1]
-    assert first is again and first == -1.5
+    first, again = builder.split_words("X-1.5", 1)[0].value, builder.split_words("X-1.5", 1)[0].value
+    assert first is again and first == -1.5 and builder.split_words("X1.5", 1)[0].value == 1.5
     r = fagorcnc.simulate("G90 G1 X0 Y0 F1000\nX-1.5 Y2\nX3 Y2\nX-1.5 Y4\nX3 Y4\nM30\n")
     moves = [m for m in r.moves if m.kind == "linear"]
     assert moves[1].end["X"] == -1.5 and moves[3].end["X"] == -1.5 and moves[2].end["X"] == 3.0

@@ -135,13 +135,17 @@ class Interpreter(FlowMixin):
             records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
             # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
             timed = self._timed
+            limited = clock.seconds > 0   # without a time limit, no clock to read twice per record
             for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
                 known = timed.pop(id(record), None)   # the time _loop worked out for the same record
                 self.cycle_time += known[1] if known is not None and known[0] is record else \
                     record_time(machine, record)
-                handed = cpu_time()
-                yield record
-                clock.exclude(handed)   # the consumer's time is not interpretation time
+                if limited:
+                    handed = cpu_time()
+                    yield record
+                    clock.exclude(handed)   # the consumer's time is not interpretation time
+                else:
+                    yield record
         except CompensationError as exc:
             src = exc.record.src
             if not self.failed:
@@ -183,16 +187,20 @@ class Interpreter(FlowMixin):
         frames = self.frames
         state = self.state
         stream = self.stream
-        plain = PlainBlocks(self).run if self.plain_blocks else None
+        plain_blocks = PlainBlocks(self)
+        plain = plain_blocks.run if self.plain_blocks else None
         max_blocks = self.machine.limits.max_blocks
         while len(frames) > depth:
             frame = frames[-1]
             if frame.repeat is not None and frame.pc > frame.repeat[1]:
                 self._repeat_next(frame)
                 continue
-            block = frame.source.get(frame.pc)
-            if type(frame.source) is StreamSource:   # the main program, or a large subroutine file, read lazily
-                if frame.source is stream and not self.recover and stream.has_error():
+            source = frame.source
+            block = source.get(frame.pc)
+            if type(source) is StreamSource:   # the main program, or a large subroutine file, read lazily
+                seen = source._seen   # has_error() has something to look at only when diagnostics came
+                if source is stream and not self.recover and (
+                        seen[2] or seen[0] is not source.diagnostics or len(seen[0]) != seen[1]) and stream.has_error():
                     raise _Stop  # a syntax error ahead: nothing more is executed
                 if frame.pc & 1023 == 0:
                     keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
@@ -220,7 +228,7 @@ class Interpreter(FlowMixin):
                     if record is not None:
                         if state.sync:
                             yield self._sync(block, record.start)
-                        state.elapsed += self._time(record)
+                        state.elapsed += self._time(record, plain_blocks.seconds)
                         yield record
                     if state.sync:
                         yield self._sync(block, None)
@@ -233,10 +241,11 @@ class Interpreter(FlowMixin):
             if state.sync:
                 yield self._sync(block, None)
 
-    def _time(self, record) -> float:
-        """:func:`record_time` of a record made by the block loop, kept for :meth:`run` (a record is
-        immutable, so its time is the same when a path stage hands it on unchanged)."""
-        t = record_time(self.machine, record)
+    def _time(self, record, seconds: float | None = None) -> float:
+        """:func:`record_time` of a record made by the block loop (``seconds`` when it is known already), kept
+        for :meth:`run` (a record is immutable, so its time is the same when a path stage hands it on
+        unchanged)."""
+        t = record_time(self.machine, record) if seconds is None else seconds
         timed = self._timed
         if len(timed) >= 256:   # records a stage replaced or still holds: worked out again if they come
             timed.clear()

@@ -15,7 +15,9 @@ parameter, another G function, a word written twice, an active canned cycle, #MC
 coupled or parked axis ...) returns :data:`NOT_PLAIN` before anything changed, and the block goes
 the general way.  A G00/G01 of axis words without transformation, radius compensation or kinematics
 is made by :meth:`PlainBlocks._line`, ``_motion``'s steps for that case in the same order and with
-the same arithmetic; its record by :func:`record_maker` (no dataclass ``__init__``).
+the same arithmetic, and a G02/G03 by its centre or its radius (helix included) by
+:meth:`PlainBlocks._arc`, ``_motion`` then ``_arc``'s steps; their records by :func:`record_maker` (no
+dataclass ``__init__``).
 ``tests/test_plain_blocks.py`` runs programs both ways and compares everything.
 """
 
@@ -27,7 +29,9 @@ import math
 from ..path import arcs
 from ..syntax.ast import Block, Word
 from . import compat
-from .records import Line, Source, feed_mode, shared_tuple
+from .expressions import InterpError
+from .gvars import arc_data
+from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
 
@@ -39,6 +43,8 @@ _PLAIN_G = {0.0: (0, "motion"), 1.0: (1, "motion"), 2.0: (2, "motion"), 3.0: (3,
             90.0: (90, "distance"), 91.0: (91, "distance")}
 #: The largest block number (``Evaluator.integer``'s range for N).
 _MAX_N = 4294967295.0
+#: The centre letters of each plane (abscissa, ordinate) and the helix pitch letter (``motion._CENTRE_LETTERS``).
+_CENTRE_LETTERS = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}
 #: Feed modes whose moves are not checked against a stopped spindle (as ``IsoExecutor.execute``).
 _NO_SPINDLE_LINT = ("G95", "G33", "G63")
 
@@ -62,7 +68,7 @@ def _roles(by_name: dict, configured) -> dict:
 class PlainBlocks:
     """Runs plain blocks for an :class:`~fagorcnc.interp.interpreter.Interpreter` (see the module)."""
 
-    __slots__ = ("_names", "_roles", "interp", "iso", "state")
+    __slots__ = ("_diameter", "_linear", "_names", "_roles", "interp", "iso", "seconds", "state")
 
     def __init__(self, interp) -> None:
         self.interp = interp
@@ -70,10 +76,16 @@ class PlainBlocks:
         self.state = interp.state
         self._names: dict | None = None   # the channel's by_name the roles were made for
         self._roles: dict = {}
+        axes = interp.state.machine.axes   # the machine's configuration does not change during a run
+        self._linear = frozenset(a for a, ax in axes.items() if not ax.rotary)
+        self._diameter = frozenset(a for a, ax in axes.items() if ax.diameter)
+        #: record_time() of the last record :meth:`run` made, when it worked it out on the way (a G01), else None
+        self.seconds: float | None = None
 
     def run(self, block: Block):
         """The record of ``block`` (None when it moves nothing, as ``F800`` alone), or :data:`NOT_PLAIN`
         when it is not a plain block.  Raises the general path's :class:`InterpError` where it would."""
+        self.seconds = None
         st = self.state
         interp = self.interp
         channel = st.channel
@@ -151,7 +163,10 @@ class PlainBlocks:
             iso._feed(*feed)
         mode = modes["motion"]
         src = _source(file=interp.frames[-1].program.file, line=block.line, text=block.text)   # interp._src(block)
-        rec = self._line(mode, axes, src) if mode < 2 and axes and not params and self._simple() else NOT_PLAIN
+        if mode < 2:
+            rec = self._line(mode, axes, src) if axes and not params and self._simple() else NOT_PLAIN
+        else:
+            rec = self._arc(mode, axes, params, src) if params and self._simple() else NOT_PLAIN
         if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
             bw = BlockWords()
             bw.g = [(n, col, None) for (n, _group), col in gl]
@@ -159,7 +174,8 @@ class PlainBlocks:
             bw.params = params
             bw.feed = feed
             rec = iso._motion({n: (col, None) for (n, _group), col in gl}, bw, src)
-        if rec is not None and rec.kind != "rapid" and rec.feed_mode not in _NO_SPINDLE_LINT:
+        if rec is not None and st.spindle_state and st.tool and rec.kind != "rapid" \
+                and rec.feed_mode not in _NO_SPINDLE_LINT:   # spindle_lint() looks no further without them
             compat.spindle_lint(interp, rec, 1)
         return rec
 
@@ -181,37 +197,42 @@ class PlainBlocks:
         rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
         st = self.state
         iso = self.iso
-        configured = st.machine.axes
-        for axis in words:
-            if configured[axis].rotary:
-                return NOT_PLAIN   # _motion itself: unrolled positions, directions (IsoExecutor._rotary)
+        if not self._linear.issuperset(words):
+            return NOT_PLAIN   # a rotary axis: _motion itself (unrolled positions, directions: IsoExecutor._rotary)
         a, o, _ = st.plane_axes()
         off = st.offsets()
         pos = st.machine_pos
         cur_part = {x: pos[x] - off[x] for x in st.axes}   # programmed_pos(): part_pos(), no transform
-        start = st.move_start()
+        last = st._last_end   # move_start(): the last end point when the tool is still there
+        start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
         modes = st.modes
         incremental = modes["distance"] == 91
         inch = modes["units"] == 70
         diameter = modes["diameter"] == 151
-        end_prog = dict(cur_part)   # target()
+        end_part = dict(cur_part)   # target(); transform.apply() under no transformation is the same point
         for axis, (v, _col) in words.items():
             if inch:
                 v *= INCH
-            if diameter and configured[axis].diameter:
+            if diameter and axis in self._diameter:
                 v /= 2.0
-            end_prog[axis] = cur_part[axis] + v if incremental else v
+            end_part[axis] = cur_part[axis] + v if incremental else v
         applied = st.length_offset
-        iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
-        if st.length_offset is not applied:
-            off = st.offsets()
-        end_part = dict(end_prog)   # transform.apply() under no transformation
+        if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
+            iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
+            if st.length_offset is not applied:
+                off = st.offsets()
         end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
-        end = st.shared_end(end, end_part)
-        iso.interp.check_limits(end, next(iter(words.values()))[1], start)
-        st.moved_to(end)
+        if end == end_part and tuple(end) == tuple(end_part):   # shared_end()
+            end = end_part
+        lower, upper = st.lower_limits, st.upper_limits
+        for x, v in end.items():   # check_limits() says more only for a point outside the limits
+            if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
+                iso.interp.check_limits(end, next(iter(words.values()))[1], start)
+                break
+        st.machine_pos = dict(end)   # moved_to()
+        st._last_end = end
         if a is not None and o is not None:
-            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_prog[a], end_prog[o]), None, True) \
+            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_part[a], end_part[o]), None, True) \
                 or st.tangent
         if mode == 0:   # _compensation() is None, _joins(None) the modal pair
             return _line_record(kind="rapid", start=start, end=end, end_part=end_part, feed=None, feed_mode="G94",
@@ -219,9 +240,117 @@ class PlainBlocks:
                                 joins=shared_tuple((modes["transition"], modes["comp_start"])))
         length = math.sqrt(sum((end[x] - start[x]) ** 2 for x in end))
         feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
+        css = iso._css() if modes["feed"] == 95 else None   # _css() is None outside G95
+        if css is None:   # record_time() of the record: the same length (Line.length), the same division
+            self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
         return _line_record(kind="linear", start=start, end=end, end_part=end_part, feed=feed,
                             feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
-                            joins=shared_tuple((modes["transition"], modes["comp_start"])), css=iso._css())
+                            joins=shared_tuple((modes["transition"], modes["comp_start"])), css=css)
+
+    # ------------------------------------------------------------ G02/G03 in the simplest state
+    def _arc(self, mode: int, words: dict, params: dict, src: Source):
+        """``MotionMixin._motion`` then ``_arc`` of a G02/G03 by its centre (the plane's centre words, from
+        the start point or absolute under G261) or by R (an end point in the plane), helix pitch included,
+        under :meth:`_simple`, step by step with the same arithmetic in the same order (seed 002 ch. 8.3-8.5).
+        :data:`NOT_PLAIN` before anything changed for what it does not take: another plane than G17-G19, a
+        rotary axis word, R without an end point in the plane (a polar move), neither centre nor R (the
+        stored radius, a null move), a letter that is not the plane's."""
+        st = self.state
+        iso = self.iso
+        modes = st.modes
+        letters = _CENTRE_LETTERS.get(modes["plane"])
+        if letters is None:
+            return NOT_PLAIN   # G20: the general path
+        ci, cj, ck = letters
+        if not self._linear.issuperset(words):
+            return NOT_PLAIN   # a rotary axis
+        a, o, n = st.plane_axes()
+        if a is None or o is None:
+            return NOT_PLAIN   # INT150: the general path says it
+        by_centre = ci in params or cj in params
+        in_plane = a in words or o in words
+        for letter in params:
+            if letter != ci and letter != cj and letter != ck and (letter != "R" or by_centre or not in_plane):
+                return NOT_PLAIN   # R with a centre, a polar R, a letter of another plane
+        if not by_centre and "R" not in params:
+            return NOT_PLAIN   # only the pitch: the stored radius R1=, or none (INT061)
+        # _motion: programmed_pos() (no transformation: the part position), move_start()
+        off = st.offsets()
+        pos = st.machine_pos
+        cur_part = {x: pos[x] - off[x] for x in st.axes}
+        last = st._last_end   # move_start()
+        start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
+        # _arc
+        col = next(iter(words.values()))[1] if words else next(iter(params.values()))[1]
+        inch = modes["units"] == 70
+        pitch = params[ck][0] if ck in params else None
+        sp = (cur_part[a], cur_part[o])
+        end_part = dict(cur_part)   # target()
+        incremental = modes["distance"] == 91
+        diameter = modes["diameter"] == 151
+        for axis, (v, _col) in words.items():
+            if inch:
+                v *= INCH
+            if diameter and axis in self._diameter:
+                v /= 2.0
+            end_part[axis] = cur_part[axis] + v if incremental else v
+        ccw = mode == 3
+        try:
+            if by_centre:
+                di = params[ci][0] if ci in params else 0.0
+                dj = params[cj][0] if cj in params else 0.0
+                if inch:   # self.length() of a centre word
+                    di *= INCH
+                    dj *= INCH
+                center = (di, dj) if modes["arc_centre"] == 261 else (sp[0] + di, sp[1] + dj)
+                st.arc_radius = None   # an arc by its centre clears the stored radius (L6533)
+            else:
+                r = params["R"][0]
+                if inch:
+                    r *= INCH
+                center = arcs.centre_from_radius(sp, (end_part[a], end_part[o]), r, not ccw)
+        except arcs.ArcError as exc:
+            raise InterpError("INT064", str(exc), col) from None
+        ep = (end_part[a], end_part[o])
+        r0 = math.dist(sp, center)
+        if r0 < 1e-9:
+            raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
+        programmed = center
+        if by_centre:
+            center = iso._radius_check(sp, ep, center, col)   # CIRINERR, CIRINFACT, G264/G265
+        arc_data(st, sp, programmed, center, ep, (a, o, n))   # V.G.R, I, J, K, CIRERR (L40454)
+        delta = arcs.sweep(sp, ep, center, ccw)
+        turns = 0
+        if pitch is not None:
+            delta, turns, ep = iso._helix(delta, pitch, cur_part, end_part, center, r0, ccw, col)
+            end_part[a], end_part[o] = ep
+        applied = st.length_offset
+        if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
+            iso._length_compensation(_Words(words))
+            if st.length_offset is not applied:
+                off = st.offsets()
+        st.tangent = arcs.end_tangent(sp, ep, center, ccw)
+        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
+        if end == end_part and tuple(end) == tuple(end_part):   # shared_end()
+            end = end_part
+        lower, upper = st.lower_limits, st.upper_limits
+        for x, v in end.items():   # check_limits() says more only for a point outside the limits
+            if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
+                iso.interp.check_limits(end, col, start)
+                break
+        st.machine_pos = dict(end)   # moved_to()
+        st._last_end = end
+        center_part = {a: center[0], o: center[1]}
+        center_m = {a: center[0] + off[a], o: center[1] + off[o]}
+        planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
+        other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
+        feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
+        return _arc_record(kind="arc", start=start, end=end, end_part=end_part, center=center_m,
+                           center_part=center_part, direction="ccw" if ccw else "cw", plane=(a, o, n),
+                           radius=math.dist(ep, center) * 1.0, turns=turns, feed=feed,
+                           feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
+                           joins=shared_tuple((modes["transition"], modes["comp_start"])),
+                           css=iso._css() if modes["feed"] == 95 else None)
 
 
 def record_maker(cls):
@@ -251,6 +380,7 @@ def record_maker(cls):
 
 
 _line_record = record_maker(Line)
+_arc_record = record_maker(Arc)
 _source = record_maker(Source)
 
 
