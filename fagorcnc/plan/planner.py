@@ -153,8 +153,9 @@ class Planner(CornerMixin):
         # the program's V.G.MAXACCEL/MAXJERK replace the machine parameters until M30/reset (seed 002 L36469)
         path = dyn.path_limits if dyn is not None and dyn.path_limits is not None else \
             (cfg.max_path_acceleration, cfg.max_path_jerk)
-        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1], False,
-                    piece.curved)
+        if not piece.curved:
+            return Span.of_line(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1])
+        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1], False, True)
 
     def _rapid_speed(self, piece: Piece, rec) -> float:
         """Path speed (mm/s) of a rapid at which its fastest axis reaches its max_velocity: on a line
@@ -228,6 +229,7 @@ class Planner(CornerMixin):
         v = 0.0
         group: Group | None = None
         last: Span | None = None
+        solver, keep = self.solver, self.keep
         for item in self._corners(self._spans(records)):
             if isinstance(item, Event):
                 if last is not None and not last.stop_after:
@@ -243,6 +245,20 @@ class Planner(CornerMixin):
             if item.stale:   # settled in _corners: a guard, so that no span is timed without its limits
                 item.settle()
             last = item
+            if group is None and item.stop_after and not queue and v == 0.0 and not item.piece.curved:
+                # a line alone between two stops (G50, G07, a rapid): what _commit would make of a
+                # queue of its group alone (from rest to rest), without the group and the look-ahead
+                try:
+                    duration, profile = solver.rest_to_rest(item, keep)
+                except ProfileError:
+                    pass   # the general path says why (PlanningError)
+                else:
+                    yield Segment("motion", clock[0], duration, item.line, item.record, item.piece, 0.0, 0.0,
+                                  profile, item.blend)
+                    clock[0] += duration
+                    if after:
+                        yield from self._after(item, after, clock)
+                    continue
             if group is not None and _joins(group, item):
                 group.add(item)
             else:

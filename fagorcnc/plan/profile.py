@@ -230,6 +230,36 @@ class Solver:
         return Profile(t[:-1], np.array(pr.j), np.array(pr.a[:-1]), np.array(pr.v[:-1]), np.array(pr.p[:-1]),
                        self.traj.duration)
 
+    def rest_to_rest(self, span, keep: bool) -> tuple[float, Profile | None]:
+        """(duration, profile) of a straight ``span`` from rest to rest: :meth:`time` for a line's
+        single cap with both speeds 0, without its general steps (the same requests to ruckig, so
+        the same numbers; a G50 program stops at every block).  Raises :class:`ProfileError` as
+        :meth:`time` does."""
+        length, vc = span.length, span.vc
+        if length < MICRO:
+            prof = micro_profile(length, 0.0, 0.0, span.acc, span.jerk, keep)
+            if isinstance(prof, Profile):
+                return prof.duration, prof
+            return prof, None
+        inp = self.inp
+        inp.current_velocity = [0.0]
+        inp.target_position = [length]
+        inp.target_velocity = [0.0]
+        inp.max_velocity = [vc]
+        for scale in (1.0, EDGE_SCALE):   # as time(): the limits a billionth lower on a second try
+            acc, jerk = span.acc, span.jerk
+            if acc <= 0 or jerk <= 0:
+                continue
+            inp.max_acceleration = [acc * scale]
+            inp.max_jerk = [jerk * scale]
+            try:
+                result = self.otg.calculate(inp, self.traj)
+            except (RuckigError, RuntimeError):
+                continue
+            if result in (Result.Working, Result.Finished):
+                return self.traj.duration, (self.profile() if keep else None)
+        raise ProfileError(f"no profile for a {length:.6g} mm span from rest to rest")
+
     def time(self, span, v0: float, v1: float, keep: bool) -> tuple[float, float, Profile | None]:
         """(duration, cap used, profile) of a span from v0 to v1.
 

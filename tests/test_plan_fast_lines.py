@@ -1,0 +1,128 @@
+"""The planner's shortcuts for straight lines give exactly (to the bit) what its general steps give."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import fagorcnc
+from fagorcnc.plan import Planner
+from fagorcnc.plan.geometry import LinePiece
+from fagorcnc.plan.limits import AxisLimits, line_limits
+from fagorcnc.plan.profile import ProfileError, Solver
+from fagorcnc.plan.span import Group, Span
+from fagorcnc.simulate import Run
+
+
+class _Src:
+    line = 7
+
+
+class _Rec:
+    src = _Src()
+
+
+LIMITS = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), (20000.0, 15000.0, math.inf))
+
+
+def _lines(n: int, seed: int = 3) -> list[LinePiece]:
+    rng = np.random.default_rng(seed)
+    out = [LinePiece(np.zeros(3), np.array([10.0, 0.0, 0.0])), LinePiece(np.zeros(3), np.array([0.0, -3.0, 0.0]))]
+    for _ in range(n):
+        a, b = rng.normal(size=3) * 20.0, rng.normal(size=3) * 20.0
+        b[rng.integers(3)] = a[rng.integers(3)] if rng.random() < 0.3 else b[0]
+        out.append(LinePiece(a, b))
+    return out
+
+
+@pytest.mark.parametrize("path", [(0.0, 0.0), (700.0, 9000.0)])
+def test_a_line_span_has_the_limits_of_the_general_span(path):
+    # e.g. the X line of 10 mm at feed 150 mm/s: cap min(150, 100 / 1) = 100, acceleration 1000 / 1 = 1000 (700
+    # with a path limit of 700), jerk 20000 / 1 (9000 with a path limit); the same floats as Span.refresh
+    rec = _Rec()
+    for piece in _lines(200):
+        general = Span(piece, rec, 150.0, LIMITS, False, None, *path)
+        line = Span.of_line(piece, rec, 150.0, LIMITS, False, None, *path)
+        assert (line.vc, line.acc, line.jerk) == (general.vc, general.acc, general.jerk)
+        assert (line.vc, line.acc, line.jerk) == line_limits(piece.d1.tolist(), LIMITS, 150.0, *path)
+        for name in Span.__slots__:
+            assert getattr(line, name) == getattr(general, name), name
+    x = Span.of_line(_lines(0)[0], _Rec(), 150.0, LIMITS, False, None, 700.0, 9000.0)
+    assert (x.vc, x.acc, x.jerk) == (100.0, 700.0, 9000.0)
+
+
+@pytest.mark.parametrize("keep", [False, True])
+def test_rest_to_rest_is_the_general_solution(keep):
+    """Solver.rest_to_rest asks ruckig what Solver.time asks of a line's group from 0 to 0 (the
+    micro closed form below 1e-3 mm): the same duration and profile, to the bit."""
+    lengths = [2e-4, 9.99e-4, 1e-3, 0.05, 0.5, 5.0, 5.0 * math.sqrt(2.0), 73.1]
+    for length in lengths:
+        piece = LinePiece(np.zeros(3), np.array([length, 0.0, 0.0]))
+        span = Span.of_line(piece, _Rec(), 120.0, LIMITS, False, None, 0.0, 0.0)
+        duration, profile = Solver().rest_to_rest(span, keep)
+        d, _vc, p = Solver().time(Group(span), 0.0, 0.0, keep)
+        assert duration == d
+        assert (profile is None) == (p is None) == (not keep)
+        if keep:
+            for a, b in zip((profile.t, profile.j, profile.a, profile.v, profile.p),
+                            (p.t, p.j, p.a, p.v, p.p), strict=True):
+                assert np.array_equal(a, b)
+    # 50 mm at 100 mm/s, A 1000, J 20000: ramps of dv/A + A/J = 0.15 s over 7.5 mm, cruise 35 mm in 0.35 s
+    span = Span.of_line(LinePiece(np.zeros(3), np.array([50.0, 0.0, 0.0])), _Rec(), 150.0, LIMITS, False, None,
+                        0.0, 0.0)
+    assert Solver().rest_to_rest(span, keep)[0] == pytest.approx(0.65, rel=1e-12)
+
+
+def test_rest_to_rest_without_limits_fails_as_time_does():
+    span = Span.of_line(LinePiece(np.zeros(3), np.array([5.0, 0.0, 0.0])), _Rec(), 150.0,
+                        AxisLimits((100.0,) * 3, (0.0,) * 3, (1.0,) * 3), False, None, 0.0, 0.0)
+    with pytest.raises(ProfileError):
+        Solver().rest_to_rest(span, False)
+    with pytest.raises(ProfileError):
+        Solver().time(Group(span), 0.0, 0.0, False)
+
+
+def _program() -> list[str]:
+    """Lines under G50 (a stop at every block), a rapid, a dwell, an M function and a short G05 run."""
+    rng = np.random.default_rng(5)
+    out = ["G90 G1 X0 Y0 Z0 F3000"]
+    for i in range(60):
+        x, y, z = rng.uniform(-50, 50, size=3)
+        out.append(f"{'G0' if i % 17 == 3 else 'G1'} X{x:.4f} Y{y:.4f} Z{z:.4f}")
+        if i % 11 == 5:
+            out.append("G4 K0.1" if i % 2 else "M8")
+    out += ["X0 Y0 Z0", "X0.0004", "X0.0009 Y0.0002", "G05", "X10 Y10", "X20 Y5", "X25 Y25", "G50", "X0 Y0", "M30"]
+    return out
+
+
+@pytest.mark.parametrize("keep", [False, True])
+def test_the_planner_shortcut_plans_what_its_general_steps_plan(monkeypatch, keep):
+    """With Solver.rest_to_rest failing every time the planner takes its general steps for every
+    line (group, look-ahead, Solver.time): the same segments, to the bit."""
+    machine = fagorcnc.load_machine(None)
+    records = list(Run(iter(_program()), "<lines>", machine))
+
+    def plan() -> list[tuple]:
+        return [(s.kind, s.t0, s.duration, s.v0, s.v1, s.line, s.blend,
+                 None if s.profile is None else s.profile.at(np.array([0.0, s.duration / 3]))[1].tolist())
+                for s in Planner(machine, keep_profiles=keep).segments(iter(records))]
+
+    original, used = Solver.rest_to_rest, []
+
+    def counted(self, span, keep):
+        used.append(span.length)
+        return original(self, span, keep)
+
+    monkeypatch.setattr(Solver, "rest_to_rest", counted)
+    fast = plan()
+    assert len(used) > 50 and min(used) < 1e-3   # the shortcut ran, the micro closed form too
+
+    def fails(self, span, keep):
+        raise ProfileError("the general path")
+
+    monkeypatch.setattr(Solver, "rest_to_rest", fails)
+    general = plan()
+    assert len(fast) == len(general) > 60
+    assert fast == general
