@@ -230,6 +230,20 @@ class Solver:
         return Profile(t[:-1], np.array(pr.j), np.array(pr.a[:-1]), np.array(pr.v[:-1]), np.array(pr.p[:-1]),
                        self.traj.duration)
 
+    def line(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None]:
+        """(duration, profile) of a ``span`` of straight lines at least :data:`MICRO` long: :meth:`time`
+        for its single cap (no lower caps: a line's limits do not depend on its speed), without its
+        general steps (the same requests, so the same numbers).  Raises :class:`ProfileError` as
+        :meth:`time` does."""
+        length, vc, acc, jerk = span.length, span.vc, span.acc, span.jerk
+        if acc > 0 and jerk > 0:
+            a, b = (v0 if v0 <= vc else vc), (v1 if v1 <= vc else vc)   # min(v0, vc), min(v1, vc)
+            for scale in (1.0, EDGE_SCALE):
+                d = self.duration(length, a, b, vc, acc * scale, jerk * scale)
+                if d < math.inf:
+                    return d, (self.profile() if keep else None)
+        raise ProfileError(f"no profile for a {length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
+
     def rest_to_rest(self, span, keep: bool) -> tuple[float, Profile | None]:
         """(duration, profile) of a straight ``span`` from rest to rest: :meth:`time` for a line's
         single cap with both speeds 0, without its general steps (the same requests to ruckig, so
