@@ -206,8 +206,21 @@ class Solver:
         A request that cannot be met (:func:`too_short`) is answered without ruckig, whose
         failures go through an exception and cost five times a success.
         """
-        if too_short(length, v0, v1, acc, jerk):
-            return math.inf
+        if v0 != v1:
+            # too_short(length, v0, v1, acc, jerk) inline, operation for operation (every request to
+            # ruckig passes here; at equal speeds the shortest length is 0: never too short)
+            lim = acc * acc
+            dv = abs(v1 - v0)
+            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+            direct = (v0 + v1) / 2.0 * t
+            dv = abs(0.0 - v0)
+            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+            stop = (v0 + 0.0) / 2.0 * t
+            dv = abs(v1 - 0.0)
+            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+            stop += (0.0 + v1) / 2.0 * t
+            if length < min(direct, stop) * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+                return math.inf
         inp = self.inp
         inp.current_velocity = [v0]
         inp.target_position = [length]
