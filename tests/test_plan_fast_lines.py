@@ -200,3 +200,41 @@ def test_the_planner_line_groups_plan_what_the_general_steps_plan(monkeypatch, k
     general = plan()
     assert len(fast) == len(general) > 200
     assert fast == general
+
+
+@pytest.mark.parametrize("keep", [False, True])
+def test_curved_groups_make_only_the_rungs_they_try(monkeypatch, keep):
+    """Solver.time tries a curved group's caps from the highest down, each rung's limits made when
+    tried (Group.rung): the same plan as with every rung made first (Group.caps disabled, the
+    general steps), on arcs under G50 and G05 corner curves; and fewer rungs made."""
+    machine = fagorcnc.load_machine(None)
+    rows = []
+    for r in range(2):
+        xs = [i * 0.5 for i in range(41)]
+        rows += [f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}" for x in (xs[::-1] if r % 2 else xs)]
+    program = ["G90 G1 X0 Y0 Z0 F3000", "G2 X10 Y0 I5 J0", "G3 X20 Y0 I5 J0 F6000", "G2 X21 Y1 I0 J1",
+               "G1 X25 Y1", "G2 X25 Y-1 I0 J-1", "G05", "G1 X0 Y0", *rows, "G3 X30 Y10 I5 J5", "G2 X40 Y0 I5 J-5",
+               "M30"]
+    records = list(Run(iter(program), "<arcs>", machine))
+    made = []
+    original_tangential = Group._tangential
+
+    def counted(self, cap):
+        made.append(cap)
+        return original_tangential(self, cap)
+
+    monkeypatch.setattr(Group, "_tangential", counted)
+
+    def plan() -> list[tuple]:
+        return [(s.kind, s.t0, s.duration, s.v0, s.v1, s.line, s.blend,
+                 None if s.profile is None else s.profile.at(np.array([0.0, s.duration / 3]))[1].tolist())
+                for s in Planner(machine, keep_profiles=keep).segments(iter(records))]
+
+    lazy = plan()
+    lazy_made = len(made)
+    made.clear()
+    monkeypatch.setattr(Group, "caps", lambda self, v: [])
+    general = plan()
+    assert len(lazy) == len(general) > 100
+    assert lazy == general
+    assert lazy_made < len(made)

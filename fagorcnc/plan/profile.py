@@ -300,6 +300,8 @@ class Solver:
             if prof is not None:
                 return prof, span.vc, None
         top = max(v0, v1)
+        if span.curved and (caps := span.caps(top)) and caps[0] == span.vc:
+            return self._curved(span, v0, v1, top, caps, keep)
         rungs = span.rungs(top)
         if span.curved:
             rungs = [r for r in rungs if r[0] >= top]
@@ -331,4 +333,45 @@ class Solver:
         if not held:
             _d, vc, acc, jerk = best   # solve the best again so that the trajectory holds it
             self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+        return best[0], best[1], self.profile()
+
+    def _curved(self, span, v0: float, v1: float, top: float, caps: list[float],
+                keep: bool) -> tuple[float, float, Profile | None]:
+        """:meth:`time` of a group with curves over its ``caps`` at least ``top``: the same rungs
+        tried in the same order, each rung's limits made only when the rung is tried (``span.rung``:
+        the group's own list, as ``span.rungs`` makes it), so the same profile."""
+        extra = None
+        if top > 0 and top * (1 + 1e-9) < caps[-1]:
+            caps = [*caps, top * (1 + 1e-9)]
+            extra = len(caps) - 1
+        extra_limits = None
+        best = (math.inf, span.vc, 0.0, 0.0)
+        held = False
+        length = span.length
+        for scale in (1.0, EDGE_SCALE):
+            for i, vc in enumerate(caps):
+                if best[0] * RUNG_MARGIN <= length / vc:
+                    break   # as in time(): no motion below this cap is shorter than length / vc
+                if i == extra:
+                    if extra_limits is None:
+                        extra_limits = span.limits_at(vc)
+                    acc, jerk = extra_limits
+                else:
+                    _cap, acc, jerk = span.rung(i)
+                if acc <= 0 or jerk <= 0:
+                    continue
+                acc, jerk = acc * scale, jerk * scale
+                d = self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+                held = d < best[0]
+                if held:
+                    best = (d, vc, acc, jerk)
+            if best[0] < math.inf:
+                break
+        if best[0] == math.inf:
+            raise ProfileError(f"no profile for a {length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
+        if not keep:
+            return best[0], best[1], None
+        if not held:
+            _d, vc, acc, jerk = best
+            self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
         return best[0], best[1], self.profile()
