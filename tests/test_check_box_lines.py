@@ -58,3 +58,21 @@ def test_a_feed_end_widens_both_boxes_as_two_adds():
     assert (a.lo, a.hi) == ({"X": -7.0, "Y": -9.0, "Z": 3.0}, {"X": 30.0, "Y": 0.5, "Z": 3.0})
     assert (b.lo["X"], b.hi["X"]) == (-7.0, 30.0)
     assert list(a.lo) == ["X", "Y", "Z"]   # the axes in the order first seen, as the report lists them
+
+
+def test_a_feed_box_merges_into_both_boxes_as_two_merges():
+    # an arc's box X -1..4 Y 0..2, then one with Z: into a box of all moves X -5..3 and a feed box X 0..1
+    # (after a rapid): X -5..4 and -1..4; Y 0..2 new in both; then Z 7..8 new, X 2..9 widens both to 9
+    from fagorcnc.commands.extents import Box, _merge_into_both
+
+    boxes = [({"X": -1.0, "Y": 0.0}, {"X": 4.0, "Y": 2.0}), ({"X": 2.0, "Z": 7.0}, {"X": 9.0, "Z": 8.0}),
+             ({"X": -6.0, "Y": 1.0, "Z": 7.5}, {"X": 0.0, "Y": 1.5, "Z": 7.6})]
+    a, b = Box({"X": -5.0}, {"X": 3.0}), Box({"X": 0.0}, {"X": 1.0})
+    a2, b2 = Box(dict(a.lo), dict(a.hi)), Box(dict(b.lo), dict(b.hi))
+    for lo, hi in boxes:
+        _merge_into_both(a, b, lo, hi)
+        a2.merge(lo, hi)
+        b2.merge(lo, hi)
+        assert (a.lo, a.hi, b.lo, b.hi) == (a2.lo, a2.hi, b2.lo, b2.hi)
+    assert (a.lo, a.hi) == ({"X": -6.0, "Y": 0.0, "Z": 7.0}, {"X": 9.0, "Y": 2.0, "Z": 8.0})
+    assert (b.lo["X"], b.hi["X"]) == (-6.0, 9.0)

@@ -170,11 +170,12 @@ class MoveSummary:
         box = self._boxes.get(self._tool)
         if box is None:
             box = self._boxes[self._tool] = ToolBox(self._tool)
-        box.machine.merge(machine_lo, machine_hi)
-        box.part.merge(part_lo, part_hi)
-        if not rapid:
-            box.feed_machine.merge(machine_lo, machine_hi)
-            box.feed_part.merge(part_lo, part_hi)
+        if rapid:
+            box.machine.merge(machine_lo, machine_hi)
+            box.part.merge(part_lo, part_hi)
+        else:
+            _merge_into_both(box.machine, box.feed_machine, machine_lo, machine_hi)
+            _merge_into_both(box.part, box.feed_part, part_lo, part_hi)
         self._part_here = end_part
         self._after = (end, box, rapid)
 
@@ -211,6 +212,30 @@ def _add_to_both(a: Box, b: Box, point: dict[str, float]) -> None:
             b_lo[axis] = v
         elif v > b_hi[axis]:
             b_hi[axis] = v
+
+
+def _merge_into_both(a: Box, b: Box, lo: dict[str, float], hi: dict[str, float]) -> None:
+    """``a.merge(lo, hi)`` and ``b.merge(lo, hi)`` in one pass over the box of a feed (see
+    :func:`_add_to_both`): the same comparisons, box by box."""
+    a_lo, a_hi, b_lo, b_hi = a.lo, a.hi, b.lo, b.hi
+    for axis, v in lo.items():
+        w = hi[axis]
+        mine = a_lo.get(axis)
+        if mine is None:
+            a_lo[axis], a_hi[axis] = v, w
+        else:
+            if v < mine:
+                a_lo[axis] = v
+            if w > a_hi[axis]:
+                a_hi[axis] = w
+        mine = b_lo.get(axis)
+        if mine is None:
+            b_lo[axis], b_hi[axis] = v, w
+        else:
+            if v < mine:
+                b_lo[axis] = v
+            if w > b_hi[axis]:
+                b_hi[axis] = w
 
 
 def extent(start: dict, end: dict, others) -> tuple[dict[str, float], dict[str, float]]:

@@ -118,7 +118,7 @@ class Planner(CornerMixin):
     def _span(self, rec) -> Span | None:
         # a block starts where the one before ended: its end vector is reused
         last, last_end = self._last_end
-        start = last_end if rec.start == last else self._vector(rec.start)
+        start = last_end if rec.start is last or rec.start == last else self._vector(rec.start)
         end = self._vector(rec.end)
         self._last_end = rec.end, end
         if rec.kind == "arc":
