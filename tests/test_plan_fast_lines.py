@@ -238,3 +238,15 @@ def test_curved_groups_make_only_the_rungs_they_try(monkeypatch, keep):
     assert len(lazy) == len(general) > 100
     assert lazy == general
     assert lazy_made < len(made)
+
+
+def test_g07_waits_in_position_after_every_stop():
+    # three lines under G07 with INPOSW 0.25 s: a wait after each of the two corners and after the last
+    # line, 3 x 0.25 = 0.75 s more than the same lines under G50 (which stops without the wait)
+    machine = {"planner": {"inposition_time": 0.25}}
+    program = "G90 G{} G1 X10 F6000\nX10 Y10\nX0 Y10\nM30\n"
+    g07, g50 = (fagorcnc.simulate(program.format(m), machine) for m in ("07", "50"))
+    assert g07.ok and g50.ok
+    assert g07.cycle_time - g50.cycle_time == pytest.approx(0.75, abs=1e-9)
+    waits = [s for s in g07.segments() if s.kind == "dwell"]
+    assert [w.duration for w in waits] == [0.25, 0.25, 0.25]
