@@ -39,3 +39,40 @@ def test_a_line_after_an_arc_widens_by_both(tmp_path):
     boxes = _boxes(tmp_path, "G90 G17 G0 X0 Y0 Z0\nG2 X10 Y0 I5 J0 F1000\nG1 Y-4\nM30\n")
     assert boxes[0]["feed"]["machine"]["min"] == {"X": 0.0, "Y": -4.0, "Z": 0.0}
     assert boxes[0]["feed"]["machine"]["max"] == {"X": 10.0, "Y": 5.0, "Z": 0.0}
+
+
+def test_a_feed_end_widens_both_boxes_as_two_adds():
+    # points with a new axis, one below, one above and one inside the boxes so far; the feed box starts
+    # narrower than the box of all moves (a rapid widened only that one): X -5..20 and X 0..10 before
+    # the point X 12 (above the feed box only), etc.; Y: -1, then 0.5 above it, then -9 below
+    from fagorcnc.commands.extents import Box, _add_to_both
+
+    points = [{"X": 12.0, "Y": -1.0}, {"X": -7.0, "Z": 3.0}, {"X": 1.0, "Y": 0.5, "Z": 3.0}, {"X": 30.0, "Y": -9.0}]
+    a, b = Box({"X": -5.0}, {"X": 20.0}), Box({"X": 0.0}, {"X": 10.0})
+    a2, b2 = Box(dict(a.lo), dict(a.hi)), Box(dict(b.lo), dict(b.hi))
+    for p in points:
+        _add_to_both(a, b, p)
+        a2.add(p)
+        b2.add(p)
+        assert (a.lo, a.hi, b.lo, b.hi) == (a2.lo, a2.hi, b2.lo, b2.hi)
+    assert (a.lo, a.hi) == ({"X": -7.0, "Y": -9.0, "Z": 3.0}, {"X": 30.0, "Y": 0.5, "Z": 3.0})
+    assert (b.lo["X"], b.hi["X"]) == (-7.0, 30.0)
+    assert list(a.lo) == ["X", "Y", "Z"]   # the axes in the order first seen, as the report lists them
+
+
+def test_a_feed_box_merges_into_both_boxes_as_two_merges():
+    # an arc's box X -1..4 Y 0..2, then one with Z: into a box of all moves X -5..3 and a feed box X 0..1
+    # (after a rapid): X -5..4 and -1..4; Y 0..2 new in both; then Z 7..8 new, X 2..9 widens both to 9
+    from fagorcnc.commands.extents import Box, _merge_into_both
+
+    boxes = [({"X": -1.0, "Y": 0.0}, {"X": 4.0, "Y": 2.0}), ({"X": 2.0, "Z": 7.0}, {"X": 9.0, "Z": 8.0}),
+             ({"X": -6.0, "Y": 1.0, "Z": 7.5}, {"X": 0.0, "Y": 1.5, "Z": 7.6})]
+    a, b = Box({"X": -5.0}, {"X": 3.0}), Box({"X": 0.0}, {"X": 1.0})
+    a2, b2 = Box(dict(a.lo), dict(a.hi)), Box(dict(b.lo), dict(b.hi))
+    for lo, hi in boxes:
+        _merge_into_both(a, b, lo, hi)
+        a2.merge(lo, hi)
+        b2.merge(lo, hi)
+        assert (a.lo, a.hi, b.lo, b.hi) == (a2.lo, a2.hi, b2.lo, b2.hi)
+    assert (a.lo, a.hi) == ({"X": -6.0, "Y": 0.0, "Z": 7.0}, {"X": 9.0, "Y": 2.0, "Z": 8.0})
+    assert (b.lo["X"], b.hi["X"]) == (-6.0, 9.0)

@@ -66,3 +66,39 @@ def test_too_short_only_where_ruckig_finds_no_profile():
         assert not found, (length, v0, v1, acc, jerk, traj.duration)
     assert refused > 1000
 
+
+
+def test_the_duration_tests_feasibility_as_too_short_does():
+    """Solver.duration's inline feasibility test answers inf exactly where too_short says no profile
+    exists, and asks ruckig otherwise (the same duration as a request made after too_short)."""
+    import numpy as np
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
+
+    def reference(length, v0, v1, vc, acc, jerk):
+        if too_short(length, v0, v1, acc, jerk):
+            return math.inf
+        otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
+        inp.current_position, inp.current_acceleration, inp.target_acceleration = [0.0], [0.0], [0.0]
+        inp.min_velocity = [0.0]
+        inp.current_velocity, inp.target_position, inp.target_velocity = [v0], [length], [v1]
+        inp.max_velocity, inp.max_acceleration, inp.max_jerk = [vc], [acc], [jerk]
+        try:
+            result = otg.calculate(inp, traj)
+        except Exception:
+            return math.inf
+        return traj.duration if result in (Result.Working, Result.Finished) else math.inf
+
+    rng = np.random.default_rng(4)
+    solver = Solver()
+    refused = 0
+    for _ in range(400):
+        acc, jerk = float(rng.uniform(100, 3000)), float(rng.choice([rng.uniform(1e3, 1e5), math.inf]))
+        v0, v1 = (float(x) for x in rng.uniform(0.0, 150.0, size=2))
+        if rng.random() < 0.2:
+            v1 = v0 if rng.random() < 0.5 else 0.0
+        length = shortest_length(v0, v1, acc, jerk) * float(rng.uniform(0.5, 2.0)) + 1e-3
+        vc = max(v0, v1) * 1.2 + 1.0
+        got = solver.duration(length, v0, v1, vc, acc, jerk)
+        assert got == reference(length, v0, v1, vc, acc, jerk)
+        refused += got == math.inf
+    assert 20 < refused < 380   # both answers were exercised

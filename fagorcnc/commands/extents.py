@@ -28,13 +28,15 @@ class Box:
     hi: dict[str, float] = field(default_factory=dict)
 
     def add(self, point: dict[str, float]) -> None:
+        mine_lo, mine_hi = self.lo, self.hi
         for axis, v in point.items():
-            if axis not in self.lo:
-                self.lo[axis] = self.hi[axis] = v
-            elif v < self.lo[axis]:
-                self.lo[axis] = v
-            elif v > self.hi[axis]:
-                self.hi[axis] = v
+            lo = mine_lo.get(axis)
+            if lo is None:
+                mine_lo[axis] = mine_hi[axis] = v
+            elif v < lo:
+                mine_lo[axis] = v
+            elif v > mine_hi[axis]:
+                mine_hi[axis] = v
 
     def merge(self, lo: dict[str, float], hi: dict[str, float]) -> None:
         """Widen the box to hold the box ``lo``..``hi`` (one call per block, see :func:`extent`)."""
@@ -145,11 +147,12 @@ class MoveSummary:
             if box is last_box:
                 # its start is already in these boxes (the last move ended there): the box of
                 # start and end widens them exactly as its end alone does
-                box.machine.add(end)
-                box.part.add(end_part)
-                if not rapid:
-                    box.feed_machine.add(end)
-                    box.feed_part.add(end_part)
+                if rapid:
+                    box.machine.add(end)
+                    box.part.add(end_part)
+                else:
+                    _add_to_both(box.machine, box.feed_machine, end)
+                    _add_to_both(box.part, box.feed_part, end_part)
                 self._part_here = end_part
                 self._after = (end, box, rapid)
                 return
@@ -167,11 +170,12 @@ class MoveSummary:
         box = self._boxes.get(self._tool)
         if box is None:
             box = self._boxes[self._tool] = ToolBox(self._tool)
-        box.machine.merge(machine_lo, machine_hi)
-        box.part.merge(part_lo, part_hi)
-        if not rapid:
-            box.feed_machine.merge(machine_lo, machine_hi)
-            box.feed_part.merge(part_lo, part_hi)
+        if rapid:
+            box.machine.merge(machine_lo, machine_hi)
+            box.part.merge(part_lo, part_hi)
+        else:
+            _merge_into_both(box.machine, box.feed_machine, machine_lo, machine_hi)
+            _merge_into_both(box.part, box.feed_part, part_lo, part_hi)
         self._part_here = end_part
         self._after = (end, box, rapid)
 
@@ -187,6 +191,51 @@ class MoveSummary:
 
     def boxes(self) -> list[ToolBox]:
         return [self._boxes[t] for t in sorted(self._boxes)]
+
+
+def _add_to_both(a: Box, b: Box, point: dict[str, float]) -> None:
+    """``a.add(point)`` and ``b.add(point)`` in one pass over the point (a feed's end widens the box
+    of all moves and that of the feeds alike): the same comparisons, box by box."""
+    a_lo, a_hi, b_lo, b_hi = a.lo, a.hi, b.lo, b.hi
+    for axis, v in point.items():
+        lo = a_lo.get(axis)
+        if lo is None:
+            a_lo[axis] = a_hi[axis] = v
+        elif v < lo:
+            a_lo[axis] = v
+        elif v > a_hi[axis]:
+            a_hi[axis] = v
+        lo = b_lo.get(axis)
+        if lo is None:
+            b_lo[axis] = b_hi[axis] = v
+        elif v < lo:
+            b_lo[axis] = v
+        elif v > b_hi[axis]:
+            b_hi[axis] = v
+
+
+def _merge_into_both(a: Box, b: Box, lo: dict[str, float], hi: dict[str, float]) -> None:
+    """``a.merge(lo, hi)`` and ``b.merge(lo, hi)`` in one pass over the box of a feed (see
+    :func:`_add_to_both`): the same comparisons, box by box."""
+    a_lo, a_hi, b_lo, b_hi = a.lo, a.hi, b.lo, b.hi
+    for axis, v in lo.items():
+        w = hi[axis]
+        mine = a_lo.get(axis)
+        if mine is None:
+            a_lo[axis], a_hi[axis] = v, w
+        else:
+            if v < mine:
+                a_lo[axis] = v
+            if w > a_hi[axis]:
+                a_hi[axis] = w
+        mine = b_lo.get(axis)
+        if mine is None:
+            b_lo[axis], b_hi[axis] = v, w
+        else:
+            if v < mine:
+                b_lo[axis] = v
+            if w > b_hi[axis]:
+                b_hi[axis] = w
 
 
 def extent(start: dict, end: dict, others) -> tuple[dict[str, float], dict[str, float]]:

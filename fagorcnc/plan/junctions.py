@@ -541,8 +541,13 @@ class CornerMixin:
                     prev.settle()
                 if not self._spline_used and prev.mid_k is not None:
                     yield from self._lead(prev)
-                if prev.stop_after:
-                    yield from self._emit(prev, pending, settle)
+                if prev.stop_after:   # _emit inline (a stop at most blocks under G50)
+                    if prev.piece is not None:
+                        yield prev
+                    if pending:
+                        yield from pending
+                    if settle > 0 and prev.dyn is not None and prev.dyn.corner == "G07":
+                        yield Event(None, settle)   # in-position wait after a square corner (INPOSW)
                 elif not (_adapts(prev) or _adapts(item)):   # no feed adaptation: the usual case
                     if prev.piece is not None:
                         yield prev

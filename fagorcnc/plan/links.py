@@ -18,8 +18,13 @@ from __future__ import annotations
 
 import math
 
+from ..interp.records import Arc, Line
 from .span import Span
 
+#: Record classes with neither ``curve`` nor ``link`` (exactly these classes: CurveLine and
+#: IndependentMove derive from Line): the junctions of most blocks, told without a failed attribute
+#: lookup per name.
+_PLAIN = frozenset({Line, Arc})
 #: Directions closer than this (unit vectors) are one direction.
 SAME_DIRECTION = 1e-9
 
@@ -28,6 +33,8 @@ def decided(prev: Span, nxt: Span) -> bool:
     """True when the junction ``prev -> nxt`` is one of this module's (then decided here: a speed
     cap, or ``prev.stop_after``); False leaves it to the corner stage."""
     a, b = prev.record, nxt.record
+    if type(a) in _PLAIN and type(b) in _PLAIN:
+        return False   # neither a chord of a curve nor a #MOVE (their classes have no curve, no link)
     curve = getattr(a, "curve", None)
     if curve is not None and curve is getattr(b, "curve", None):
         _curve_cap(prev, nxt)

@@ -24,7 +24,7 @@ from .independent import IndependentAxes
 from .junctions import MIN_LENGTH, CornerMixin
 from .limits import AxisLimits
 from .lookahead import backward
-from .profile import Profile, ProfileError, ProfileWindow, Solver
+from .profile import MICRO, Profile, ProfileError, ProfileWindow, Solver
 from .segment import PlanningError, Segment
 from .span import Event, Group, Span
 
@@ -118,7 +118,7 @@ class Planner(CornerMixin):
     def _span(self, rec) -> Span | None:
         # a block starts where the one before ended: its end vector is reused
         last, last_end = self._last_end
-        start = last_end if rec.start == last else self._vector(rec.start)
+        start = last_end if rec.start is last or rec.start == last else self._vector(rec.start)
         end = self._vector(rec.end)
         self._last_end = rec.end, end
         if rec.kind == "arc":
@@ -153,8 +153,9 @@ class Planner(CornerMixin):
         # the program's V.G.MAXACCEL/MAXJERK replace the machine parameters until M30/reset (seed 002 L36469)
         path = dyn.path_limits if dyn is not None and dyn.path_limits is not None else \
             (cfg.max_path_acceleration, cfg.max_path_jerk)
-        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1], False,
-                    piece.curved)
+        if not piece.curved:
+            return Span.of_line(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1])
+        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1], False, True)
 
     def _rapid_speed(self, piece: Piece, rec) -> float:
         """Path speed (mm/s) of a rapid at which its fastest axis reaches its max_velocity: on a line
@@ -228,6 +229,7 @@ class Planner(CornerMixin):
         v = 0.0
         group: Group | None = None
         last: Span | None = None
+        solver, keep = self.solver, self.keep
         for item in self._corners(self._spans(records)):
             if isinstance(item, Event):
                 if last is not None and not last.stop_after:
@@ -243,6 +245,20 @@ class Planner(CornerMixin):
             if item.stale:   # settled in _corners: a guard, so that no span is timed without its limits
                 item.settle()
             last = item
+            if group is None and item.stop_after and not queue and v == 0.0 and not item.piece.curved:
+                # a line alone between two stops (G50, G07, a rapid): what _commit would make of a
+                # queue of its group alone (from rest to rest), without the group and the look-ahead
+                try:
+                    duration, profile = solver.rest_to_rest(item, keep)
+                except ProfileError:
+                    pass   # the general path says why (PlanningError)
+                else:
+                    yield Segment("motion", clock[0], duration, item.line, item.record, item.piece, 0.0, 0.0,
+                                  profile, item.blend)
+                    clock[0] += duration
+                    if after:
+                        yield from self._after(item, after, clock)
+                    continue
             if group is not None and _joins(group, item):
                 group.add(item)
             else:
@@ -266,15 +282,27 @@ class Planner(CornerMixin):
         limit = backward(queue, 0.0, self._known)
         self._known = limit[k:]
         n = len(queue)
+        solver = self.solver
         for i in range(k):
             g = queue[i]
             nxt = 0.0 if g.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
             v1 = g.reach(v)
             if nxt < v1:
                 v1 = nxt
-            duration, profile, v1 = self._time(g, v, v1, keep=self.keep or len(g.members) > 1)
-            if len(g.members) == 1:
-                s = g.members[0]
+            members = g.members
+            keep = self.keep or len(members) > 1
+            profile = None
+            if not g.curves and g.length >= MICRO:   # lines: their single cap, without _time's general steps
+                try:
+                    duration, profile = solver.line(g, v, v1, keep)
+                except ProfileError:
+                    duration = None
+            else:
+                duration = None
+            if duration is None:   # or the general steps, which also lower the end speed if ruckig needs it
+                duration, profile, v1 = self._time(g, v, v1, keep=keep)
+            if len(members) == 1:
+                s = members[0]
                 yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1,
                               profile if self.keep else None, s.blend)
                 clock[0] += duration
@@ -334,20 +362,26 @@ def _chunks(source: Iterator) -> Iterator:
         yield from chunk
 
 
-def _short(span: Span) -> bool:
-    """A span crossed (at its cap) faster than its acceleration can rise and fall again: returning
-    to zero acceleration at both of its ends would dominate its motion."""
-    return span.length <= GROUP_SPAN and span.length < span.vc * span.acc / span.jerk
-
-
 def _joins(group: Group, span: Span) -> bool:
     """Whether ``span`` continues ``group`` as one motion: short spans with caps within 30 %."""
     members = group.members
     if members[-1].stop_after or len(members) >= GROUP_MEMBERS or group.length + span.length > GROUP_LENGTH:
         return False
-    if not (span.vc <= 1.3 * group.vc and _short(span) and _short(members[0])):
+    vc = span.vc
+    # both the span and the group's first member short: crossed (at its cap) faster than its acceleration
+    # can rise and fall again, returning to zero acceleration at both of its ends would dominate its
+    # motion (inline: this runs for every span planned after another)
+    length = span.length
+    if not (vc <= 1.3 * group.vc and length <= GROUP_SPAN and length < vc * span.acc / span.jerk):
         return False
-    return span.vc * 1.3 >= max([m.vc for m in members[-4:]])
+    first = members[0]
+    if not (first.length <= GROUP_SPAN and first.length < first.vc * first.acc / first.jerk):
+        return False
+    top = vc * 1.3
+    for m in members[-4:]:  # noqa: SIM110 (top >= the highest of the last four caps; no generator per span)
+        if m.vc > top:
+            return False
+    return True
 
 
 def plan(records: Iterable, machine: Machine | dict | str | None = None, *, jerk: bool = True,

@@ -206,8 +206,21 @@ class Solver:
         A request that cannot be met (:func:`too_short`) is answered without ruckig, whose
         failures go through an exception and cost five times a success.
         """
-        if too_short(length, v0, v1, acc, jerk):
-            return math.inf
+        if v0 != v1:
+            # too_short(length, v0, v1, acc, jerk) inline, operation for operation (every request to
+            # ruckig passes here; at equal speeds the shortest length is 0: never too short)
+            lim = acc * acc
+            dv = abs(v1 - v0)
+            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+            direct = (v0 + v1) / 2.0 * t
+            dv = abs(0.0 - v0)
+            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+            stop = (v0 + 0.0) / 2.0 * t
+            dv = abs(v1 - 0.0)
+            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+            stop += (0.0 + v1) / 2.0 * t
+            if length < min(direct, stop) * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+                return math.inf
         inp = self.inp
         inp.current_velocity = [v0]
         inp.target_position = [length]
@@ -230,6 +243,50 @@ class Solver:
         return Profile(t[:-1], np.array(pr.j), np.array(pr.a[:-1]), np.array(pr.v[:-1]), np.array(pr.p[:-1]),
                        self.traj.duration)
 
+    def line(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None]:
+        """(duration, profile) of a ``span`` of straight lines at least :data:`MICRO` long: :meth:`time`
+        for its single cap (no lower caps: a line's limits do not depend on its speed), without its
+        general steps (the same requests, so the same numbers).  Raises :class:`ProfileError` as
+        :meth:`time` does."""
+        length, vc, acc, jerk = span.length, span.vc, span.acc, span.jerk
+        if acc > 0 and jerk > 0:
+            a, b = (v0 if v0 <= vc else vc), (v1 if v1 <= vc else vc)   # min(v0, vc), min(v1, vc)
+            for scale in (1.0, EDGE_SCALE):
+                d = self.duration(length, a, b, vc, acc * scale, jerk * scale)
+                if d < math.inf:
+                    return d, (self.profile() if keep else None)
+        raise ProfileError(f"no profile for a {length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
+
+    def rest_to_rest(self, span, keep: bool) -> tuple[float, Profile | None]:
+        """(duration, profile) of a straight ``span`` from rest to rest: :meth:`time` for a line's
+        single cap with both speeds 0, without its general steps (the same requests to ruckig, so
+        the same numbers; a G50 program stops at every block).  Raises :class:`ProfileError` as
+        :meth:`time` does."""
+        length, vc = span.length, span.vc
+        if length < MICRO:
+            prof = micro_profile(length, 0.0, 0.0, span.acc, span.jerk, keep)
+            if isinstance(prof, Profile):
+                return prof.duration, prof
+            return prof, None
+        inp = self.inp
+        inp.current_velocity = [0.0]
+        inp.target_position = [length]
+        inp.target_velocity = [0.0]
+        inp.max_velocity = [vc]
+        for scale in (1.0, EDGE_SCALE):   # as time(): the limits a billionth lower on a second try
+            acc, jerk = span.acc, span.jerk
+            if acc <= 0 or jerk <= 0:
+                continue
+            inp.max_acceleration = [acc * scale]
+            inp.max_jerk = [jerk * scale]
+            try:
+                result = self.otg.calculate(inp, self.traj)
+            except (RuckigError, RuntimeError):
+                continue
+            if result in (Result.Working, Result.Finished):
+                return self.traj.duration, (self.profile() if keep else None)
+        raise ProfileError(f"no profile for a {length:.6g} mm span from rest to rest")
+
     def time(self, span, v0: float, v1: float, keep: bool) -> tuple[float, float, Profile | None]:
         """(duration, cap used, profile) of a span from v0 to v1.
 
@@ -243,6 +300,8 @@ class Solver:
             if prof is not None:
                 return prof, span.vc, None
         top = max(v0, v1)
+        if span.curved and (caps := span.caps(top)) and caps[0] == span.vc:
+            return self._curved(span, v0, v1, top, caps, keep)
         rungs = span.rungs(top)
         if span.curved:
             rungs = [r for r in rungs if r[0] >= top]
@@ -274,4 +333,45 @@ class Solver:
         if not held:
             _d, vc, acc, jerk = best   # solve the best again so that the trajectory holds it
             self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+        return best[0], best[1], self.profile()
+
+    def _curved(self, span, v0: float, v1: float, top: float, caps: list[float],
+                keep: bool) -> tuple[float, float, Profile | None]:
+        """:meth:`time` of a group with curves over its ``caps`` at least ``top``: the same rungs
+        tried in the same order, each rung's limits made only when the rung is tried (``span.rung``:
+        the group's own list, as ``span.rungs`` makes it), so the same profile."""
+        extra = None
+        if top > 0 and top * (1 + 1e-9) < caps[-1]:
+            caps = [*caps, top * (1 + 1e-9)]
+            extra = len(caps) - 1
+        extra_limits = None
+        best = (math.inf, span.vc, 0.0, 0.0)
+        held = False
+        length = span.length
+        for scale in (1.0, EDGE_SCALE):
+            for i, vc in enumerate(caps):
+                if best[0] * RUNG_MARGIN <= length / vc:
+                    break   # as in time(): no motion below this cap is shorter than length / vc
+                if i == extra:
+                    if extra_limits is None:
+                        extra_limits = span.limits_at(vc)
+                    acc, jerk = extra_limits
+                else:
+                    _cap, acc, jerk = span.rung(i)
+                if acc <= 0 or jerk <= 0:
+                    continue
+                acc, jerk = acc * scale, jerk * scale
+                d = self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+                held = d < best[0]
+                if held:
+                    best = (d, vc, acc, jerk)
+            if best[0] < math.inf:
+                break
+        if best[0] == math.inf:
+            raise ProfileError(f"no profile for a {length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
+        if not keep:
+            return best[0], best[1], None
+        if not held:
+            _d, vc, acc, jerk = best
+            self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
         return best[0], best[1], self.profile()

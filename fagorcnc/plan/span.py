@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from .geometry import Piece
+from .geometry import LinePiece, Piece
 from .limits import (
     ARRAY_TERMS,
     AxisLimits,
@@ -68,6 +68,33 @@ class Span:
         out.path_acc, out.path_jerk, out.blend = path_acc, path_jerk, True
         out.orig_length = out.length = piece.length
         out.stop_after, out.mid_k, out._terms, out.stale = False, None, None, False
+        out.vc, out.acc, out.jerk = vc, acc, jerk
+        return out
+
+    @classmethod
+    def of_line(cls, piece: LinePiece, record, feed: float, lim: AxisLimits, rapid: bool, dyn, path_acc: float,
+             path_jerk: float) -> Span:
+        """A straight line's span: :meth:`__init__` and :meth:`refresh` in one, with the loop of
+        :func:`~fagorcnc.plan.limits.line_limits` inline over the direction (``|u_i|`` is its ``d1``):
+        the same operations, so the same numbers (every line planned makes one)."""
+        out = cls.__new__(cls)
+        out.piece, out.record, out.line = piece, record, record.src.line
+        out.feed, out.lim, out.rapid, out.dyn = feed, lim, rapid, dyn
+        out.path_acc, out.path_jerk, out.blend = path_acc, path_jerk, False
+        out.orig_length = out.length = piece.length
+        out.stop_after, out.mid_k, out._terms, out.stale = False, None, None, False
+        vc = feed
+        acc = path_acc if path_acc > 0 else math.inf
+        jerk = path_jerk if path_jerk > 0 else math.inf
+        for x, (v, a, j) in zip(piece.ul, lim.rows):  # noqa: B905 (one entry per axis, see limits._AXES)
+            if x != 0.0:
+                g = x if x > 0.0 else -x
+                if (y := v / g) < vc:
+                    vc = y
+                if (y := a / g) < acc:
+                    acc = y
+                if (y := j / g) < jerk:
+                    jerk = y
         out.vc, out.acc, out.jerk = vc, acc, jerk
         return out
 
@@ -199,6 +226,26 @@ class Group:
             while len(rungs) <= len(LADDER) and (cap := self.vc * LADDER[len(rungs) - 1]) >= v:
                 rungs.append((cap, *self._tangential(cap)))
         return rungs
+
+    def caps(self, v: float) -> list[float]:
+        """The caps of :meth:`rungs` ``(v)`` that are at least ``v``, without their limits (made by
+        :meth:`rung` when asked: the solver tries the highest caps first and often stops there)."""
+        vc = self.vc
+        out = [vc] if vc >= v else []
+        if self.curves:
+            for f in LADDER:
+                if (cap := vc * f) < v:
+                    break
+                out.append(cap)
+        return out
+
+    def rung(self, i: int) -> tuple[float, float, float]:
+        """The ``i``-th rung of :meth:`rungs`, the ones above it made first (the same list)."""
+        rungs = self._top()
+        while len(rungs) <= i:
+            cap = self.vc * LADDER[len(rungs) - 1]
+            rungs.append((cap, *self._tangential(cap)))
+        return rungs[i]
 
     def _top(self) -> list[tuple[float, float, float]]:
         if self._rungs is None:
