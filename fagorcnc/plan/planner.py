@@ -285,10 +285,15 @@ class Planner(CornerMixin):
         solver = self.solver
         for i in range(k):
             g = queue[i]
-            nxt = 0.0 if g.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
-            v1 = g.reach(v)
-            if nxt < v1:
-                v1 = nxt
+            if g.stop_after:
+                # min(reach, 0): a reachable speed is never below 0, nor raises where the backward pass
+                # (which asked this group already) did not
+                v1 = 0.0
+            else:
+                nxt = limit[i + 1] if i + 1 < n else 0.0
+                v1 = g.reach(v)
+                if nxt < v1:
+                    v1 = nxt
             members = g.members
             keep = self.keep or len(members) > 1
             profile = None
