@@ -119,7 +119,8 @@ class Planner(CornerMixin):
         # a block starts where the one before ended: its end vector is reused
         last, last_end = self._last_end
         start = last_end if rec.start is last or rec.start == last else self._vector(rec.start)
-        end = self._vector(rec.end)
+        axes = self.axes   # _vector(rec.end) inline (every block)
+        end = np.fromiter(map(rec.end.get, axes, self._origin), float, len(axes))
         self._last_end = rec.end, end
         if rec.kind == "arc":
             a, o = rec.plane[0], rec.plane[1]
@@ -285,10 +286,15 @@ class Planner(CornerMixin):
         solver = self.solver
         for i in range(k):
             g = queue[i]
-            nxt = 0.0 if g.stop_after else (limit[i + 1] if i + 1 < n else 0.0)
-            v1 = g.reach(v)
-            if nxt < v1:
-                v1 = nxt
+            if g.stop_after:
+                # min(reach, 0): a reachable speed is never below 0, nor raises where the backward pass
+                # (which asked this group already) did not
+                v1 = 0.0
+            else:
+                nxt = limit[i + 1] if i + 1 < n else 0.0
+                v1 = g.reach(v)
+                if nxt < v1:
+                    v1 = nxt
             members = g.members
             keep = self.keep or len(members) > 1
             profile = None
@@ -324,10 +330,13 @@ class Planner(CornerMixin):
         speeds = [float(profile.v[0]), *speeds, v1]
         bounds.append(group.length)
         start = clock[0]
+        keep = self.keep
         for i, m in enumerate(members):
-            window = ProfileWindow(profile, t[i], bounds[i], t[i + 1] - t[i])
-            yield Segment("motion", start + t[i], t[i + 1] - t[i], m.line, m.record, m.piece, speeds[i],
-                          speeds[i + 1], window if self.keep else None, m.blend)
+            duration = t[i + 1] - t[i]
+            # the member's window of the group profile only when profiles are kept (no object per member else)
+            window = ProfileWindow(profile, t[i], bounds[i], duration) if keep else None
+            yield Segment("motion", start + t[i], duration, m.line, m.record, m.piece, speeds[i], speeds[i + 1],
+                          window, m.blend)
             clock[0] = start + t[i + 1]
             if after:
                 yield from self._after(m, after, clock)

@@ -209,18 +209,22 @@ class Solver:
         if v0 != v1:
             # too_short(length, v0, v1, acc, jerk) inline, operation for operation (every request to
             # ruckig passes here; at equal speeds the shortest length is 0: never too short)
+            # ``length < min(direct, stop) * (1 - m) - mm`` as two tests: rounded products and
+            # differences are monotone, so the least of the two sides is the side of the least (the
+            # same answer), and a span long enough for the single pulse needs no stop computed
             lim = acc * acc
             dv = abs(v1 - v0)
             t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
             direct = (v0 + v1) / 2.0 * t
-            dv = abs(0.0 - v0)
-            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
-            stop = (v0 + 0.0) / 2.0 * t
-            dv = abs(v1 - 0.0)
-            t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
-            stop += (0.0 + v1) / 2.0 * t
-            if length < min(direct, stop) * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
-                return math.inf
+            if length < direct * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+                dv = abs(0.0 - v0)
+                t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+                stop = (v0 + 0.0) / 2.0 * t
+                dv = abs(v1 - 0.0)
+                t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
+                stop += (0.0 + v1) / 2.0 * t
+                if length < stop * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+                    return math.inf
         inp = self.inp
         inp.current_velocity = [v0]
         inp.target_position = [length]

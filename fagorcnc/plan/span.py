@@ -171,8 +171,8 @@ class Group:
     Limits are the most restrictive of the members' (each member's are valid below its own
     cap, and the group stays below the lowest cap)."""
 
-    __slots__ = ("_rungs", "_terms", "acc", "curves", "jerk", "length", "line", "line_acc", "line_jerk", "members",
-                 "record", "stop_after", "vc")
+    __slots__ = ("_path", "_rungs", "_terms", "acc", "curves", "jerk", "length", "line", "line_acc", "line_jerk",
+                 "members", "record", "stop_after", "vc")
 
     def __init__(self, first: Span) -> None:
         self.members = [first]
@@ -182,6 +182,7 @@ class Group:
         self.line, self.record = first.line, first.record
         self._rungs: list | None = None   # made when the look-ahead asks (see rungs())
         self._terms = None
+        self._path: tuple[float, float] | None = None   # the path limits below any cap (see _tangential)
         # below a lower cap only the curves' limits change: a line's terms in the formulas of
         # :func:`~fagorcnc.plan.limits.tangential` reduce exactly to its own limits
         self.curves: list[Span] = []
@@ -210,6 +211,7 @@ class Group:
         self.stop_after = span.stop_after
         self._rungs = None
         self._terms = None
+        self._path = None
         self._classify(span)
 
     @property
@@ -241,7 +243,11 @@ class Group:
 
     def rung(self, i: int) -> tuple[float, float, float]:
         """The ``i``-th rung of :meth:`rungs`, the ones above it made first (the same list)."""
-        rungs = self._top()
+        rungs = self._rungs
+        if rungs is None:   # _top() inline (the solver asks for every rung it tries)
+            rungs = self._rungs = [(self.vc, self.acc, self.jerk)]
+        if i < len(rungs):
+            return rungs[i]
         while len(rungs) <= i:
             cap = self.vc * LADDER[len(rungs) - 1]
             rungs.append((cap, *self._tangential(cap)))
@@ -263,7 +269,9 @@ class Group:
         # down the ladder one cap at a time, each made only when reached: once a cap is reached
         # within the length, no lower cap can do better
         best = 0.0
-        rungs = self._top()
+        rungs = self._rungs
+        if rungs is None:   # _top() inline
+            rungs = self._rungs = [(self.vc, self.acc, self.jerk)]
         i = 0
         while True:
             if i == len(rungs):
@@ -289,8 +297,7 @@ class Group:
         of it: on a G05 zig-zag of 0.05 mm steps, 3 % of speed is 20 % of what a tight curve leaves for
         speed changes); None when the cap itself is reached (the ladder's top rung then)."""
         self._tangential(self.vc)   # makes the terms
-        first = self.members[0]
-        c = reach_without_jerk(self._terms, v, self.length, min(first.path_acc or math.inf, self.line_acc))
+        c = reach_without_jerk(self._terms, v, self.length, self._path[0])
         if not c < self.vc:
             return None
         # the profile is later timed below a cap a hair above its top speed: reach with that cap's acceleration
@@ -320,8 +327,11 @@ class Group:
             else:
                 terms = Terms.joined(m.terms for m in curves)
                 self._terms = terms.arrays() if terms.total() > ARRAY_TERMS else terms
-        first = self.members[0]
-        path = (min(first.path_acc or math.inf, self.line_acc), min(first.path_jerk or math.inf, self.line_jerk))
+        path = self._path
+        if path is None:   # the first member's path limits and the lines' own, made once per group
+            first = self.members[0]
+            path = self._path = (min(first.path_acc or math.inf, self.line_acc),
+                                 min(first.path_jerk or math.inf, self.line_jerk))
         if isinstance(self._terms, Terms):
-            return tangential(self._terms, cap, *path)
-        return tangential_arrays(self._terms, cap, *path)
+            return tangential(self._terms, cap, path[0], path[1])
+        return tangential_arrays(self._terms, cap, path[0], path[1])

@@ -1,0 +1,140 @@
+"""The planner's per-span shortcuts give what the general steps give (issue 27, item 1).
+
+- ``Solver.duration`` tests the stop-on-the-way length only when the single pulse is too long;
+- ``Group._tangential`` keeps its path limits until a member is added;
+- ``Planner._commit`` takes 0 as the end speed of a group that stops, without asking its reach.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+
+import numpy as np
+import pytest
+
+import fagorcnc
+from fagorcnc.plan import Planner
+from fagorcnc.plan.geometry import ArcPiece, LinePiece
+from fagorcnc.plan.limits import AxisLimits, tangential
+from fagorcnc.plan.profile import Solver, _pulse, too_short
+from fagorcnc.plan.span import Group, Span
+from fagorcnc.simulate import Run
+
+LIMITS = AxisLimits((100.0, 100.0, 50.0), (1000.0, 1000.0, 600.0), (20000.0, 20000.0, 9000.0))
+
+
+class _Rec:
+    class src:   # noqa: N801 (a record's source line)
+        line = 7
+
+
+def _reference(length: float, v0: float, v1: float, vc: float, acc: float, jerk: float) -> float:
+    """The duration as too_short, then ruckig directly, answer it."""
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
+
+    if too_short(length, v0, v1, acc, jerk):
+        return math.inf
+    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
+    inp.current_position, inp.current_acceleration, inp.target_acceleration = [0.0], [0.0], [0.0]
+    inp.min_velocity = [0.0]
+    inp.current_velocity, inp.target_position, inp.target_velocity = [v0], [length], [v1]
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [vc], [acc], [jerk]
+    try:
+        result = otg.calculate(inp, traj)
+    except Exception:
+        return math.inf
+    return traj.duration if result in (Result.Working, Result.Finished) else math.inf
+
+
+def test_duration_between_the_stop_and_the_single_pulse():
+    # one speed far below the other: a stop on the way is shorter than the single pulse, so lengths
+    # between the two pass the first test and only the second one decides (both answers exercised)
+    rng = random.Random(2027)
+    solver = Solver()
+    between = refused = 0
+    for _ in range(600):
+        acc, jerk = rng.uniform(200.0, 3000.0), rng.uniform(800.0, 5e4)
+        v0, v1 = rng.uniform(60.0, 200.0), rng.uniform(0.5, 15.0)
+        if rng.random() < 0.5:
+            v0, v1 = v1, v0
+        direct = _pulse(v0, v1, acc, jerk)
+        stop = _pulse(v0, 0.0, acc, jerk) + _pulse(0.0, v1, acc, jerk)
+        low, high = min(direct, stop), max(direct, stop)
+        length = rng.uniform(low * 0.97, high * 1.01)
+        between += stop < length < direct
+        got = solver.duration(length, v0, v1, max(v0, v1) * 1.3, acc, jerk)
+        assert got == _reference(length, v0, v1, max(v0, v1) * 1.3, acc, jerk), (length, v0, v1, acc, jerk)
+        refused += got == math.inf
+    assert between > 50 and 20 < refused < 580
+
+
+def _arc(start: np.ndarray, sweep: float) -> ArcPiece:
+    end = np.array([math.cos(sweep) * 5.0, math.sin(sweep) * 5.0, start[2] + 0.2])
+    return ArcPiece(start, end, 0, 1, (0.0, 0.0), sweep)
+
+
+def test_a_groups_path_limits_follow_the_members_added():
+    # a curve, then a line whose axis limits are lower (Z): the group's tangential limits below a cap
+    # take the line's acceleration and jerk from the moment it joins, as computed afresh
+    curve = Span(_arc(np.array([5.0, 0.0, 0.0]), 0.3), _Rec(), 80.0, LIMITS, False, None, 0.0, 0.0)
+    group = Group(curve)
+    cap = curve.vc * 0.8
+    assert group.limits_at(cap) == tangential(curve.terms, cap, math.inf, math.inf)
+    line = Span.of_line(LinePiece(curve.piece.end, curve.piece.end + np.array([0.0, 0.0, 1.0])), _Rec(), 80.0,
+                        LIMITS, False, None, 0.0, 0.0)
+    group.add(line)
+    assert line.acc == 600.0 and line.jerk == 9000.0
+    cap = group.vc * 0.8   # below the line's cap too
+    assert group.limits_at(cap) == tangential(curve.terms, cap, 600.0, 9000.0)
+    assert group.limits_at(cap) != tangential(curve.terms, cap, math.inf, math.inf)
+
+
+def _plan(program: list[str], jerk: bool) -> list[tuple]:
+    machine = fagorcnc.load_machine(None)
+    records = list(Run(iter(program), "<stops>", machine))
+    return [(s.kind, s.line, s.t0, s.duration, s.v0, s.v1, s.blend)
+            for s in Planner(machine, jerk=jerk).segments(iter(records))]
+
+
+@pytest.mark.parametrize("jerk", [True, False])
+def test_a_stopping_group_ends_at_rest_without_its_reach(monkeypatch, jerk):
+    """The end speed of a group that stops is min(reach, 0): 0, as a reach is never negative.  Every
+    reach the planner asks (lines, arcs in parts, corner curves, stops at G07 corners and M functions)
+    is at least 0, and every group that stops ends at 0."""
+    program = ["G90 G1 X0 Y0 Z0 F3000", "G07", "G2 X10 Y0 I5 J0", "G1 X10 Y5", "M5", "G3 X0 Y5 I-5 J0 F6000",
+               "G05", "G1 X0 Y10", "G2 X10 Y10 I5 J0", "G1 X20 Y10.5", "G2 X20 Y20 I0 J5", "X0 Y20", "G50",
+               "G2 X0 Y30 I0 J5", "G1 X1 Y30.5", "M30"]
+    fast = _plan(program, jerk)
+    asked: list[tuple[float, float, bool]] = []
+    base = Group.reach
+
+    def reach(self, v):
+        out = base(self, v)
+        asked.append((v, out, self.stop_after))
+        return out
+
+    monkeypatch.setattr(Group, "reach", reach)
+    again = _plan(program, jerk)
+    assert fast == again and len(fast) > 15
+    assert all(out >= 0.0 for _v, out, _stop in asked)
+    assert sum(stop for *_x, stop in asked) >= 3   # stopping groups were asked (by the backward pass)
+    ends = [s for s in fast if s[0] == "motion" and s[5] == 0.0]
+    assert len(ends) >= 4
+
+
+def test_a_reach_is_never_negative():
+    # the premise of the shortcut, on random lines and arcs, limits and speeds (jerk limited or not)
+    rng = random.Random(11)
+    for _ in range(400):
+        jerk = rng.choice([rng.uniform(500.0, 5e4), math.inf])
+        lim = AxisLimits((100.0, 100.0, 50.0), (rng.uniform(50.0, 3000.0),) * 3, (jerk,) * 3)
+        if rng.random() < 0.5:
+            end = np.array([rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-1, 1)])
+            span = Span.of_line(LinePiece(np.zeros(3), end), _Rec(), rng.uniform(1.0, 200.0), lim, False, None,
+                                0.0, 0.0)
+        else:
+            span = Span(_arc(np.array([5.0, 0.0, 0.0]), rng.uniform(0.01, 1.0)), _Rec(), rng.uniform(1.0, 200.0), lim,
+                        False, None, 0.0, 0.0)
+        v = rng.choice([0.0, rng.uniform(0.0, 1.5 * span.vc)])
+        assert Group(span).reach(v) >= 0.0
