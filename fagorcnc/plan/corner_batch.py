@@ -112,8 +112,9 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         # the bounds of the curves kept, all at once (the same products row by row as in the loop)
         _samples, b1, b2, b3, _ = _curve_bounds(controls)
         tables = arc_tables(controls)
-        for i, row in enumerate(rows.tolist()):
-            c = controls[i]
-            out[row] = (BlendPiece.made(c, c[0], c[-1], b1[i], b2[i], b3[i], tables[i], float(tables[i, -1])),
-                        float(d1[i]), float(d2[i]))
+        # row by row on lists and iterated rows (views, as indexing gives them): no index per array
+        for row, c, first, last, e1, e2, e3, table, length, g1, g2 in zip(
+                rows.tolist(), controls, controls[:, 0], controls[:, -1], b1, b2, b3, tables, tables[:, -1].tolist(),
+                d1.tolist(), d2.tolist(), strict=True):
+            out[row] = (BlendPiece.made(c, first, last, e1, e2, e3, table, length), g1, g2)
     return out

@@ -148,10 +148,10 @@ class CornerMixin:
         for attempt in range(2):
             found = self._line_blends.get(key)
             if found is not None and found[2] is p.end and found[3] == inputs:
-                _, _, _, _, size, controls, d1, d2, d3, table, limits, start = found
+                _, _, _, _, size, curve, limits, start = found
                 if size == 0.0:
                     return None
-                return (BlendPiece.from_controls(controls, d1, d2, d3, table), size, size), limits, start
+                return (BlendPiece.made(*curve), size, size), limits, start
             if attempt == 0:
                 self._line_blend_batch(prev, nxt)
         return None
@@ -195,14 +195,17 @@ class CornerMixin:
         limits = zip(*(x.tolist() for x in curve_limits_rows(unit.d1, d2, d3, lim, f, prev.path_acc, prev.path_jerk)),
                      strict=True)
         path = (lim, prev.path_acc, prev.path_jerk)
+        # each curve as BlendPiece.made takes it: controls, end points (views), bounds, table, length
+        curves = zip(list(controls), list(controls[:, 0]), list(controls[:, -1]), list(unit.d1), list(d2), list(d3),
+                     list(tables), tables[:, -1].tolist(), strict=True)
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
         self._line_blends = {
             (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, sp, tolerance, acc, jerk, fd, *path),
-                                             sz, c, d1, d_2, d_3, tb, lm, st if b.piece.start is end else None)
-            for a, b, end, lp, lq, sp, fd, sz, c, d1, d_2, d_3, tb, lm, st in zip(
-                chain, chain[1:], ends, lim_p, lim_q, speed_list, f_list, size.tolist(), list(controls), list(unit.d1),
-                list(d2), list(d3), list(tables), limits, list(starts), strict=False)}
+                                             sz, curve, lm, st if b.piece.start is end else None)
+            for a, b, end, lp, lq, sp, fd, sz, curve, lm, st in zip(
+                chain, chain[1:], ends, lim_p, lim_q, speed_list, f_list, size.tolist(), curves, limits, list(starts),
+                strict=False)}
 
     def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object:
         """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits) and its limits,
