@@ -25,7 +25,7 @@ from .corners import (
     make_blend,
     split_blend,
 )
-from .geometry import BlendPiece, LinePiece, blends, corner_deviations
+from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
 from .span import Event, Span
@@ -419,26 +419,29 @@ class CornerMixin:
         d2 = orig[1:n + 1] / 2.0
         p0 = vertex - d1[:, None] * u[:n]
         p5 = vertex + d2[:, None] * u[1:n + 1]
-        curves, samples = blends(p0, u[:n], kmid[:-1], SPLINE_SHAPE * d1, p5, u[1:n + 1], kmid[1:], SPLINE_SHAPE * d2)
+        curves, samples, valid, bounds = blend_rows(p0, u[:n], kmid[:-1], SPLINE_SHAPE * d1, p5, u[1:n + 1],
+                                                    kmid[1:], SPLINE_SHAPE * d2)
         devs = corner_deviations(samples, p0, vertex, p5)
-        devs[[not c.valid for c in curves]] = np.inf
+        devs[~valid] = np.inf
         curved = (np.abs(kmid).max(axis=1) > 0.0).tolist()
-        self._spline_batch_limits(chain, curves)
+        self._spline_batch_limits(chain, curves, valid, bounds)
         previous_k = prev.mid_k
         for i, (curve, d_1, d_2, dev) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(), strict=True)):
             k5 = kmid[i + 1] if curved[i + 1] else None
             self._candidates[id(chain[i + 1])] = (chain[i], previous_k, d_1, curve, d_2, k5, dev)
             previous_k = k5
 
-    def _spline_batch_limits(self, chain: list[Span], curves: list[BlendPiece]) -> None:
+    def _spline_batch_limits(self, chain: list[Span], curves: list[BlendPiece], valid: np.ndarray,
+                             bounds: tuple) -> None:
         """The limits of the spline candidates ``curves`` (corner i: chain[i] -> chain[i + 1]) at
         once (:func:`~fagorcnc.plan.limits.curve_limits_rows`, the same numbers as each span's
         own :func:`~fagorcnc.plan.limits.curve_limits`), with what :meth:`_junction` will give
         each one's span: the lower feed of its two lines (FAST: times its share), the axis and
-        path limits of the first line of the chain (a corner whose line has others makes its own)."""
+        path limits of the first line of the chain (a corner whose line has others makes its own).
+        ``valid``, ``bounds``: which curves are valid and their bounds (d1, d2, d3), as arrays."""
         self._spline_limits = {}
         first = chain[0]
-        rows = [i for i, c in enumerate(curves) if c.valid]
+        rows = np.flatnonzero(valid).tolist()
         if len(rows) < BATCH_LEAST:
             return
         feeds = []
@@ -450,8 +453,8 @@ class CornerMixin:
                 feed *= hsc.fast / 100.0
             feeds.append(feed)
         picked = [curves[i] for i in rows]
-        limits = curve_limits_rows(np.array([c.d1 for c in picked]), np.array([c.d2 for c in picked]),
-                                   np.array([c.d3 for c in picked]), first.lim, np.array(feeds), first.path_acc,
+        d1, d2, d3 = bounds   # the picked curves' rows: their own d1, d2, d3
+        limits = curve_limits_rows(d1[rows], d2[rows], d3[rows], first.lim, np.array(feeds), first.path_acc,
                                    first.path_jerk)
         path = (first.lim, first.path_acc, first.path_jerk)
         # keyed by the curves' identity; the entries hold the curves, so no other curve can take their ids
