@@ -4,6 +4,7 @@ exact extent of the planned curve is inside the soft limits; near a limit the ex
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -69,3 +70,33 @@ def test_blend_box_uses_its_length_round_its_start():
     shift[0] = 1000.0 - blend.length / 2 - blend.start[0]
     blend.start = blend.start + shift
     assert not envelope._inside(blend)
+
+
+def test_arc_box_is_the_hull_in_every_plane():
+    # the cheap arc test is the hull's box (plane axes: the circle's square; the others: the end
+    # points) in each of the three planes, helical or not, on either side of every limit
+    from fagorcnc.plan.envelope import hull
+    from fagorcnc.plan.geometry import ArcPiece
+
+    envelope = Envelope(fagorcnc.load_machine(None))
+    tol = ENVELOPE_TOLERANCE
+    dim = len(envelope.lo)
+    seen = set()
+    for ia, io in ((0, 1), (2, 0), (1, 2)):
+        for axis in range(3):
+            for bound, sign in ((envelope.hi, 1.0), (envelope.lo, -1.0)):
+                for gap in (-3.0, -0.5, 0.5, 3.0, 50.0):
+                    for rise in (0.0, 2.0):
+                        centre = np.zeros(dim)
+                        centre[axis] = bound[axis] - sign * (5.0 + gap)   # radius 5: gap < 0 crosses it
+                        start, end = centre.copy(), centre.copy()
+                        start[ia] += 5.0
+                        end[io] += 5.0
+                        off = next(i for i in range(3) if i not in (ia, io))
+                        end[off] += rise
+                        piece = ArcPiece(start, end, ia, io, (centre[ia], centre[io]), math.pi / 2)
+                        lo, hi = hull(piece)
+                        boxed = bool((lo >= envelope.lo - tol).all() and (hi <= envelope.hi + tol).all())
+                        assert envelope._inside(piece) is boxed
+                        seen.add(boxed)
+    assert seen == {True, False}

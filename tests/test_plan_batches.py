@@ -8,7 +8,16 @@ import numpy as np
 import pytest
 
 from fagorcnc.plan.corners import SHAPE, deviation, line_corners
-from fagorcnc.plan.geometry import ArcPiece, BlendPiece, LinePiece, arc_tables, blends, corner_deviations
+from fagorcnc.plan.geometry import (
+    ArcPiece,
+    BlendPiece,
+    LinePiece,
+    arc_tables,
+    blend_rows,
+    blends,
+    corner_deviations,
+    curve_bounds,
+)
 from fagorcnc.plan.limits import (
     AxisLimits,
     Terms,
@@ -86,6 +95,43 @@ def test_blends_in_a_batch_equal_one_by_one():
         if alone.valid:
             assert all(close(x, y) for x, y in ((got.d1, alone.d1), (got.d2, alone.d2), (got.d3, alone.d3)))
             assert close(samples[:, :, i], alone.points(97))
+
+
+def test_blend_rows_give_each_curves_own_validity_and_bounds():
+    # what an HSC spline batch reads from the arrays (which curves are valid, their bounds) is each
+    # curve's own valid and d1, d2, d3, a degenerate one (a curve folding back on itself) included
+    rng = np.random.default_rng(5)
+    n = 12
+    u = unit_rows(rng, n, 0.3)
+    p0 = rng.uniform(-50.0, 50.0, (n, 3))
+    p5 = p0 + rng.uniform(0.1, 2.0, (n, 1)) * u[1:]
+    k0, k5 = rng.normal(scale=0.3, size=(n, 3)), rng.normal(scale=0.3, size=(n, 3))
+    a, b = rng.uniform(0.05, 0.5, n), rng.uniform(0.05, 0.5, n)
+    t0, t5 = u[:-1].copy(), u[1:].copy()
+    p5[3], t0[3], t5[3], k0[3], k5[3], a[3], b[3] = p0[3], (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0), 0.0, 0.0, 1.0, 1.0
+    curves, samples, valid, (d1, d2, d3) = blend_rows(p0, t0, k0, a, p5, t5, k5, b)
+    plain, plain_samples = blends(p0, t0, k0, a, p5, t5, k5, b)
+    assert valid.tolist() == [c.valid for c in curves] == [c.valid for c in plain]
+    assert not valid[3] and valid.sum() == n - 1
+    assert np.array_equal(samples, plain_samples, equal_nan=True)
+    for i, c in enumerate(curves):
+        assert np.array_equal(d1[i], c.d1) and np.array_equal(d2[i], c.d2) and np.array_equal(d3[i], c.d3)
+        assert np.array_equal(c.controls, plain[i].controls) and c.length == plain[i].length
+
+
+def test_curve_bounds_without_the_points_are_the_same_floats():
+    # the corner batches' bounds from the derivative rows alone are the full product's, to the bit,
+    # for one curve, a few, and more than one matrix product holds (chunks), a degenerate one included
+    from fagorcnc.plan.geometry import _curve_bounds
+
+    rng = np.random.default_rng(9)
+    for n in (1, 5, 64, 130):
+        controls = rng.normal(size=(n, 6, 3)) * 10.0 ** rng.uniform(-3.0, 2.0, (n, 1, 1)) + 500.0
+        controls[0] = [[0, 0, 0], [1, 0, 0], [2, 0, 0], [2, 0, 0], [1, 0, 0], [0, 0, 0]]   # folds back
+        _q, *full = _curve_bounds(controls)
+        alone = curve_bounds(controls)
+        assert all(np.array_equal(x, y) for x, y in zip(full, alone, strict=True))
+        assert alone[3][0] and np.isinf(alone[2][0]).all()
 
 
 def test_corner_deviations_equal_deviation_from_two_lines():

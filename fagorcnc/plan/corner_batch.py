@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .corners import SHAPE
-from .geometry import BlendPiece, Piece, _controls, _curve_bounds, arc_tables, curve_samples
+from .geometry import BlendPiece, Piece, _controls, arc_tables, curve_bounds, curve_samples
 from .limits import CENTRIPETAL, CURVE_JERK
 from .stretch import PieceRows, stretch_deviations
 
@@ -53,8 +53,8 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
 
     def curves(rows: np.ndarray, size: np.ndarray):
         d1, d2, controls = made(rows, size)
-        samples, b1, b2, b3, _ = _curve_bounds(controls)
-        return d1, d2, controls, samples, b1, b2, b3, np.isfinite(b3).all(axis=1)
+        b1, b2, b3, _ = curve_bounds(controls)   # the points are not looked at
+        return d1, d2, controls, b1, b2, b3, np.isfinite(b3).all(axis=1)
 
     def sampled(rows: np.ndarray, size: np.ndarray):
         # the curves' points alone: their bounds once they keep the tolerance (below).  A curve
@@ -92,7 +92,7 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         if not len(rows):
             break
         if tolerance is None:
-            d1, d2, controls, _samples, b1, b2, b3, valid = curves(rows, size[rows])
+            d1, d2, controls, b1, b2, b3, valid = curves(rows, size[rows])
             ok = valid
         else:
             d1, d2, controls, samples, valid = sampled(rows, size[rows])
@@ -110,10 +110,11 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         rows = np.concatenate(done_rows)
         d1, d2, controls = (np.concatenate(x) for x in zip(*done, strict=True))
         # the bounds of the curves kept, all at once (the same products row by row as in the loop)
-        _samples, b1, b2, b3, _ = _curve_bounds(controls)
+        b1, b2, b3, _ = curve_bounds(controls)
         tables = arc_tables(controls)
-        for i, row in enumerate(rows.tolist()):
-            c = controls[i]
-            out[row] = (BlendPiece.made(c, c[0], c[-1], b1[i], b2[i], b3[i], tables[i], float(tables[i, -1])),
-                        float(d1[i]), float(d2[i]))
+        # row by row on lists and iterated rows (views, as indexing gives them): no index per array
+        for row, c, first, last, e1, e2, e3, table, length, g1, g2 in zip(
+                rows.tolist(), controls, controls[:, 0], controls[:, -1], b1, b2, b3, tables, tables[:, -1].tolist(),
+                d1.tolist(), d2.tolist(), strict=True):
+            out[row] = (BlendPiece.made(c, first, last, e1, e2, e3, table, length), g1, g2)
     return out

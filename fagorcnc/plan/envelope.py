@@ -30,6 +30,7 @@ class Envelope:
         self.hi = np.array([machine.axes[a].max_limit for a in axes])
         self.worst: dict[tuple[int, bool, str, str], tuple[float, float, object]] = {}
         self._limits = list(zip(self.lo.tolist(), self.hi.tolist(), strict=True))
+        self._off: dict[tuple[int, int], tuple[int, ...]] = {}   # the axes off each arc plane
 
     def add(self, seg) -> None:
         piece = seg.piece
@@ -69,23 +70,32 @@ class Envelope:
         farther from its start than its length, so the cube of that half-size round its start holds
         it (the length is integrated to far better than the 1e-6 margin).
         """
-        tol = ENVELOPE_TOLERANCE
-        start = piece.start.tolist()
-        if type(piece) is ArcPiece:
-            end = piece.end.tolist()
+        tol, limits = ENVELOPE_TOLERANCE, self._limits
+        kind = type(piece)
+        if kind is BlendPiece:
+            reach = piece.length * (1.0 + 1e-6) + tol
+            return all(lo <= v - reach and v + reach <= hi for v, (lo, hi) in zip(piece.start.tolist(), limits,
+                                                                                   strict=True))
+        if kind is ArcPiece:
             radius = max(piece.r0, piece.r0 + piece.dr * piece.length) + tol
             ia, io = piece.ia, piece.io
-            for i, (lo, hi) in enumerate(self._limits):
-                if i in (ia, io):
-                    c = piece.center[0 if i == ia else 1]
-                    if c - radius < lo or c + radius > hi:
+            cx, cy = piece.center
+            lo, hi = limits[ia]
+            if cx - radius < lo or cx + radius > hi:
+                return False
+            lo, hi = limits[io]
+            if cy - radius < lo or cy + radius > hi:
+                return False
+            others = self._off.get((ia, io))
+            if others is None:
+                others = self._off[ia, io] = tuple(i for i in range(len(limits)) if i not in (ia, io))
+            if others:
+                start, end = piece.start.tolist(), piece.end.tolist()
+                for i in others:
+                    lo, hi = limits[i]
+                    if min(start[i], end[i]) < lo - tol or max(start[i], end[i]) > hi + tol:
                         return False
-                elif min(start[i], end[i]) < lo - tol or max(start[i], end[i]) > hi + tol:
-                    return False
             return True
-        if type(piece) is BlendPiece:
-            reach = piece.length * (1.0 + 1e-6) + tol
-            return all(lo <= v - reach and v + reach <= hi for v, (lo, hi) in zip(start, self._limits, strict=True))
         return False
 
     def diagnostics(self, file: str) -> list[Diagnostic]:

@@ -424,6 +424,8 @@ def _basis(u: np.ndarray, order: int) -> np.ndarray:
 
 #: B and its first three derivatives at the 97 bound parameters, stacked (4 * 97, 6)
 _BOUND_B = np.vstack([_basis(_BOUND_U, r) for r in range(4)])
+#: The rows of the first three derivatives alone (see :func:`curve_bounds`)
+_DERIVATIVE_B = np.ascontiguousarray(_BOUND_B[len(_BOUND_U):])
 #: The rows of the points and the first derivative alone (see :func:`curve_samples`)
 _SAMPLE_B = np.ascontiguousarray(_BOUND_B[:2 * len(_BOUND_U)])
 #: The 8 Gauss-Legendre nodes of each of the 32 arc-length table intervals, and B' there (256, 6)
@@ -509,8 +511,24 @@ def _curve_bounds(controls: np.ndarray):
     first derivative vanishes)."""
     m = len(_BOUND_U)
     b = _apply(_BOUND_B, controls)
-    q, b1, b2, b3 = (b[r * m:(r + 1) * m] for r in range(4))
+    q = b[:m]
     q += controls[:, 0].T   # b is the product's own array
+    return (q, *_derivative_bounds(b[m:]))
+
+
+def curve_bounds(controls: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_curve_bounds` without the points: ``d1, d2, d3`` and which curves are degenerate,
+    the same floats (each row of a matrix product is its own dot products: the derivative rows
+    alone give the same numbers) from three quarters of the products, for a batch that does not
+    look at the curves' points."""
+    return _derivative_bounds(_apply(_DERIVATIVE_B, controls))
+
+
+def _derivative_bounds(b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The bounds and degeneracy of :func:`_curve_bounds` from the first three derivatives of B at
+    the 97 bound parameters, stacked (3 * 97, D, n)."""
+    m = len(_BOUND_U)
+    b1, b2, b3 = b[:m], b[m:2 * m], b[2 * m:]
     square = _dot(b1, b1)
     sig = np.sqrt(square)
     degenerate = sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]
@@ -520,7 +538,7 @@ def _curve_bounds(controls: np.ndarray):
     d2 = top_k.T * 1.05
     d3 = top_dk.T * 1.10
     d1[degenerate] = d2[degenerate] = d3[degenerate] = np.inf
-    return q, d1, d2, d3, degenerate
+    return d1, d2, d3, degenerate
 
 
 def curve_samples(controls: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -562,11 +580,21 @@ def blends(p0: np.ndarray, t0: np.ndarray, k0: np.ndarray, a: np.ndarray, p5: np
     """Many :class:`BlendPiece` at once (rows of the arrays): the same curves, bounds and
     arc-length tables as one by one, computed with array operations over all of them; and their
     points at the 97 bound parameters, (97, D, n) (the pieces do not keep them)."""
+    curves, samples, _, _ = blend_rows(p0, t0, k0, a, p5, t5, k5, b)
+    return curves, samples
+
+
+def blend_rows(p0: np.ndarray, t0: np.ndarray, k0: np.ndarray, a: np.ndarray, p5: np.ndarray, t5: np.ndarray,
+               k5: np.ndarray, b: np.ndarray) -> tuple[list[BlendPiece], np.ndarray, np.ndarray, tuple]:
+    """:func:`blends` with what a batch asks of its curves next, as arrays: which are valid (each
+    curve's :attr:`BlendPiece.valid`: all its ``d3`` finite) and the bounds ``(d1, d2, d3)`` (n, D),
+    whose rows are the curves' own."""
     controls = _controls(p0, t0, k0, a[:, None], p5, t5, k5, b[:, None])
     samples, d1, d2, d3, _ = _curve_bounds(controls)
     tables = arc_tables(controls)
-    return [BlendPiece.made(*row) for row in zip(controls, controls[:, 0], controls[:, -1], d1, d2, d3, tables,
-                                                 tables[:, -1].tolist(), strict=True)], samples
+    curves = [BlendPiece.made(*row) for row in zip(controls, controls[:, 0], controls[:, -1], d1, d2, d3, tables,
+                                                   tables[:, -1].tolist(), strict=True)]
+    return curves, samples, np.isfinite(d3).all(axis=1), (d1, d2, d3)
 
 
 def corner_deviations(samples: np.ndarray, start: np.ndarray, vertex: np.ndarray, end: np.ndarray) -> np.ndarray:

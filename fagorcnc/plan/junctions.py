@@ -25,7 +25,7 @@ from .corners import (
     make_blend,
     split_blend,
 )
-from .geometry import BlendPiece, LinePiece, blends, corner_deviations
+from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
 from .span import Event, Span
@@ -148,10 +148,10 @@ class CornerMixin:
         for attempt in range(2):
             found = self._line_blends.get(key)
             if found is not None and found[2] is p.end and found[3] == inputs:
-                _, _, _, _, size, controls, d1, d2, d3, table, limits, start = found
+                _, _, _, _, size, curve, limits, start = found
                 if size == 0.0:
                     return None
-                return (BlendPiece.from_controls(controls, d1, d2, d3, table), size, size), limits, start
+                return (BlendPiece.made(*curve), size, size), limits, start
             if attempt == 0:
                 self._line_blend_batch(prev, nxt)
         return None
@@ -195,14 +195,17 @@ class CornerMixin:
         limits = zip(*(x.tolist() for x in curve_limits_rows(unit.d1, d2, d3, lim, f, prev.path_acc, prev.path_jerk)),
                      strict=True)
         path = (lim, prev.path_acc, prev.path_jerk)
+        # each curve as BlendPiece.made takes it: controls, end points (views), bounds, table, length
+        curves = zip(list(controls), list(controls[:, 0]), list(controls[:, -1]), list(unit.d1), list(d2), list(d3),
+                     list(tables), tables[:, -1].tolist(), strict=True)
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
         self._line_blends = {
             (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, sp, tolerance, acc, jerk, fd, *path),
-                                             sz, c, d1, d_2, d_3, tb, lm, st if b.piece.start is end else None)
-            for a, b, end, lp, lq, sp, fd, sz, c, d1, d_2, d_3, tb, lm, st in zip(
-                chain, chain[1:], ends, lim_p, lim_q, speed_list, f_list, size.tolist(), list(controls), list(unit.d1),
-                list(d2), list(d3), list(tables), limits, list(starts), strict=False)}
+                                             sz, curve, lm, st if b.piece.start is end else None)
+            for a, b, end, lp, lq, sp, fd, sz, curve, lm, st in zip(
+                chain, chain[1:], ends, lim_p, lim_q, speed_list, f_list, size.tolist(), curves, limits, list(starts),
+                strict=False)}
 
     def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object:
         """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits) and its limits,
@@ -416,26 +419,29 @@ class CornerMixin:
         d2 = orig[1:n + 1] / 2.0
         p0 = vertex - d1[:, None] * u[:n]
         p5 = vertex + d2[:, None] * u[1:n + 1]
-        curves, samples = blends(p0, u[:n], kmid[:-1], SPLINE_SHAPE * d1, p5, u[1:n + 1], kmid[1:], SPLINE_SHAPE * d2)
+        curves, samples, valid, bounds = blend_rows(p0, u[:n], kmid[:-1], SPLINE_SHAPE * d1, p5, u[1:n + 1],
+                                                    kmid[1:], SPLINE_SHAPE * d2)
         devs = corner_deviations(samples, p0, vertex, p5)
-        devs[[not c.valid for c in curves]] = np.inf
+        devs[~valid] = np.inf
         curved = (np.abs(kmid).max(axis=1) > 0.0).tolist()
-        self._spline_batch_limits(chain, curves)
+        self._spline_batch_limits(chain, curves, valid, bounds)
         previous_k = prev.mid_k
         for i, (curve, d_1, d_2, dev) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(), strict=True)):
             k5 = kmid[i + 1] if curved[i + 1] else None
             self._candidates[id(chain[i + 1])] = (chain[i], previous_k, d_1, curve, d_2, k5, dev)
             previous_k = k5
 
-    def _spline_batch_limits(self, chain: list[Span], curves: list[BlendPiece]) -> None:
+    def _spline_batch_limits(self, chain: list[Span], curves: list[BlendPiece], valid: np.ndarray,
+                             bounds: tuple) -> None:
         """The limits of the spline candidates ``curves`` (corner i: chain[i] -> chain[i + 1]) at
         once (:func:`~fagorcnc.plan.limits.curve_limits_rows`, the same numbers as each span's
         own :func:`~fagorcnc.plan.limits.curve_limits`), with what :meth:`_junction` will give
         each one's span: the lower feed of its two lines (FAST: times its share), the axis and
-        path limits of the first line of the chain (a corner whose line has others makes its own)."""
+        path limits of the first line of the chain (a corner whose line has others makes its own).
+        ``valid``, ``bounds``: which curves are valid and their bounds (d1, d2, d3), as arrays."""
         self._spline_limits = {}
         first = chain[0]
-        rows = [i for i, c in enumerate(curves) if c.valid]
+        rows = np.flatnonzero(valid).tolist()
         if len(rows) < BATCH_LEAST:
             return
         feeds = []
@@ -447,8 +453,8 @@ class CornerMixin:
                 feed *= hsc.fast / 100.0
             feeds.append(feed)
         picked = [curves[i] for i in rows]
-        limits = curve_limits_rows(np.array([c.d1 for c in picked]), np.array([c.d2 for c in picked]),
-                                   np.array([c.d3 for c in picked]), first.lim, np.array(feeds), first.path_acc,
+        d1, d2, d3 = bounds   # the picked curves' rows: their own d1, d2, d3
+        limits = curve_limits_rows(d1[rows], d2[rows], d3[rows], first.lim, np.array(feeds), first.path_acc,
                                    first.path_jerk)
         path = (first.lim, first.path_acc, first.path_jerk)
         # keyed by the curves' identity; the entries hold the curves, so no other curve can take their ids
