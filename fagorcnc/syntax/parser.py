@@ -71,6 +71,17 @@ _TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "
                 "STRING": "a \"string\"", "LABEL": "a [LABEL]", "BLOCKID": "a block number N..:"}
 
 
+#: A subset of the lines the ``_fast`` pattern takes, tried first because it is some four times quicker
+#: (no look-ahead, no atomic group): literal ISO words from the first column, each a letter other
+#: than M or P, a sign right after it and a number, followed by one blank, the next letter or the line's
+#: end; no block id, no comment, no leading blank.  Such a line is one ``WORDS`` run for ``_fast`` too,
+#: starting at column 1 with no ``N..:``: its number, a run of digits and points followed by neither, is
+#: what the atomic group takes; nothing follows it but a blank, a letter or the end (never ``=`` or
+#: ``:``); ``L`` is followed by its number, not a blank (no global call); and there is no M, so
+#: ``structure_only`` gives it no items either.  ``tests/test_fast_path.py`` checks both ways.
+_PLAIN = re.compile(r"(?:[A-LN-OQ-Z][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+) ?)+").fullmatch
+
+
 _BRACKETED_WORD = re.compile(r'"(?:[^"\\\n]|\\.)*"|V\.[A-Za-z0-9_.]*|\b[A-Za-z][A-Za-z_]*')
 
 
@@ -135,6 +146,13 @@ class LineParser:
         ``structure_only``: for a check of the whole file's syntax and structure, a plain run of
         literal words without an M (which cannot end a subroutine) gets no items (same diagnostics).
         """
+        if _PLAIN(text) is not None:   # the commonest CAM line: what _fast makes of it, sooner
+            items = () if structure_only else tuple(split_words(text, 1))
+            return _new(Block, (line, text, False, None, None, items)), ()
+        return self._parse_fast(text, line, file, structure_only)
+
+    def _parse_fast(self, text: str, line: int, file: str, structure_only: bool) -> tuple:
+        """:meth:`parse` by the ``_fast`` pattern, else by the LALR parser."""
         m = self._fast(text)
         if m is not None:
             bid, words = m.group(1), m.group(2)
