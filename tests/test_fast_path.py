@@ -205,6 +205,7 @@ def _plain_taken(text: str) -> bool:
 @example("N10 G1 X-3.943 Y-10.455 I-13.2567 J-0.971")
 @example("X0.5000 Y0.0000 Z0.1427 ")
 @example("G1X10Y-2")
+@example("G1 X1 ")
 @example("L5 X1")
 @example("N10 G1 X" + "9" * 400)
 @example("N99999999999 G1 X1")
@@ -221,7 +222,7 @@ def test_plain_pattern_equals_fast_pattern(text: str) -> None:
 
 
 @pytest.mark.parametrize("text", ["N10 G1 X-1.5 Y2. F100", "G2 X-3.943 Y-10.455 I-13.2567 J-0.971",
-                                  "X0.5000 Y0.0000 Z0.1427", "G1X10Y-2", "X.5 Y-.25 ", "N10 L5"])
+                                  "X0.5000 Y0.0000 Z0.1427", "X.5 Y-.25 ", "N10 L5", "X+0012.3400 Y3."])
 def test_plain_pattern_is_taken(text: str) -> None:
     parser = LineParser()
     parser._fast = None   # neither _fast nor the full parser is asked
@@ -231,7 +232,7 @@ def test_plain_pattern_is_taken(text: str) -> None:
 
 @pytest.mark.parametrize("text", ["N10: G1 X1", " G1 X1", "G1 X1 ; go", "M3 S1000", "G1  X1", "G1 X 1", "X- 1",
                                   "L 5", "N10 L 5", "G1 P1", "X1 Y2 Z3 M30", "X1..2", "X1=2", "G1 X1:", "",
-                                  "X1.5.5", "G1\tX1", "G1 X[1]", "#HSC ON", "X+-1"])
+                                  "X1.5.5", "G1\tX1", "G1X10Y-2", "G1 X1  ", "G1 X[1]", "#HSC ON", "X+-1"])
 def test_plain_pattern_steps_aside(text: str) -> None:
     """Block ids, blanks before or inside words, tabs, comments, M and P words, "L 5" calls and anything
     that is not a literal word go the way they went before."""

@@ -25,7 +25,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from ..diagnostics import Diagnostic, error
 from .ast import Binary, Block, Call, ItemList, Param, ProgramHeader, SubroutineHeader, Unary, Var
-from .builder import AstBuilder, split_words
+from .builder import AstBuilder, split_plain, split_words
 from .hints import hint
 from .macros import macro_block
 
@@ -72,14 +72,16 @@ _TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "
 
 
 #: A subset of the lines the ``_fast`` pattern takes, tried first because it is some four times quicker
-#: (no look-ahead, no atomic group): literal ISO words from the first column, each a letter other
-#: than M or P, a sign right after it and a number, followed by one blank, the next letter or the line's
-#: end; no block id, no comment, no leading blank.  Such a line is one ``WORDS`` run for ``_fast`` too,
-#: starting at column 1 with no ``N..:``: its number, a run of digits and points followed by neither, is
-#: what the atomic group takes; nothing follows it but a blank, a letter or the end (never ``=`` or
-#: ``:``); ``L`` is followed by its number, not a blank (no global call); and there is no M, so
-#: ``structure_only`` gives it no items either.  ``tests/test_fast_path.py`` checks both ways.
-_PLAIN = re.compile(r"(?:[A-LN-OQ-Z][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+) ?)+").fullmatch
+#: (no look-ahead, no atomic group) and its words split at the blanks (:func:`split_plain`): literal ISO
+#: words from the first column, one blank apart (and perhaps one at the end), each a letter other than M
+#: or P, a sign right after it and a number; no block id, no comment, no leading blank.  Such a line is
+#: one ``WORDS`` run for ``_fast`` too, starting at column 1 with no ``N..:``: each number, a run of
+#: digits and points followed by neither, is what the atomic group takes; nothing follows it but a
+#: blank or the end (never ``=`` or ``:``); ``L`` is followed by its number, not a blank (no global
+#: call); and there is no M, so ``structure_only`` gives it no items either.  ``tests/test_fast_path.py``
+#: checks both ways.
+_PLAIN_WORD = r"[A-LN-OQ-Z][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)"
+_PLAIN = re.compile(rf"{_PLAIN_WORD}(?: {_PLAIN_WORD})* ?").fullmatch
 
 
 _BRACKETED_WORD = re.compile(r'"(?:[^"\\\n]|\\.)*"|V\.[A-Za-z0-9_.]*|\b[A-Za-z][A-Za-z_]*')
@@ -147,7 +149,7 @@ class LineParser:
         literal words without an M (which cannot end a subroutine) gets no items (same diagnostics).
         """
         if _PLAIN(text) is not None:   # the commonest CAM line: what _fast makes of it, sooner
-            items = () if structure_only else tuple(split_words(text, 1))
+            items = () if structure_only else tuple(split_plain(text))
             return _new(Block, (line, text, False, None, None, items)), ()
         return self._parse_fast(text, line, file, structure_only)
 
