@@ -193,12 +193,12 @@ def test_regression_global_call_with_numeric_name(text: str) -> None:
     assert fast == full
 
 
-# --- the plain-line pattern tried before _fast (parser._PLAIN): a subset of _fast's lines ---------------
+# --- the plain-line pattern tried before _fast (parser.PLAIN_LINE): a subset of _fast's lines ---------------
 
 def _plain_taken(text: str) -> bool:
-    from fagorcnc.syntax.parser import _PLAIN
+    from fagorcnc.syntax.parser import PLAIN_LINE
 
-    return _PLAIN(text) is not None
+    return PLAIN_LINE(text) is not None
 
 
 @given(st.one_of(iso_lines, cam_lines, word_runs))
@@ -239,3 +239,21 @@ def test_plain_pattern_steps_aside(text: str) -> None:
     assert not _plain_taken(text)
     parser = line_parser()
     assert parser.parse(text, 2) == parser._parse_fast(text, 2, "<string>", False)
+
+
+@given(st.lists(st.one_of(iso_lines, cam_lines, st.sampled_from(["%PRG", "M30", "#COMMENT BEGIN", "#COMMENT END",
+                                                                 "PRG1", "G1 X1 Y2", "$IF P1==1", "$ENDIF"])),
+                max_size=12))
+def test_iter_lines_plain_shortcut_equals_parse(lines: list) -> None:
+    """iter_lines() takes PLAIN_LINE's lines without calling parse(): the same (node, diagnostics) as with
+    the pattern switched off (every line by _fast or the full parser), for execution and for the
+    structure pre-pass."""
+    from unittest import mock
+
+    from fagorcnc.syntax import parser, reader
+
+    for structure_only in (False, True):
+        fast = list(reader.iter_lines(lines, "f", structure_only=structure_only))
+        with mock.patch.object(reader, "PLAIN_LINE", lambda text: None), \
+                mock.patch.object(parser, "PLAIN_LINE", lambda text: None):
+            assert list(reader.iter_lines(lines, "f", structure_only=structure_only)) == fast

@@ -82,10 +82,10 @@ def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.findite
             for m in _finditer(text)]
 
 
-def split_plain(text: str, _new=tuple.__new__, _known=_NUMBERS.get, _put=_NUMBERS.setdefault) -> list:
-    """:func:`split_words` of a run from column 1 whose words are each a letter, a sign right after
-    it and a number, one blank apart (``parser._PLAIN``'s lines): the same :class:`Word` nodes, split
-    at the blanks (no regular expression)."""
+def split_plain(text: str, _new=tuple.__new__, _known=_NUMBERS.get, _put=_NUMBERS.setdefault) -> tuple:
+    """:func:`split_words` (as a tuple: a block's items) of a run from column 1 whose words are each a
+    letter, a sign right after it and a number, one blank apart (``parser.PLAIN_LINE``'s lines): the
+    same :class:`Word` nodes, split at the blanks (no regular expression)."""
     if len(_NUMBERS) + len(text) // 2 >= _NUMBERS_MAX:
         _NUMBERS.clear()
     out = []
@@ -94,7 +94,7 @@ def split_plain(text: str, _new=tuple.__new__, _known=_NUMBERS.get, _put=_NUMBER
         if w:   # "" after a blank at the end
             out.append(_new(Word, (w[0], _known(key := w[1:]) or _put(key, float(key)), col, None)))
             col += len(w) + 1
-    return out
+    return tuple(out)
 
 
 def small_int(digits: str, limit: int = 4294967295) -> int | None:

@@ -81,7 +81,7 @@ _TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "
 #: call); and there is no M, so ``structure_only`` gives it no items either.  ``tests/test_fast_path.py``
 #: checks both ways.
 _PLAIN_WORD = r"[A-LN-OQ-Z][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)"
-_PLAIN = re.compile(rf"{_PLAIN_WORD}(?: {_PLAIN_WORD})* ?").fullmatch
+PLAIN_LINE = re.compile(rf"{_PLAIN_WORD}(?: {_PLAIN_WORD})* ?").fullmatch
 
 
 _BRACKETED_WORD = re.compile(r'"(?:[^"\\\n]|\\.)*"|V\.[A-Za-z0-9_.]*|\b[A-Za-z][A-Za-z_]*')
@@ -148,8 +148,8 @@ class LineParser:
         ``structure_only``: for a check of the whole file's syntax and structure, a plain run of
         literal words without an M (which cannot end a subroutine) gets no items (same diagnostics).
         """
-        if _PLAIN(text) is not None:   # the commonest CAM line: what _fast makes of it, sooner
-            items = () if structure_only else tuple(split_plain(text))
+        if PLAIN_LINE(text) is not None:   # the commonest CAM line: what _fast makes of it, sooner
+            items = () if structure_only else split_plain(text)
             return _new(Block, (line, text, False, None, None, items)), ()
         return self._parse_fast(text, line, file, structure_only)
 
