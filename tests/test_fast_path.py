@@ -191,3 +191,69 @@ def test_regression_global_call_with_numeric_name(text: str) -> None:
     fast, full = both(text)
     assert any(type(i) is SubroutineCall for i in full[0].items)
     assert fast == full
+
+
+# --- the plain-line pattern tried before _fast (parser.PLAIN_LINE): a subset of _fast's lines ---------------
+
+def _plain_taken(text: str) -> bool:
+    from fagorcnc.syntax.parser import PLAIN_LINE
+
+    return PLAIN_LINE(text) is not None
+
+
+@given(st.one_of(iso_lines, cam_lines, word_runs))
+@example("N10 G1 X-3.943 Y-10.455 I-13.2567 J-0.971")
+@example("X0.5000 Y0.0000 Z0.1427 ")
+@example("G1X10Y-2")
+@example("G1 X1 ")
+@example("L5 X1")
+@example("N10 G1 X" + "9" * 400)
+@example("N99999999999 G1 X1")
+def test_plain_pattern_equals_fast_pattern(text: str) -> None:
+    """Whether or not the plain pattern takes a line, parse() is _fast's result (structure_only too),
+    and the full parser's; what it takes, _fast takes as one WORDS run from column 1."""
+    parser = line_parser()
+    for structure_only in (False, True):
+        assert parser.parse(text, 4, "f", structure_only) == parser._parse_fast(text, 4, "f", structure_only)
+    if _plain_taken(text):
+        m = parser._fast(text)
+        assert m is not None and m.group(1) is None and m.group(2) == text and m.start(2) == 0
+    assert parser.parse(text, 4) == parser.parse_full(text, 4)
+
+
+@pytest.mark.parametrize("text", ["N10 G1 X-1.5 Y2. F100", "G2 X-3.943 Y-10.455 I-13.2567 J-0.971",
+                                  "X0.5000 Y0.0000 Z0.1427", "X.5 Y-.25 ", "N10 L5", "X+0012.3400 Y3."])
+def test_plain_pattern_is_taken(text: str) -> None:
+    parser = LineParser()
+    parser._fast = None   # neither _fast nor the full parser is asked
+    assert _plain_taken(text)
+    assert _no_full_parser(parser).parse(text, 3) == line_parser().parse_full(text, 3)
+
+
+@pytest.mark.parametrize("text", ["N10: G1 X1", " G1 X1", "G1 X1 ; go", "M3 S1000", "G1  X1", "G1 X 1", "X- 1",
+                                  "L 5", "N10 L 5", "G1 P1", "X1 Y2 Z3 M30", "X1..2", "X1=2", "G1 X1:", "",
+                                  "X1.5.5", "G1\tX1", "G1X10Y-2", "G1 X1  ", "G1 X[1]", "#HSC ON", "X+-1"])
+def test_plain_pattern_steps_aside(text: str) -> None:
+    """Block ids, blanks before or inside words, tabs, comments, M and P words, "L 5" calls and anything
+    that is not a literal word go the way they went before."""
+    assert not _plain_taken(text)
+    parser = line_parser()
+    assert parser.parse(text, 2) == parser._parse_fast(text, 2, "<string>", False)
+
+
+@given(st.lists(st.one_of(iso_lines, cam_lines, st.sampled_from(["%PRG", "M30", "#COMMENT BEGIN", "#COMMENT END",
+                                                                 "PRG1", "G1 X1 Y2", "$IF P1==1", "$ENDIF"])),
+                max_size=12))
+def test_iter_lines_plain_shortcut_equals_parse(lines: list) -> None:
+    """iter_lines() takes PLAIN_LINE's lines without calling parse(): the same (node, diagnostics) as with
+    the pattern switched off (every line by _fast or the full parser), for execution and for the
+    structure pre-pass."""
+    from unittest import mock
+
+    from fagorcnc.syntax import parser, reader
+
+    for structure_only in (False, True):
+        fast = list(reader.iter_lines(lines, "f", structure_only=structure_only))
+        with mock.patch.object(reader, "PLAIN_LINE", lambda text: None), \
+                mock.patch.object(parser, "PLAIN_LINE", lambda text: None):
+            assert list(reader.iter_lines(lines, "f", structure_only=structure_only)) == fast

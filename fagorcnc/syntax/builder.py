@@ -60,30 +60,41 @@ def valid_name(name: str) -> bool:
 #: One float object per number text met lately (``"-1.5"`` -> -1.5): CAM programs repeat their coordinates
 #: (a raster's X values every row, its Y along a row) and the records keep the words' values, so sharing
 #: them saves a float object (24 bytes) per repeated word in ``simulate()``.  Bounded (512 numbers, some
-#: 50 kB: emptied when full).
+#: 50 kB: emptied before a block whose words could fill it; a single block longer than 1 024 characters may
+#: hold more, its own words at most).
 _NUMBERS: dict[str, float] = {}
 _NUMBERS_MAX = 512
 
 
-def _signed(key: str) -> float:
-    """The value of a signed number text (``"-1.5"``, ``"+2"``, ``"3."``), shared through :data:`_NUMBERS`
-    (``float("-1.5")`` is exactly ``-float("1.5")``, ``float("-0")`` is ``-0.0``)."""
-    if len(_NUMBERS) >= _NUMBERS_MAX:
-        _NUMBERS.clear()
-    v = _NUMBERS[key] = float(key)
-    return v
-
-
 def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.finditer, _known=_NUMBERS.get,
-                _signed=_signed) -> list:
+                _put=_NUMBERS.setdefault) -> list:
     """Split a WORDS run starting at column ``col`` into :class:`Word` nodes.
 
     Hot path (one call per CAM block): builds the tuples directly, the values of the numbers met
     lately from :data:`_NUMBERS` by their signed text (a ``0.0`` found there is looked for again:
-    ``or``).
+    ``or``; a new one is put there by ``setdefault``, no Python call).  :data:`_NUMBERS` is emptied
+    before the run when its words could fill it beyond :data:`_NUMBERS_MAX` (a word takes two
+    characters at least).
     """
-    return [_new(Word, (m[1], _known(key := m[2] + m[3]) or _signed(key), col + m.start(), None))
+    if len(_NUMBERS) + len(text) // 2 >= _NUMBERS_MAX:
+        _NUMBERS.clear()
+    return [_new(Word, (m[1], _known(key := m[2] + m[3]) or _put(key, float(key)), col + m.start(), None))
             for m in _finditer(text)]
+
+
+def split_plain(text: str, _new=tuple.__new__, _known=_NUMBERS.get, _put=_NUMBERS.setdefault) -> tuple:
+    """:func:`split_words` (as a tuple: a block's items) of a run from column 1 whose words are each a
+    letter, a sign right after it and a number, one blank apart (``parser.PLAIN_LINE``'s lines): the
+    same :class:`Word` nodes, split at the blanks (no regular expression)."""
+    if len(_NUMBERS) + len(text) // 2 >= _NUMBERS_MAX:
+        _NUMBERS.clear()
+    out = []
+    col = 1
+    for w in text.split(" "):
+        if w:   # "" after a blank at the end
+            out.append(_new(Word, (w[0], _known(key := w[1:]) or _put(key, float(key)), col, None)))
+            col += len(w) + 1
+    return tuple(out)
 
 
 def small_int(digits: str, limit: int = 4294967295) -> int | None:

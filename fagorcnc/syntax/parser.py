@@ -25,7 +25,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from ..diagnostics import Diagnostic, error
 from .ast import Binary, Block, Call, ItemList, Param, ProgramHeader, SubroutineHeader, Unary, Var
-from .builder import AstBuilder, split_words
+from .builder import AstBuilder, split_plain, split_words
 from .hints import hint
 from .macros import macro_block
 
@@ -69,6 +69,19 @@ _TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "
                 "COLON": "':'", "NUMBER": "a number", "NAME": "a keyword", "WORDS": "ISO words",
                 "ADDRESS": "an ISO address", "PARAM": "a parameter", "VARNAME": "a V. variable",
                 "STRING": "a \"string\"", "LABEL": "a [LABEL]", "BLOCKID": "a block number N..:"}
+
+
+#: A subset of the lines the ``_fast`` pattern takes, tried first because it is some four times quicker
+#: (no look-ahead, no atomic group) and its words split at the blanks (:func:`split_plain`): literal ISO
+#: words from the first column, one blank apart (and perhaps one at the end), each a letter other than M
+#: or P, a sign right after it and a number; no block id, no comment, no leading blank.  Such a line is
+#: one ``WORDS`` run for ``_fast`` too, starting at column 1 with no ``N..:``: each number, a run of
+#: digits and points followed by neither, is what the atomic group takes; nothing follows it but a
+#: blank or the end (never ``=`` or ``:``); ``L`` is followed by its number, not a blank (no global
+#: call); and there is no M, so ``structure_only`` gives it no items either.  ``tests/test_fast_path.py``
+#: checks both ways.
+_PLAIN_WORD = r"[A-LN-OQ-Z][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)"
+PLAIN_LINE = re.compile(rf"{_PLAIN_WORD}(?: {_PLAIN_WORD})* ?").fullmatch
 
 
 _BRACKETED_WORD = re.compile(r'"(?:[^"\\\n]|\\.)*"|V\.[A-Za-z0-9_.]*|\b[A-Za-z][A-Za-z_]*')
@@ -135,6 +148,13 @@ class LineParser:
         ``structure_only``: for a check of the whole file's syntax and structure, a plain run of
         literal words without an M (which cannot end a subroutine) gets no items (same diagnostics).
         """
+        if PLAIN_LINE(text) is not None:   # the commonest CAM line: what _fast makes of it, sooner
+            items = () if structure_only else split_plain(text)
+            return _new(Block, (line, text, False, None, None, items)), ()
+        return self._parse_fast(text, line, file, structure_only)
+
+    def _parse_fast(self, text: str, line: int, file: str, structure_only: bool) -> tuple:
+        """:meth:`parse` by the ``_fast`` pattern, else by the LALR parser."""
         m = self._fast(text)
         if m is not None:
             bid, words = m.group(1), m.group(2)

@@ -20,7 +20,8 @@ from typing import Protocol, Union
 
 from ..diagnostics import Diagnostic, error
 from .ast import Block, Program, ProgramHeader
-from .parser import LineParser
+from .builder import split_plain
+from .parser import PLAIN_LINE, LineParser
 from .structure import assemble
 
 # "#COMMENT BEGIN" may follow a block number, as on the N-numbered blocks of CAM posts (N10 #COMMENT BEGIN)
@@ -131,6 +132,7 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
     cannot end a subroutine carry no items (:meth:`~fagorcnc.syntax.parser.LineParser.parse`).
     """
     parse = line_parser().parse
+    plain, new, split = PLAIN_LINE, tuple.__new__, split_plain
     comment_start = None  # (line, text) of an open #COMMENT BEGIN
     first = True
     for lineno, text in enumerate(_lines(source), 1):
@@ -157,7 +159,10 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
                 continue
         if comment_start is not None:
             continue
-        node, diags = parse(text, lineno, file, structure_only)
+        if plain(text) is not None:   # LineParser.parse's first case, without a call per line
+            node, diags = new(Block, (lineno, text, False, None, None, () if structure_only else split(text))), ()
+        else:
+            node, diags = parse(text, lineno, file, structure_only)
         if first and (node is not None or diags):
             first = False
             bare = node is None or (type(node) is Block and any(getattr(i, "value", 0) is None for i in node.items))
