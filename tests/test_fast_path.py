@@ -257,3 +257,17 @@ def test_iter_lines_plain_shortcut_equals_parse(lines: list) -> None:
         with mock.patch.object(reader, "PLAIN_LINE", lambda text: None), \
                 mock.patch.object(parser, "PLAIN_LINE", lambda text: None):
             assert list(reader.iter_lines(lines, "f", structure_only=structure_only)) == fast
+
+
+@pytest.mark.parametrize("tail", [";", " ;comment", "  ", "=1", ":"])
+def test_plain_pattern_no_backtracking_on_integer_words(tail: str) -> None:
+    """A line of integer words that the plain pattern rejects only at its end (a comment, two blanks,
+    ``=``, ``:``) is read as _fast and the full parser read it.  With a number pattern whose digits split
+    two ways (``[0-9]+\\.?[0-9]*``) the rejection backtracked through every split of every word: eight
+    12-digit words took 78 s, these thirty would never end."""
+    text = " ".join(f"{axis}{'7' * 20}" for axis in "XYZABCUVWIJKXYZABCUVWIJKXYZABC") + tail
+    assert not _plain_taken(text)
+    parser = line_parser()
+    assert parser.parse(text, 2) == parser._parse_fast(text, 2, "<string>", False) == parser.parse_full(text, 2)
+    taken = text[: -len(tail)]
+    assert _plain_taken(taken) and parser.parse(taken, 2) == parser.parse_full(taken, 2)

@@ -79,8 +79,11 @@ _TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "
 #: digits and points followed by neither, is what the atomic group takes; nothing follows it but a
 #: blank or the end (never ``=`` or ``:``); ``L`` is followed by its number, not a blank (no global
 #: call); and there is no M, so ``structure_only`` gives it no items either.  ``tests/test_fast_path.py``
-#: checks both ways.
-_PLAIN_WORD = r"[A-LN-OQ-Z][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)"
+#: checks both ways.  The number is written so that a run of digits matches in one way only
+#: (``[0-9]+(?:\.[0-9]*)?``, not ``[0-9]+\.?[0-9]*``, whose digits split between the two runs): with the
+#: ambiguous form a line of integer words that fails at its end (``X001 Y002 ... ;``) backtracks through
+#: every split of every word, exponentially in the number of words (eight 12-digit words: 78 s).
+_PLAIN_WORD = r"[A-LN-OQ-Z][+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)"
 PLAIN_LINE = re.compile(rf"{_PLAIN_WORD}(?: {_PLAIN_WORD})* ?").fullmatch
 
 
