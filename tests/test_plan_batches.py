@@ -79,14 +79,21 @@ def test_line_corner_table_is_the_arc_length_of_its_curve():
             assert close(shape.controls, curve.controls)
 
 
-def test_blends_in_a_batch_equal_one_by_one():
-    rng = np.random.default_rng(3)
-    n = 25
+def _random_corners(rng, n: int):
+    """n random corner curves' data: unit directions (n + 1 rows), start and end points, curvatures
+    and the end parameters, as the batches take them."""
     u = unit_rows(rng, n, 0.3)
     p0 = rng.uniform(-50.0, 50.0, (n, 3))
     p5 = p0 + rng.uniform(0.1, 2.0, (n, 1)) * u[1:]
     k0, k5 = rng.normal(scale=0.3, size=(n, 3)), rng.normal(scale=0.3, size=(n, 3))
     a, b = rng.uniform(0.05, 0.5, n), rng.uniform(0.05, 0.5, n)
+    return u, p0, p5, k0, k5, a, b
+
+
+def test_blends_in_a_batch_equal_one_by_one():
+    rng = np.random.default_rng(3)
+    n = 25
+    u, p0, p5, k0, k5, a, b = _random_corners(rng, n)
     curves, samples = blends(p0, u[:-1], k0, a, p5, u[1:], k5, b)
     for i, got in enumerate(curves):
         alone = BlendPiece(p0[i], u[i], k0[i], a[i], p5[i], u[i + 1], k5[i], b[i])
@@ -102,11 +109,7 @@ def test_blend_rows_give_each_curves_own_validity_and_bounds():
     # curve's own valid and d1, d2, d3, a degenerate one (a curve folding back on itself) included
     rng = np.random.default_rng(5)
     n = 12
-    u = unit_rows(rng, n, 0.3)
-    p0 = rng.uniform(-50.0, 50.0, (n, 3))
-    p5 = p0 + rng.uniform(0.1, 2.0, (n, 1)) * u[1:]
-    k0, k5 = rng.normal(scale=0.3, size=(n, 3)), rng.normal(scale=0.3, size=(n, 3))
-    a, b = rng.uniform(0.05, 0.5, n), rng.uniform(0.05, 0.5, n)
+    u, p0, p5, k0, k5, a, b = _random_corners(rng, n)
     t0, t5 = u[:-1].copy(), u[1:].copy()
     p5[3], t0[3], t5[3], k0[3], k5[3], a[3], b[3] = p0[3], (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0), 0.0, 0.0, 1.0, 1.0
     curves, samples, valid, (d1, d2, d3) = blend_rows(p0, t0, k0, a, p5, t5, k5, b)

@@ -12,12 +12,13 @@ import random
 
 import numpy as np
 import pytest
+from plan_helpers import reference_duration as _reference
 
 import fagorcnc
 from fagorcnc.plan import Planner
 from fagorcnc.plan.geometry import ArcPiece, LinePiece
 from fagorcnc.plan.limits import AxisLimits, tangential
-from fagorcnc.plan.profile import Solver, _pulse, too_short
+from fagorcnc.plan.profile import Solver, _pulse
 from fagorcnc.plan.span import Group, Span
 from fagorcnc.simulate import Run
 
@@ -27,24 +28,6 @@ LIMITS = AxisLimits((100.0, 100.0, 50.0), (1000.0, 1000.0, 600.0), (20000.0, 200
 class _Rec:
     class src:   # noqa: N801 (a record's source line)
         line = 7
-
-
-def _reference(length: float, v0: float, v1: float, vc: float, acc: float, jerk: float) -> float:
-    """The duration as too_short, then ruckig directly, answer it."""
-    from ruckig import InputParameter, Result, Ruckig, Trajectory
-
-    if too_short(length, v0, v1, acc, jerk):
-        return math.inf
-    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
-    inp.current_position, inp.current_acceleration, inp.target_acceleration = [0.0], [0.0], [0.0]
-    inp.min_velocity = [0.0]
-    inp.current_velocity, inp.target_position, inp.target_velocity = [v0], [length], [v1]
-    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [vc], [acc], [jerk]
-    try:
-        result = otg.calculate(inp, traj)
-    except Exception:
-        return math.inf
-    return traj.duration if result in (Result.Working, Result.Finished) else math.inf
 
 
 def test_duration_between_the_stop_and_the_single_pulse():

@@ -6,6 +6,7 @@ import math
 import random
 
 import pytest
+from plan_helpers import reference_duration
 
 from fagorcnc.plan.profile import Solver, shortest_length, too_short
 
@@ -72,22 +73,6 @@ def test_the_duration_tests_feasibility_as_too_short_does():
     """Solver.duration's inline feasibility test answers inf exactly where too_short says no profile
     exists, and asks ruckig otherwise (the same duration as a request made after too_short)."""
     import numpy as np
-    from ruckig import InputParameter, Result, Ruckig, Trajectory
-
-    def reference(length, v0, v1, vc, acc, jerk):
-        if too_short(length, v0, v1, acc, jerk):
-            return math.inf
-        otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
-        inp.current_position, inp.current_acceleration, inp.target_acceleration = [0.0], [0.0], [0.0]
-        inp.min_velocity = [0.0]
-        inp.current_velocity, inp.target_position, inp.target_velocity = [v0], [length], [v1]
-        inp.max_velocity, inp.max_acceleration, inp.max_jerk = [vc], [acc], [jerk]
-        try:
-            result = otg.calculate(inp, traj)
-        except Exception:
-            return math.inf
-        return traj.duration if result in (Result.Working, Result.Finished) else math.inf
-
     rng = np.random.default_rng(4)
     solver = Solver()
     refused = 0
@@ -99,6 +84,6 @@ def test_the_duration_tests_feasibility_as_too_short_does():
         length = shortest_length(v0, v1, acc, jerk) * float(rng.uniform(0.5, 2.0)) + 1e-3
         vc = max(v0, v1) * 1.2 + 1.0
         got = solver.duration(length, v0, v1, vc, acc, jerk)
-        assert got == reference(length, v0, v1, vc, acc, jerk)
+        assert got == reference_duration(length, v0, v1, vc, acc, jerk)
         refused += got == math.inf
     assert 20 < refused < 380   # both answers were exercised
