@@ -10,6 +10,7 @@ pattern switched off: each line by ``_fast`` or the LALR parser), and show which
 from __future__ import annotations
 
 import io
+import re
 from unittest import mock
 
 import pytest
@@ -162,3 +163,23 @@ def test_streamed_blocks_equal_the_parsed_program() -> None:
         assert source.find_number(10) == whole.main.numbers[10]
     program, source = stream_program("G1 X1\nX2\nX3\n", "f")   # a body without header: its first run
     assert [source.get(i).line for i in range(3)] == [1, 2, 3] and source.get(3) is None
+
+
+# The plain pattern as it was written before its quantifiers were made possessive: the same language.
+_WORD_BEFORE = r"[A-LN-OQ-Z][+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)"
+_LINE_BEFORE = re.compile(rf"{_WORD_BEFORE}(?: {_WORD_BEFORE})* ?").fullmatch
+_RUN_BEFORE = re.compile(rf"(?:{_WORD_BEFORE}(?: {_WORD_BEFORE})* ?\n)*").match
+
+
+@given(st.text(alphabet="XYZGNMPL+-.0123 \n;:=", max_size=40))
+@example("X1. Y.5 Z-0 ")
+@example("X+.5")
+@example("X1.2.3")
+@example("X. Y1")
+@example("X1  Y2")
+@example("X1 \nY2\n\nX3\n")
+def test_possessive_plain_pattern_is_the_same_language(text: str) -> None:
+    """PLAIN_LINE takes what the pattern without possessive quantifiers took, PLAIN_RUN ends where it ended."""
+    assert (PLAIN_LINE(text) is None) == (_LINE_BEFORE(text) is None)
+    for pos in range(len(text) + 1):
+        assert PLAIN_RUN(text, pos).end() == _RUN_BEFORE(text, pos).end()
