@@ -10,6 +10,7 @@ into diagnostics; parsing goes on.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 
 from lark import Token, Transformer
 
@@ -82,20 +83,28 @@ def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.findite
             for m in _finditer(text)]
 
 
-def split_plain(text: str, _new=tuple.__new__, _word=Word) -> tuple:
+def split_plain(text: str) -> tuple:
     """:func:`split_words` (as a tuple: a block's items) of a run from column 1 whose words are each a
     letter, a sign right after it and a number, one blank apart (``parser.PLAIN_LINE``'s lines): the
-    same :class:`Word` nodes, split at the blanks (no regular expression).
+    same :class:`Word` nodes, split at the blanks (no regular expression)."""
+    return split_plain_lines((text,))[0]
 
-    Hot path (one call per plain CAM block, some six words): a new float per word, not one from
-    :data:`_NUMBERS` (a dictionary look-up and insertion cost more than the float; ``simulate()`` keeps the
-    coordinates of plain moves as doubles in columns, so sharing their floats saves little)."""
+
+def split_plain_lines(lines: Iterable[str], _new=tuple.__new__, _word=Word) -> list:
+    """:func:`split_plain` of each of ``lines``, in one call (a run of plain lines).
+
+    Hot path (some six words a plain CAM block): a new float per word, not one from :data:`_NUMBERS` (a
+    dictionary look-up and insertion cost more than the float; ``simulate()`` keeps the coordinates of
+    plain moves as doubles in columns, so sharing their floats saves little)."""
     out = []
-    col = 1
-    for w in text.split():   # PLAIN_LINE's blanks are single spaces, and perhaps one at the end
-        out.append(_new(_word, (w[0], float(w[1:]), col, None)))
-        col += len(w) + 1
-    return tuple(out)
+    for text in lines:
+        words = []
+        col = 1
+        for w in text.split():   # PLAIN_LINE's blanks are single spaces, and perhaps one at the end
+            words.append(_new(_word, (w[0], float(w[1:]), col, None)))
+            col += len(w) + 1
+        out.append(tuple(words))
+    return out
 
 
 def small_int(digits: str, limit: int = 4294967295) -> int | None:

@@ -21,7 +21,7 @@ from typing import Protocol, Union
 
 from ..diagnostics import Diagnostic, error
 from .ast import Block, Program, ProgramHeader
-from .builder import split_plain
+from .builder import split_plain, split_plain_lines
 from .parser import PLAIN_LINE, PLAIN_RUN, LineParser
 from .structure import assemble
 
@@ -216,7 +216,7 @@ class _Reader:
             return [_new(Block, (lineno + k - 1, chunk[i + k - 1], False, None, None, ()))]
         lines = chunk[i:i + k]
         return list(map(_new, repeat(Block), zip(count(lineno), lines, repeat(False), repeat(None), repeat(None),
-                                                  map(split_plain, lines))))
+                                                  split_plain_lines(lines))))
 
     def line(self, text: str, lineno: int) -> tuple | None:
         """The ``(node, diagnostics)`` of any line, or None for a line of a ``#COMMENT`` range (or its
