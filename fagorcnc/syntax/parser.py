@@ -72,7 +72,7 @@ _TOKEN_WORDS = {"$END": "end of block", "LSQB": "'['", "RSQB": "']'", "COMMA": "
 
 
 #: A subset of the lines the ``_fast`` pattern takes, tried first because it is some four times quicker
-#: (no look-ahead, no alternatives of blanks) and its words split at the blanks (:func:`split_plain`): literal ISO
+#: (no look-ahead, no atomic group) and its words split at the blanks (:func:`split_plain`): literal ISO
 #: words from the first column, one blank apart (and perhaps one at the end), each a letter other than M
 #: or P, a sign right after it and a number; no block id, no comment, no leading blank.  Such a line is
 #: one ``WORDS`` run for ``_fast`` too, starting at column 1 with no ``N..:``: each number, a run of

@@ -184,7 +184,7 @@ class _Reader:
 
     def __init__(self, file: str, compat: Compat | None, structure_only: bool) -> None:
         self.file, self.compat, self.structure_only = file, compat, structure_only
-        self.parse = line_parser().parse
+        self.parse = line_parser()._parse_fast   # LineParser.parse of a line PLAIN_LINE does not take
         self.comment_start: tuple | None = None   # (line, text) of an open #COMMENT BEGIN
         self.first = True
         self.stopped = False
@@ -250,9 +250,9 @@ class _Reader:
         return self.parsed(text, lineno)
 
     def parsed(self, text: str, lineno: int) -> tuple:
-        """The ``(node, diagnostics)`` of a line outside a ``#COMMENT`` range, without NUL, not overlong:
-        :meth:`LineParser.parse`'s, a bare program name on the first line that says something, the
-        diagnostics under the ``[compat]`` policy."""
+        """The ``(node, diagnostics)`` of a line outside a ``#COMMENT`` range, without NUL, not overlong, that
+        :data:`PLAIN_LINE` does not take: :meth:`LineParser.parse`'s, a bare program name on the first line
+        that says something, the diagnostics under the ``[compat]`` policy."""
         file = self.file
         node, diags = self.parse(text, lineno, file, self.structure_only)
         if self.first and (node is not None or diags):
