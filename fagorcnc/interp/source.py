@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Iterator
+from itertools import repeat
 
 from ..syntax.ast import Block, Program, ProgramHeader, Routine, SubroutineHeader
-from ..syntax.reader import iter_lines
+from ..syntax.reader import iter_runs
 from ..syntax.structure import RoutineBuilder, assemble
 
 
@@ -89,7 +90,13 @@ class StreamSource:
 
     # -- reading
     def _read_one(self) -> bool:
-        for node, diags in self._lines:
+        """Read the next block, or the next run of plain blocks (:func:`~fagorcnc.syntax.reader.iter_runs`);
+        False at the end of the program."""
+        for item in self._lines:
+            if type(item) is list:
+                self._builder.add_run(item)
+                return True
+            node, diags = item
             if diags:
                 self.diagnostics.extend(diags)
             if node is None:
@@ -194,17 +201,23 @@ def stream_program(lines: Iterable[str], file: str, compat=None) -> tuple[Progra
     Returns a :class:`Program` whose ``main`` routine is empty and the
     :class:`StreamSource` that yields the body.
     """
-    it = iter_lines(lines, file, compat)   # compat: the machine's [compat] policy
+    it = iter_runs(lines, file, compat)   # compat: the machine's [compat] policy
     head: list = []
-    first_block = None
+    body: list = []   # the first block of the body, and the rest of its run of plain blocks
     header = False
-    for node, diags in it:
-        head.append((node, diags))
-        if type(node) is ProgramHeader:
+    for item in it:
+        if type(item) is list:   # a run of plain blocks
+            if not any(type(n) is SubroutineHeader for n, _ in head):
+                body = list(zip(item, repeat(())))
+                break
+            head.extend(zip(item, repeat(())))
+            continue
+        head.append(item)
+        if type(item[0]) is ProgramHeader:
             header = True
             break
-        if type(node) is Block and not any(type(n) is SubroutineHeader for n, _ in head):
-            first_block = head.pop()
+        if type(item[0]) is Block and not any(type(n) is SubroutineHeader for n, _ in head):
+            body = [head.pop()]
             break
     program = assemble(iter(head), file)
     builder = RoutineBuilder(program.main.name, "program", program.main.line, file)
@@ -212,7 +225,7 @@ def stream_program(lines: Iterable[str], file: str, compat=None) -> tuple[Progra
         builder.add(block)
     diagnostics = list(program.diagnostics)
     source = StreamSource(it, builder, diagnostics, header)
-    if first_block is not None:
-        diagnostics.extend(first_block[1])
-        builder.add(first_block[0])
+    for block, diags in body:
+        diagnostics.extend(diags)
+        builder.add(block)
     return program, source

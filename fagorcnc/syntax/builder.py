@@ -10,6 +10,7 @@ into diagnostics; parsing goes on.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 
 from lark import Token, Transformer
 
@@ -57,9 +58,9 @@ def valid_name(name: str) -> bool:
     return _NAME14.fullmatch(name) is not None
 
 
-#: One float object per number text met lately (``"-1.5"`` -> -1.5): CAM programs repeat their coordinates
-#: (a raster's X values every row, its Y along a row) and the records keep the words' values, so sharing
-#: them saves a float object (24 bytes) per repeated word in ``simulate()``.  Bounded (512 numbers, some
+#: One float object per number text met lately in :func:`split_words` (``"-1.5"`` -> -1.5): CAM programs
+#: repeat their coordinates (a raster's X values every row, its Y along a row) and the records keep the words'
+#: values, so sharing them saves a float object (24 bytes) per repeated word.  Bounded (512 numbers, some
 #: 50 kB: emptied before a block whose words could fill it; a single block longer than 1 024 characters may
 #: hold more, its own words at most).
 _NUMBERS: dict[str, float] = {}
@@ -82,19 +83,28 @@ def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.findite
             for m in _finditer(text)]
 
 
-def split_plain(text: str, _new=tuple.__new__, _known=_NUMBERS.get, _put=_NUMBERS.setdefault) -> tuple:
+def split_plain(text: str) -> tuple:
     """:func:`split_words` (as a tuple: a block's items) of a run from column 1 whose words are each a
     letter, a sign right after it and a number, one blank apart (``parser.PLAIN_LINE``'s lines): the
     same :class:`Word` nodes, split at the blanks (no regular expression)."""
-    if len(_NUMBERS) + len(text) // 2 >= _NUMBERS_MAX:
-        _NUMBERS.clear()
+    return split_plain_lines((text,))[0]
+
+
+def split_plain_lines(lines: Iterable[str], _new=tuple.__new__, _word=Word) -> list:
+    """:func:`split_plain` of each of ``lines``, in one call (a run of plain lines).
+
+    Hot path (some six words a plain CAM block): a new float per word, not one from :data:`_NUMBERS` (a
+    dictionary look-up and insertion cost more than the float; ``simulate()`` keeps the coordinates of
+    plain moves as doubles in columns, so sharing their floats saves little)."""
     out = []
-    col = 1
-    for w in text.split(" "):
-        if w:   # "" after a blank at the end
-            out.append(_new(Word, (w[0], _known(key := w[1:]) or _put(key, float(key)), col, None)))
+    for text in lines:
+        words = []
+        col = 1
+        for w in text.split():   # PLAIN_LINE's blanks are single spaces, and perhaps one at the end
+            words.append(_new(_word, (w[0], float(w[1:]), col, None)))
             col += len(w) + 1
-    return tuple(out)
+        out.append(tuple(words))
+    return out
 
 
 def small_int(digits: str, limit: int = 4294967295) -> int | None:

@@ -15,13 +15,14 @@ import codecs
 import gc
 import re
 from collections.abc import Iterable, Iterator
+from itertools import count, islice, repeat
 from pathlib import Path
 from typing import Protocol, Union
 
 from ..diagnostics import Diagnostic, error
 from .ast import Block, Program, ProgramHeader
-from .builder import split_plain
-from .parser import PLAIN_LINE, LineParser
+from .builder import split_plain, split_plain_lines
+from .parser import PLAIN_LINE, PLAIN_RUN, LineParser
 from .structure import assemble
 
 # "#COMMENT BEGIN" may follow a block number, as on the N-numbered blocks of CAM posts (N10 #COMMENT BEGIN)
@@ -30,6 +31,7 @@ _COMMENT_END = re.compile(r"[ \t]*(?:/[ \t]*)?(?:N[0-9]+[ \t]*:?[ \t]*)?#COMMENT
 _BARE_NAME = re.compile(r"[ \t]*([A-Za-z0-9_][A-Za-z0-9_.]*)[ \t]*").fullmatch
 
 _parser: Union[LineParser, None] = None
+_new = tuple.__new__   # a Block made from its field values, as LineParser.parse makes it
 
 
 class Compat(Protocol):
@@ -117,6 +119,10 @@ def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
     return _capped(s.rstrip("\r\n") for s in source)
 
 
+#: Lines taken from the source at a time (:func:`iter_runs`); a run of plain lines is at most this long.
+CHUNK_LINES = 128
+
+
 def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None,
                *, structure_only: bool = False) -> Iterator[tuple]:
     """Parse a program line by line.
@@ -128,43 +134,129 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
     machine's ``[compat]`` policy, :mod:`fagorcnc.config.compat`) sets the
     severity of the CAM posts' constructs: program names, the bare name line,
     keywords not in capitals.  ``structure_only=True`` (the syntax check of a whole file before
-    it runs): the same nodes and diagnostics, except that plain blocks of literal words which
-    cannot end a subroutine carry no items (:meth:`~fagorcnc.syntax.parser.LineParser.parse`).
+    it runs): the same diagnostics, but plain blocks of literal words (which cannot end a subroutine)
+    carry no items (:meth:`~fagorcnc.syntax.parser.LineParser.parse`), and of a run of such blocks one
+    after the other only the last is yielded (:func:`iter_runs`).
     """
-    parse = line_parser().parse
-    plain, new, split = PLAIN_LINE, tuple.__new__, split_plain
-    comment_start = None  # (line, text) of an open #COMMENT BEGIN
-    first = True
-    for lineno, text in enumerate(_lines(source), 1):
-        if type(text) is _Overlong:
-            yield None, (error(file, lineno, MAX_LINE_LENGTH + 1, "SYN041",
-                               f"this line is {text.length} characters long, more than the {MAX_LINE_LENGTH} "
-                               "fagorcnc reads in a block: it is not read (reading goes on at the next line)",
-                               str(text)),)
-            continue
-        if "\x00" in text:   # no program text holds a NUL: a binary file, or UTF-16 without its mark
-            yield None, (error(file, lineno, text.index("\x00") + 1, "SYN023",
-                               "this is not a program text file (it holds NUL bytes: a binary file, or text "
-                               "saved as UTF-16 without a byte-order mark); nothing after this point is read", ""),)
-            return
-        if "#COMMENT" in text:
-            if comment_start is None and _COMMENT_BEGIN(text):
-                comment_start = (lineno, text)
-                continue
-            if _COMMENT_END(text):
-                if comment_start is None:
-                    yield None, (error(file, lineno, text.index("#") + 1, "SYN018",
-                                       "#COMMENT END without #COMMENT BEGIN", text),)
-                comment_start = None
-                continue
-        if comment_start is not None:
-            continue
-        if plain(text) is not None:   # LineParser.parse's first case, without a call per line
-            node, diags = new(Block, (lineno, text, False, None, None, () if structure_only else split(text))), ()
+    for item in iter_runs(source, file, compat, structure_only=structure_only):
+        if type(item) is list:
+            yield from zip(item, repeat(()))
         else:
-            node, diags = parse(text, lineno, file, structure_only)
-        if first and (node is not None or diags):
-            first = False
+            yield item
+
+
+def iter_runs(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None,
+              *, structure_only: bool = False) -> Iterator:
+    """:func:`iter_lines`' pairs, except that the blocks of a run of plain lines (:data:`PLAIN_LINE`'s, one
+    after the other, outside a ``#COMMENT`` range) come as one list of :class:`Block`, without diagnostics
+    (``structure_only``: a list of the run's last block only).
+
+    Speed: the source's lines are taken :data:`CHUNK_LINES` at a time (memory stays bounded) and, when a
+    chunk holds no NUL, no ``#COMMENT``, no overlong line and no open comment range, its runs of plain
+    lines are found by one :data:`~fagorcnc.syntax.parser.PLAIN_RUN` call each; every other line is read
+    as before, one by one (:meth:`_Reader.line`).  ``tests/test_plain_runs.py`` checks both ways.
+    """
+    reader = _Reader(file, compat, structure_only)
+    lines = _lines(source)
+    lineno = 1
+    while chunk := list(islice(lines, CHUNK_LINES)):
+        text = "\n".join(chunk) + "\n"
+        if (reader.comment_start is None and "\x00" not in text and "#COMMENT" not in text
+                and text.count("\n") == len(chunk) and _Overlong not in set(map(type, chunk))):
+            yield from reader.runs(chunk, text, lineno)
+        else:
+            for n, line in enumerate(chunk, lineno):
+                pair = reader.line(line, n)
+                if pair is not None:
+                    yield pair
+                if reader.stopped:
+                    return
+        lineno += len(chunk)
+    if reader.comment_start is not None:
+        line, text = reader.comment_start
+        yield None, (error(file, line, text.index("#") + 1, "SYN017",
+                           "#COMMENT BEGIN is never closed by #COMMENT END", text),)
+
+
+class _Reader:
+    """The state of one :func:`iter_runs`: an open ``#COMMENT BEGIN``, whether the first line that says
+    something is still to come (a bare program name), and a NUL met (nothing more is read)."""
+
+    def __init__(self, file: str, compat: Compat | None, structure_only: bool) -> None:
+        self.file, self.compat, self.structure_only = file, compat, structure_only
+        self.parse = line_parser()._parse_fast   # LineParser.parse of a line PLAIN_LINE does not take
+        self.comment_start: tuple | None = None   # (line, text) of an open #COMMENT BEGIN
+        self.first = True
+        self.stopped = False
+
+    def runs(self, chunk: list, text: str, lineno: int) -> Iterator:
+        """The items of a chunk of lines (``text``: the lines each ended by "\\n", starting at line
+        ``lineno``) that holds no NUL, ``#COMMENT`` or overlong line: its runs of plain lines as lists, each
+        other line as :meth:`parsed` reads it."""
+        pos = i = 0
+        n = len(chunk)
+        while i < n:
+            end = PLAIN_RUN(text, pos).end()
+            if end > pos:
+                k = text.count("\n", pos, end)
+                yield self.run(chunk, i, k, lineno + i)
+                self.first = False
+                i += k
+                pos = end
+                if i == n:
+                    return
+            line = chunk[i]
+            yield self.parsed(line, lineno + i)
+            pos += len(line) + 1
+            i += 1
+
+    def run(self, chunk: list, i: int, k: int, lineno: int) -> list:
+        """The blocks of the plain lines ``chunk[i:i + k]``, the first on line ``lineno``."""
+        if self.structure_only:
+            return [_new(Block, (lineno + k - 1, chunk[i + k - 1], False, None, None, ()))]
+        lines = chunk[i:i + k]
+        return list(map(_new, repeat(Block), zip(count(lineno), lines, repeat(False), repeat(None), repeat(None),
+                                                  split_plain_lines(lines))))
+
+    def line(self, text: str, lineno: int) -> tuple | None:
+        """The ``(node, diagnostics)`` of any line, or None for a line of a ``#COMMENT`` range (or its
+        ends); :attr:`stopped` once a NUL is met."""
+        file = self.file
+        if type(text) is _Overlong:
+            return None, (error(file, lineno, MAX_LINE_LENGTH + 1, "SYN041",
+                                f"this line is {text.length} characters long, more than the {MAX_LINE_LENGTH} "
+                                "fagorcnc reads in a block: it is not read (reading goes on at the next line)",
+                                str(text)),)
+        if "\x00" in text:   # no program text holds a NUL: a binary file, or UTF-16 without its mark
+            self.stopped = True
+            return None, (error(file, lineno, text.index("\x00") + 1, "SYN023",
+                                "this is not a program text file (it holds NUL bytes: a binary file, or text "
+                                "saved as UTF-16 without a byte-order mark); nothing after this point is read", ""),)
+        if "#COMMENT" in text:
+            if self.comment_start is None and _COMMENT_BEGIN(text):
+                self.comment_start = (lineno, text)
+                return None
+            if _COMMENT_END(text):
+                opened, self.comment_start = self.comment_start, None
+                if opened is None:
+                    return None, (error(file, lineno, text.index("#") + 1, "SYN018",
+                                        "#COMMENT END without #COMMENT BEGIN", text),)
+                return None
+        if self.comment_start is not None:
+            return None
+        if PLAIN_LINE(text) is not None:   # LineParser.parse's first case, without its call
+            self.first = False
+            return _new(Block, (lineno, text, False, None, None, () if self.structure_only else split_plain(text))), ()
+        return self.parsed(text, lineno)
+
+    def parsed(self, text: str, lineno: int) -> tuple:
+        """The ``(node, diagnostics)`` of a line outside a ``#COMMENT`` range, without NUL, not overlong, that
+        :data:`PLAIN_LINE` does not take: :meth:`LineParser.parse`'s, a bare program name on the first line
+        that says something, the diagnostics under the ``[compat]`` policy."""
+        file = self.file
+        node, diags = self.parse(text, lineno, file, self.structure_only)
+        if self.first and (node is not None or diags):
+            self.first = False
             bare = node is None or (type(node) is Block and any(getattr(i, "value", 0) is None for i in node.items))
             if bare and (m := _BARE_NAME(text)):
                 # CAM posts write the program name alone on the first line.
@@ -172,13 +264,9 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
                 diags = (Diagnostic(file, lineno, m.start(1) + 1, "STR011", "warning",
                                     f"first line '{m.group(1)}' taken as the program name: the manual's header is "
                                     f"%{m.group(1)} (seed 002 L842); CAM posts write the name alone", text),)
-        if diags and compat is not None:
-            diags = tuple(compat.adjust(d) for d in diags)
-        yield node, diags
-    if comment_start is not None:
-        line, text = comment_start
-        yield None, (error(file, line, text.index("#") + 1, "SYN017",
-                           "#COMMENT BEGIN is never closed by #COMMENT END", text),)
+        if diags and self.compat is not None:
+            diags = tuple(self.compat.adjust(d) for d in diags)
+        return node, diags
 
 
 def parse_text(text: str, file: str = "<string>", compat: Compat | None = None) -> Program:

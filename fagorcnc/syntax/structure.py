@@ -90,6 +90,11 @@ class RoutineBuilder:
         if items and type(items[-1]) is Flow:  # a $ instruction is the block's last item
             self._flow(block, index, items[-1])
 
+    def add_run(self, blocks: list) -> None:
+        """:meth:`add` of each of ``blocks``, plain blocks of literal words (no jump target, no ``$``
+        instruction: nothing to note but the block), all at once."""
+        self.blocks.extend(blocks)
+
     def _line(self, index: int) -> int:
         # kept apart from the blocks: a whole-file syntax check drops every block once read
         return self._target_lines.get(index, 0)
