@@ -269,7 +269,7 @@ def test_maxfeed_clamps_a_plain_line(monkeypatch):
     # F9000 over MAXFEED 5000: the record's feed is 5000 mm/min, 1 mm in 0.012 s (1 / 5000 * 60)
     monkeypatch.setattr(Interpreter, "plain_blocks", True)
     r = fagorcnc.simulate("%F\nG90 G0 X0 Y0 Z0\nG1 X1 F9000\nM30\n", FEED_MACHINE)
-    line = [m for m in r.moves if m.kind == "linear"][0]
+    line = next(m for m in r.moves if m.kind == "linear")
     assert line.feed == 5000.0
     assert _plain_share("%F\nG90 G0 X0 Y0 Z0\nG1 X1 F9000\nM30\n", FEED_MACHINE, monkeypatch) > 0.5
 
