@@ -243,6 +243,37 @@ def test_arc_errors_same_both_ways(program, monkeypatch):
     _same("%ERR\nG90 G0 X0 Y0 Z0\nG2 X10 Y0 I5 J0\nM30\n", monkeypatch)   # INT060 no feed on an arc
 
 
+# Feeds of plain lines: the fast path's G94 feed (F itself, clamped to MAXFEED) and its F words (a
+# positive F in mm/min or mm/rev, inch F) against the general _feed and _active_feed; the others (G93 F,
+# F0, G95, DEFAULTFEED) go through the general functions from the fast path.
+FEEDS = {
+    "G94": "G1 X1 F100\nX2 F250.5\nY3\n",
+    "MAXFEED clamp": "G1 X1 F100\nX2 F9000\nY3\nX4 F50\n",
+    "inch F": "G70\nG1 X1 F10\nY1\nG71\nX2 F10\n",
+    "G93": "G93\nG1 X1 F2\nY3 F0.5\nG94\nX4 F300\n",
+    "G95": "S1000 M3\nG95\nG1 X1 F0.1\nY2\nG94\nX3 F200\n",
+    "F0": "G1 X1 F100\nX2 F0\nY3\n",
+    "DEFAULTFEED": "G0 X1\nG1 X2\nY3 F100\n",
+}
+FEED_MACHINE = {**MACHINE, "max_feed": 5000.0, "defaults": {"DEFAULTFEED": 1}}
+
+
+@pytest.mark.parametrize("name", sorted(FEEDS))
+def test_feeds_same_both_ways(name, monkeypatch):
+    program = "%FEED\nG90 G0 X0 Y0 Z0\n" + FEEDS[name] + "M30\n"
+    _same(program, monkeypatch, FEED_MACHINE)
+    _same(program, monkeypatch, MACHINE)   # without MAXFEED (and DEFAULTFEED: INT060 where no F is active)
+
+
+def test_maxfeed_clamps_a_plain_line(monkeypatch):
+    # F9000 over MAXFEED 5000: the record's feed is 5000 mm/min, 1 mm in 0.012 s (1 / 5000 * 60)
+    monkeypatch.setattr(Interpreter, "plain_blocks", True)
+    r = fagorcnc.simulate("%F\nG90 G0 X0 Y0 Z0\nG1 X1 F9000\nM30\n", FEED_MACHINE)
+    line = next(m for m in r.moves if m.kind == "linear")
+    assert line.feed == 5000.0
+    assert _plain_share("%F\nG90 G0 X0 Y0 Z0\nG1 X1 F9000\nM30\n", FEED_MACHINE, monkeypatch) > 0.5
+
+
 _axis = st.sampled_from(["X", "Y", "Z", "I", "J", "K", "R", "F", "N", "G", "A", "B", "S", "M", "Q"])
 _value = st.sampled_from(["0", "1", "2", "3", "-1", "0.5", "-2.25", "90", "91", "17", "18", "10", "1.5",
                           "100", "500", "-0.001", "3.0000", "01", "090"])

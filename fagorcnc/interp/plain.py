@@ -31,7 +31,7 @@ from ..syntax.ast import Block, Word
 from . import compat
 from .expressions import InterpError
 from .gvars import arc_data
-from .records import Arc, Line, Source, feed_mode, shared_tuple
+from .records import _FEED_MODES, _JOINS, Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
 
@@ -68,7 +68,7 @@ def _roles(by_name: dict, configured) -> dict:
 class PlainBlocks:
     """Runs plain blocks for an :class:`~fagorcnc.interp.interpreter.Interpreter` (see the module)."""
 
-    __slots__ = ("_diameter", "_linear", "_names", "_roles", "interp", "iso", "seconds", "state")
+    __slots__ = ("_diameter", "_linear", "_max_feed", "_names", "_roles", "interp", "iso", "seconds", "state")
 
     def __init__(self, interp) -> None:
         self.interp = interp
@@ -79,6 +79,7 @@ class PlainBlocks:
         axes = interp.state.machine.axes   # the machine's configuration does not change during a run
         self._linear = frozenset(a for a, ax in axes.items() if not ax.rotary)
         self._diameter = frozenset(a for a, ax in axes.items() if ax.diameter)
+        self._max_feed = interp.machine.max_feed   # MAXFEED (_active_feed's clamp)
         #: record_time() of the last record :meth:`run` made, when it worked it out on the way (a G01), else None
         self.seconds: float | None = None
 
@@ -160,7 +161,12 @@ class PlainBlocks:
         if st.block_modes:
             st.block_modes = {}
         if feed is not None:
-            iso._feed(*feed)
+            value = feed[0]
+            if value > 0 and modes["feed"] != 93:   # IsoExecutor._feed() of a positive F in mm/min or mm/rev
+                st.feed_programmed = value
+                st.feed = value * INCH if modes["units"] == 70 else value
+            else:
+                iso._feed(*feed)
         mode = modes["motion"]
         src = _source(file=interp.frames[-1].program.file, line=block.line, text=block.text)   # interp._src(block)
         if mode < 2:
@@ -231,21 +237,33 @@ class PlainBlocks:
                 break
         st.machine_pos = dict(end)   # moved_to()
         st._last_end = end
-        if a is not None and o is not None:
-            st.tangent = arcs.end_tangent((cur_part[a], cur_part[o]), (end_part[a], end_part[o]), None, True) \
-                or st.tangent
+        if a is not None and o is not None:   # arcs.end_tangent() of a line, inline
+            sa, so, ea, eo = cur_part[a], cur_part[o], end_part[a], end_part[o]
+            d = math.dist((sa, so), (ea, eo))
+            if not d < 1e-12:
+                st.tangent = ((ea - sa) / d, (eo - so) / d)
         if mode == 0:   # _compensation() is None, _joins(None) the modal pair
             return _line_record(kind="rapid", start=start, end=end, end_part=end_part, feed=None, feed_mode="G94",
                                 src=src, comp=None, dyn=st.dynamics(),
                                 joins=shared_tuple((modes["transition"], modes["comp_start"])))
-        length = math.sqrt(sum((end[x] - start[x]) ** 2 for x in end))
-        feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
-        css = iso._css() if modes["feed"] == 95 else None   # _css() is None outside G95
+        length = math.sqrt(sum([(end[x] - start[x]) ** 2 for x in end]))   # a list: the same sum, in order
+        mode_f = modes["feed"]
+        feed = st.feed
+        if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself, at most MAXFEED
+            max_feed = self._max_feed
+            if max_feed > 0:
+                feed = min(feed, max_feed)
+        else:
+            feed = iso._active_feed(length, start)   # INT060 before anything else is asked, as in _motion
+        css = iso._css() if mode_f == 95 else None   # _css() is None outside G95
         if css is None:   # record_time() of the record: the same length (Line.length), the same division
             self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
+        dyn = st._dynamics   # st.dynamics(): no per-block modes under _simple()
         return _line_record(kind="linear", start=start, end=end, end_part=end_part, feed=feed,
-                            feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
-                            joins=shared_tuple((modes["transition"], modes["comp_start"])), css=css)
+                            feed_mode=_FEED_MODES.get(mode_f) or feed_mode(mode_f), src=src, comp=None,
+                            dyn=dyn if dyn is not None else st.dynamics(),
+                            joins=_JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins),
+                            css=css)
 
     # ------------------------------------------------------------ G02/G03 in the simplest state
     def _arc(self, mode: int, words: dict, params: dict, src: Source):
