@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
+from itertools import pairwise
 
 import numpy as np
 
@@ -144,7 +145,7 @@ class ArcPiece(Piece):
     ``theta = theta0 + w s``, radius ``rho = r0 + dr s``, other axes linear.
     """
 
-    __slots__ = ("_bounded", "_ends", "center", "dr", "ia", "io", "length", "lin", "r0", "theta0", "w")
+    __slots__ = ("_bounded", "_ends", "_lin", "center", "dr", "ia", "io", "length", "lin", "r0", "theta0", "w")
 
     curved = True
 
@@ -182,6 +183,9 @@ class ArcPiece(Piece):
         self.w = sweep / length
         lin = [x / length for x in other]
         self.lin = np.array(lin)
+        # what every part and trim of the arc (which share its ``lin``) asks of it: its floats, their
+        # magnitudes (the other axes' d1) and the sum of their squares (in speed_factor's order)
+        self._lin = (lin, [abs(x) for x in lin], sum(x * x for x in lin))
         self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
         self._bounded = None
 
@@ -193,13 +197,13 @@ class ArcPiece(Piece):
         """The bounds ``d1, d2, d3`` as lists of floats, made on first use."""
         if self._bounded is not None:
             return self._bounded
-        r0, (r1, sweep), lin = self.r0, self._ends, self.lin.tolist()
+        r0, (r1, sweep), (_, lin_abs, _) = self.r0, self._ends, self._lin
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
         rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
         ia, io = self.ia, self.io
-        d1 = [abs(x) for x in lin]
-        d2 = [0.0] * len(lin)
-        d3 = [0.0] * len(lin)
+        d1 = list(lin_abs)
+        d2 = [0.0] * len(d1)
+        d3 = [0.0] * len(d1)
         # q_a = rho cos(th): q' = dr cos - rho w sin; q'' = -2 dr w sin - rho w² cos;
         # q''' = -3 dr w² cos + rho w³ sin
         d1[ia] = dr * mc + rmax * w * ms
@@ -272,15 +276,33 @@ class ArcPiece(Piece):
 
     def speed_factor(self) -> float:
         rmax = max(self.r0, self.r0 + self.dr * self.length)
-        return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + sum(x * x for x in self.lin.tolist()))
+        return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + self._lin[2])
+
+    def pieces(self, cuts: list[float]) -> list[ArcPiece]:
+        """``[sub(cuts[i], cuts[i + 1]) ...]`` for the increasing ``cuts``: the same pieces, with the
+        point at a cut inside the arc computed once for the two pieces that meet there (a long arc
+        is planned in parts)."""
+        length = self.length
+        out = []
+        shared = None   # point(s0) when the piece before made it as its end
+        for s0, s1 in pairwise(cuts):
+            start = self.start if s0 == 0.0 else shared if shared is not None else self.point(s0)
+            end = shared = None if s1 == length else self.point(s1)
+            out.append(self._between(s0, s1, start, self.end if end is None else end))
+        return out
 
     def sub(self, s0: float, s1: float) -> ArcPiece:
         # the same curve over [s0, s1] with the same parameter (angle and radius linear in it): only
         # the ends, the start angle and radius move; an end that stays keeps its point
+        return self._between(s0, s1, self.start if s0 == 0.0 else self.point(s0),
+                             self.end if s1 == self.length else self.point(s1))
+
+    def _between(self, s0: float, s1: float, start: np.ndarray, end: np.ndarray) -> ArcPiece:
+        """:meth:`sub` with its end points (``point(s0)``, ``point(s1)`` or the arc's own ends)."""
         out = ArcPiece.__new__(ArcPiece)
         out.ia, out.io, out.center, out.w, out.dr, out.lin = self.ia, self.io, self.center, self.w, self.dr, self.lin
-        out.start = self.start if s0 == 0.0 else self.point(s0)
-        out.end = self.end if s1 == self.length else self.point(s1)
+        out._lin = self._lin
+        out.start, out.end = start, end
         out.theta0 = self.theta0 + self.w * s0
         out.r0 = r0 = self.r0 + self.dr * s0
         out.length = length = s1 - s0

@@ -182,9 +182,7 @@ class Planner(CornerMixin):
                     yield span
                     continue
                 # long arcs in parts: each part picks its own cap (more tangential budget where slow)
-                cuts = [span.length * i / parts for i in range(parts + 1)]
-                for i in range(parts):
-                    yield span.part(cuts[i], cuts[i + 1], later=True)
+                yield from span.parts([span.length * i / parts for i in range(parts + 1)])
             elif kind == "dwell":
                 yield Event(rec, rec.seconds)
             elif kind == "aux":

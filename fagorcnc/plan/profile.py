@@ -188,6 +188,10 @@ def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> b
 RUNG_MARGIN = 1.0 + 1e-9
 
 
+#: ruckig's results of a request it solved.
+_SOLVED = (Result.Working, Result.Finished)
+
+
 class Solver:
     """A reusable ruckig 1-DOF solver."""
 
@@ -236,7 +240,7 @@ class Solver:
             result = self.otg.calculate(inp, self.traj)
         except (RuckigError, RuntimeError):
             return math.inf
-        if result not in (Result.Working, Result.Finished):
+        if result not in _SOLVED:
             return math.inf
         return self.traj.duration
 
@@ -287,7 +291,7 @@ class Solver:
                 result = self.otg.calculate(inp, self.traj)
             except (RuckigError, RuntimeError):
                 continue
-            if result in (Result.Working, Result.Finished):
+            if result in _SOLVED:
                 return self.traj.duration, (self.profile() if keep else None)
         raise ProfileError(f"no profile for a {length:.6g} mm span from rest to rest")
 

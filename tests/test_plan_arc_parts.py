@@ -1,0 +1,114 @@
+"""An arc's parts made at once (ArcPiece.pieces, Span.parts) and its bounds from the data its parts
+share: exactly what the one-by-one forms (ArcPiece.sub, Span.part) and the arrays give."""
+
+from __future__ import annotations
+
+import math
+from itertools import pairwise
+
+import numpy as np
+import pytest
+
+import fagorcnc
+from fagorcnc.plan import Planner
+from fagorcnc.plan.geometry import ArcPiece
+from fagorcnc.plan.span import Span
+
+#: (start, end, centre, sweep): a plane arc, a helix, a spiral (radii differ), a clockwise 3/4 turn.
+ARCS = [
+    ((10.0, 0.0, 0.0), (0.0, 10.0, 0.0), (0.0, 0.0), math.pi / 2),
+    ((10.0, 0.0, 0.0), (0.0, 10.0, 3.0), (0.0, 0.0), math.pi / 2),
+    ((10.0, 0.0, -1.0), (0.0, 10.05, 2.5), (0.0, 0.0), math.pi / 2),
+    ((5.0, 0.0, 0.0), (0.0, -5.0, -0.7), (0.0, 0.0), -1.5 * math.pi),
+]
+
+
+def arc(case: tuple) -> ArcPiece:
+    start, end, centre, sweep = case
+    return ArcPiece(np.array(start), np.array(end), 0, 1, centre, sweep)
+
+
+def same_piece(a: ArcPiece, b: ArcPiece) -> None:
+    """Every number of the two pieces identical (their points, parameter, bounds, speed factor)."""
+    assert a.start.tolist() == b.start.tolist() and a.end.tolist() == b.end.tolist()
+    assert (a.theta0, a.r0, a.length, a._ends, a.w, a.dr) == (b.theta0, b.r0, b.length, b._ends, b.w, b.dr)
+    assert a.bound_lists() == b.bound_lists()
+    assert a.speed_factor() == b.speed_factor()
+
+
+def cut_lists(length: float) -> list[list[float]]:
+    """The planner's even cuts (whose last is length * n / n, not always length itself), and
+    cuts with ends inside and at the arc's ends."""
+    even = [[length * i / n for i in range(n + 1)] for n in (1, 2, 3, 7, 10)]
+    return [*even, [0.0, 0.3 * length, length], [0.1 * length, 0.5 * length, 0.9 * length],
+            [0.0, 0.0, 0.4 * length, length, length]]
+
+
+@pytest.mark.parametrize("case", ARCS)
+def test_pieces_are_the_subs_between_the_cuts(case):
+    whole = arc(case)
+    for cuts in cut_lists(whole.length):
+        made = whole.pieces(cuts)
+        assert len(made) == len(cuts) - 1
+        for piece, (s0, s1) in zip(made, pairwise(cuts), strict=True):
+            same_piece(piece, whole.sub(s0, s1))
+            # the arc's own end points where a cut is at one of its ends, as sub keeps them
+            assert (piece.start is whole.start) == (s0 == 0.0)
+            assert (piece.end is whole.end) == (s1 == whole.length)
+
+
+def test_pieces_share_the_point_at_a_cut_inside_the_arc():
+    whole = arc(ARCS[1])
+    made = whole.pieces([whole.length * i / 4 for i in range(5)])
+    for a, b in pairwise(made):
+        assert a.end is b.start
+
+
+@pytest.mark.parametrize("case", ARCS)
+def test_bounds_and_speed_factor_from_the_shared_data_are_those_of_the_arrays(case):
+    """bound_lists and speed_factor read the floats the arc and its parts share (``_lin``): the
+    numbers the arc's ``lin`` array gives, for the arc, its subs and their subs."""
+    whole = arc(case)
+    for piece in (whole, whole.sub(0.25 * whole.length, whole.length),
+                  whole.sub(0.1, whole.length - 0.2).sub(0.3, 1.5)):
+        lin = piece.lin.tolist()
+        assert piece._lin == (lin, [abs(x) for x in lin], sum(x * x for x in lin))
+        d1 = piece.bound_lists()[0]
+        assert [d1[i] for i in range(len(lin)) if i not in (piece.ia, piece.io)] == \
+            [abs(x) for i, x in enumerate(lin) if i not in (piece.ia, piece.io)]
+        rmax = max(piece.r0, piece.r0 + piece.dr * piece.length)
+        assert piece.speed_factor() == math.sqrt((piece.dr ** 2 + (rmax * piece.w) ** 2) +
+                                                 sum(x * x for x in lin))
+
+
+@pytest.mark.parametrize("case", ARCS)
+def test_span_parts_settle_to_the_limits_of_the_parts_one_by_one(case):
+    planner = Planner(fagorcnc.load_machine(None))
+    lim = planner._axis_limits(None, False)
+    span = Span(arc(case), None, 80.0, lim, False, None, 0.0, 0.0, later=True)
+    cuts = [span.length * i / 3 for i in range(4)]
+    parts = span.parts(cuts)
+    singles = [span.part(s0, s1, later=True) for s0, s1 in pairwise(cuts)]
+    for got, want in zip(parts, singles, strict=True):
+        assert got.stale and want.stale and got.length == want.length
+        got.settle()
+        want.settle()
+        assert (got.vc, got.acc, got.jerk, got.feed, got.lim) == (want.vc, want.acc, want.jerk, want.feed, want.lim)
+        same_piece(got.piece, want.piece)
+
+
+def test_a_long_arc_is_planned_in_the_parts_of_its_cuts():
+    """The planner's long arc: as many parts as 30 degree steps, the same segments as parts made one by
+    one would give (the parts are the subs of the cuts, above), from the arc's start to its end."""
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    program = ["G90 G1 X10 Y0 Z0 F2000", "G3 X-10 Y0 I-10 J0", "G2 X10 Y0 Z1 I10 J0 F1500", "M30"]
+    records = list(Run(program, "arc.nc", machine))
+    segments = [s for s in Planner(machine).segments(records) if s.kind == "motion"]
+    arcs = [s for s in segments if s.piece.curved]
+    assert len(arcs) == 12   # two half turns, six 30 degree parts each
+    for a, b in pairwise(arcs[:6]):
+        assert a.piece.end is b.piece.start and a.t0 + a.duration == pytest.approx(b.t0)
+    assert arcs[0].piece.start.tolist() == [10.0, 0.0, 0.0]
+    assert arcs[5].piece.end.tolist() == pytest.approx([-10.0, 0.0, 0.0], abs=1e-12)
