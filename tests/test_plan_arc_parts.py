@@ -112,3 +112,61 @@ def test_a_long_arc_is_planned_in_the_parts_of_its_cuts():
         assert a.piece.end is b.piece.start and a.t0 + a.duration == pytest.approx(b.t0)
     assert arcs[0].piece.start.tolist() == [10.0, 0.0, 0.0]
     assert arcs[5].piece.end.tolist() == pytest.approx([-10.0, 0.0, 0.0], abs=1e-12)
+
+
+def reference_bounds(piece: ArcPiece) -> tuple[list[float], list[float], list[float]]:
+    """An arc's derivative bounds written out as the formulas read (q_a = rho cos th, q_o = rho sin th)."""
+    from fagorcnc.plan.geometry import _range_max
+
+    r1, sweep = piece._ends
+    ms, mc = _range_max(piece.theta0, piece.theta0 + sweep)
+    rmax, dr, w = max(piece.r0, r1), abs(piece.dr), abs(piece.w)
+    d1 = [abs(x) for x in piece.lin.tolist()]
+    d2, d3 = [0.0] * len(d1), [0.0] * len(d1)
+    ia, io = piece.ia, piece.io
+    d1[ia] = dr * mc + rmax * w * ms
+    d1[io] = dr * ms + rmax * w * mc
+    d2[ia] = 2 * dr * w * ms + rmax * w * w * mc
+    d2[io] = 2 * dr * w * mc + rmax * w * w * ms
+    d3[ia] = 3 * dr * w * w * mc + rmax * w ** 3 * ms
+    d3[io] = 3 * dr * w * w * ms + rmax * w ** 3 * mc
+    return d1, d2, d3
+
+
+@pytest.mark.parametrize("case", ARCS)
+def test_bound_lists_are_the_formulas_to_the_last_bit(case):
+    whole = arc(case)
+    rng = np.random.default_rng(27)
+    for s0, s1 in [(0.0, whole.length), *np.sort(rng.uniform(0.0, whole.length, (20, 2)), axis=1).tolist()]:
+        piece = whole.sub(s0, s1)
+        assert piece.bound_lists() == reference_bounds(piece)
+
+
+def test_the_solver_sets_again_only_what_ruckig_does_not_hold():
+    """Solver._hold leaves a speed or length ruckig already holds: a solver asked many requests in turn
+    (repeats, the same value as another float object, 0.0 after -0.0) answers each as a fresh solver."""
+    from fagorcnc.plan.profile import Solver
+
+    rng = np.random.default_rng(5)
+    shared = Solver()
+    requests = []
+    for _ in range(300):
+        v0, v1 = (float(x) if rng.random() < 0.6 else 0.0 for x in rng.uniform(0.0, 80.0, 2))
+        requests.append((float(rng.uniform(0.5, 30.0)), v0, v1))
+        if rng.random() < 0.3:
+            requests.append(requests[-1])                                   # the same request again
+        if rng.random() < 0.2:
+            length, v0, v1 = requests[-1]
+            # equal speeds that are other objects, and -0.0 for 0.0
+            requests.append((length, float(str(v0)), -0.0 if v1 == 0.0 else float(str(v1))))
+    for length, v0, v1 in requests:
+        got = shared.duration(length, v0, v1, 90.0, 1000.0, 20000.0)
+        assert got == Solver().duration(length, v0, v1, 90.0, 1000.0, 20000.0)
+        if got < math.inf:   # ruckig was asked (a request too short is answered before): it holds this one
+            held = (*shared.inp.current_velocity, *shared.inp.target_position, *shared.inp.target_velocity)
+            assert [(x, math.copysign(1.0, x)) for x in held] == [(x, math.copysign(1.0, x)) for x in (v0, length, v1)]
+    span = Span.__new__(Span)
+    span.length, span.vc, span.acc, span.jerk = 12.5, 60.0, 800.0, 15000.0
+    fresh = Solver().rest_to_rest(span, False)
+    shared.duration(12.5, 30.0, 0.0, 60.0, 800.0, 15000.0)
+    assert shared.rest_to_rest(span, False) == fresh == shared.rest_to_rest(span, False)

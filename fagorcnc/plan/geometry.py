@@ -206,12 +206,16 @@ class ArcPiece(Piece):
         d3 = [0.0] * len(d1)
         # q_a = rho cos(th): q' = dr cos - rho w sin; q'' = -2 dr w sin - rho w² cos;
         # q''' = -3 dr w² cos + rho w³ sin
-        d1[ia] = dr * mc + rmax * w * ms
-        d1[io] = dr * ms + rmax * w * mc
-        d2[ia] = 2 * dr * w * ms + rmax * w * w * mc
-        d2[io] = 2 * dr * w * mc + rmax * w * w * ms
-        d3[ia] = 3 * dr * w * w * mc + rmax * w ** 3 * ms
-        d3[io] = 3 * dr * w * w * ms + rmax * w ** 3 * mc
+        # the products each pair shares made once: Python multiplies left to right, so ``rmax * w * ms``
+        # is ``(rmax * w) * ms`` (the same numbers)
+        rw, dw2 = rmax * w, 2 * dr * w
+        rww, dww3, rw3 = rw * w, 3 * dr * w * w, rmax * w ** 3
+        d1[ia] = dr * mc + rw * ms
+        d1[io] = dr * ms + rw * mc
+        d2[ia] = dw2 * ms + rww * mc
+        d2[io] = dw2 * mc + rww * ms
+        d3[ia] = dww3 * mc + rw3 * ms
+        d3[io] = dww3 * ms + rw3 * mc
         self._bounded = bounds = (d1, d2, d3)
         return bounds
 
