@@ -74,10 +74,29 @@ class Piece(ABC):
         return 1.0
 
 
+#: The slot ``d1`` of :class:`Piece` itself (a line makes its own on first use, see :attr:`LinePiece.d1`).
+_D1_SLOT = Piece.__dict__["d1"]
+
+
 class LinePiece(Piece):
     """A straight segment."""
 
     __slots__ = ("length", "u", "ul")
+
+    @property
+    def d1(self) -> np.ndarray:
+        """Per-axis max ``|q'|``: ``|u|``, made on first use (a line's own limits run over ``ul``:
+        most lines are never asked for it)."""
+        try:
+            return _D1_SLOT.__get__(self)
+        except AttributeError:
+            d1 = np.abs(self.u)
+            _D1_SLOT.__set__(self, d1)
+            return d1
+
+    @d1.setter
+    def d1(self, value: np.ndarray) -> None:
+        _D1_SLOT.__set__(self, value)
 
     def __init__(self, start: np.ndarray, end: np.ndarray) -> None:
         self.start, self.end = start, end
@@ -85,7 +104,6 @@ class LinePiece(Piece):
         self.length = length = math.hypot(*delta.tolist())
         self.u = delta / length if length > 0 else delta * 0.0
         self.ul = self.u.tolist()   # the direction as floats, for the per-corner tests
-        self.d1 = np.abs(self.u)
         self.d2 = self.d3 = _zeros(len(delta))
 
     def derivatives(self, s):
@@ -113,7 +131,7 @@ class LinePiece(Piece):
             out.start = self.start if s0 == 0.0 else self.start + s0 * self.u
         out.end = self.end if s1 == self.length else self.start + s1 * self.u
         out.length = s1 - s0
-        out.u, out.ul, out.d1, out.d2, out.d3 = self.u, self.ul, self.d1, self.d2, self.d3
+        out.u, out.ul, out.d2, out.d3 = self.u, self.ul, self.d2, self.d3   # d1: |u| when asked
         return out
 
 

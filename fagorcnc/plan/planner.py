@@ -134,7 +134,7 @@ class Planner(CornerMixin):
         dyn = rec.dyn
         rapid = rec.rapid   # G00, or an arc inserted before one (no feed: run at rapid, seed 002 L8460)
         if rapid:   # the channel's rapid is a linear speed: a move of rotary axes alone is not held to it
-            linear = self.machine.rapid_feed > 0 and (piece.curved or any(piece.ul[i] for i in self._linear))
+            linear = self.machine.rapid_feed > 0 and (piece.curved or any(map(piece.ul.__getitem__, self._linear)))
             feed = self.machine.rapid_feed / 60.0 if linear else math.inf
             override = min(cfg.rapid_override, 100.0)
             if override <= 0:   # seed 002 L20355: the 0 % position always holds the axes, G00 included
@@ -154,9 +154,11 @@ class Planner(CornerMixin):
         # the program's V.G.MAXACCEL/MAXJERK replace the machine parameters until M30/reset (seed 002 L36469)
         path = dyn.path_limits if dyn is not None and dyn.path_limits is not None else \
             (cfg.max_path_acceleration, cfg.max_path_jerk)
+        last = self._last_limits   # the limits of the block before when it asked the same (inline: every block)
+        lim = last[2] if dyn is last[0] and rapid is last[1] else self._axis_limits(dyn, rapid)
         if not piece.curved:
-            return Span.of_line(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1])
-        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1], False, True)
+            return Span.of_line(piece, rec, feed, lim, rapid, dyn, path[0], path[1])
+        return Span(piece, rec, feed, lim, rapid, dyn, path[0], path[1], False, True)
 
     def _rapid_speed(self, piece: Piece, rec) -> float:
         """Path speed (mm/s) of a rapid at which its fastest axis reaches its max_velocity: on a line

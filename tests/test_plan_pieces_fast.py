@@ -1,5 +1,7 @@
-"""An arc's parts made at once (ArcPiece.pieces, Span.parts) and its bounds from the data its parts
-share: exactly what the one-by-one forms (ArcPiece.sub, Span.part) and the arrays give."""
+"""The planner's pieces made with less work give exactly what the general forms give: an arc's parts
+made at once (ArcPiece.pieces, Span.parts) and its bounds from the data its parts share, as the
+one-by-one forms (ArcPiece.sub, Span.part) and the arrays; a line's d1 made on first use; the
+solver's requests as a fresh solver answers them; the planner's limits of a block as it asks them."""
 
 from __future__ import annotations
 
@@ -170,3 +172,38 @@ def test_the_solver_sets_again_only_what_ruckig_does_not_hold():
     fresh = Solver().rest_to_rest(span, False)
     shared.duration(12.5, 30.0, 0.0, 60.0, 800.0, 15000.0)
     assert shared.rest_to_rest(span, False) == fresh == shared.rest_to_rest(span, False)
+
+
+def test_a_lines_d1_made_when_asked_is_the_magnitude_of_its_direction():
+    from fagorcnc.plan.geometry import LinePiece
+
+    line = LinePiece(np.array([1.0, -2.0, 0.5]), np.array([-3.0, 4.0, 0.5]))
+    part = line.sub(0.5, 2.0)
+    for piece in (part, line, line.sub(0.0, line.length).sub(1.0, 3.0)):
+        assert piece.d1.tolist() == np.abs(piece.u).tolist() == [abs(x) for x in piece.ul]
+        assert piece.d1 is piece.d1   # made once
+    part.d1 = np.array([0.25, 0.5, 0.0])   # set as any piece's bounds (corner curves narrow theirs)
+    assert part.d1.tolist() == [0.25, 0.5, 0.0] and line.d1.tolist() == np.abs(line.u).tolist()
+    span = Span(LinePiece(np.zeros(3), np.array([3.0, 4.0, 0.0])), None, 50.0, lim(), False, None)
+    assert (span.vc, span.acc, span.jerk) == (50.0, 1000.0 / 0.8, 20000.0 / 0.8)   # refresh reads d1
+
+
+def lim():
+    return Planner(fagorcnc.load_machine(None))._axis_limits(None, False)
+
+
+def test_the_planner_takes_the_limits_of_each_block_as_it_asks_them():
+    """_span reuses the limits of the block before when it has the same dynamics and rapid flag: every
+    span has the limits _axis_limits gives for its own block (rapids and feeds, two dynamics)."""
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    program = ["G90 G1 X10 Y0 F2000", "G0 X20 Y5", "G1 X30", "G05", "G1 X40", "G0 X0", "G1 Y10",
+               "G0 Y0", "M30"]
+    planner = Planner(machine)
+    spans = [s for s in planner._spans(Run(program, "limits.nc", machine)) if isinstance(s, Span)]
+    assert len(spans) == 7 and len({id(s.dyn) for s in spans}) == 2
+    fresh = Planner(machine)
+    for span in spans:
+        assert span.lim is planner._axis_limits(span.dyn, span.rapid)
+        assert span.lim == fresh._axis_limits(span.dyn, span.rapid)
