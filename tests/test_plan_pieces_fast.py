@@ -207,3 +207,41 @@ def test_the_planner_takes_the_limits_of_each_block_as_it_asks_them():
     for span in spans:
         assert span.lim is planner._axis_limits(span.dyn, span.rapid)
         assert span.lim == fresh._axis_limits(span.dyn, span.rapid)
+
+
+class FailingFirst:
+    """A solver whose time() refuses the first request for each end speed in ``refuse`` (as ruckig
+    may at an edge of its profile types), recording every request; the rest go to the real solver."""
+
+    def __init__(self, solver, refuse: int) -> None:
+        self.solver, self.refuse, self.asked = solver, refuse, []
+
+    def __getattr__(self, name):
+        return getattr(self.solver, name)
+
+    def time(self, span, v0, v1, keep):
+        from fagorcnc.plan.profile import ProfileError
+
+        self.asked.append(v1)
+        if len(self.asked) <= self.refuse:
+            raise ProfileError("refused")
+        return self.solver.time(span, v0, v1, keep)
+
+
+@pytest.mark.parametrize("refuse", [1, 2])
+def test_a_curve_refused_by_ruckig_goes_on_with_the_lower_end_speeds_in_turn(refuse):
+    """_commit times a group of curves with solver.time at its end speed, then (refused) with _time's
+    next end speeds in turn: v1, v1 (1 - 1e-9), v1 (1 - 1e-6), ... each asked once, as _time alone asks."""
+    from fagorcnc.plan.planner import SHRINKS
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    program = ["G90 G1 X10 Y0 F2000", "G3 X0 Y10 I-10 J0", "M30"]
+    planner = Planner(machine)
+    planner.solver = FailingFirst(planner.solver, refuse)
+    segments = [s for s in planner.segments(list(Run(program, "arc.nc", machine))) if s.kind == "motion"]
+    asked = planner.solver.asked
+    v1 = asked[0]
+    assert asked[:refuse + 1] == [v1 * (1.0 - shrink) for shrink in SHRINKS[:refuse + 1]]
+    first_part = next(s for s in segments if s.piece.curved)
+    assert first_part.v1 == v1 * (1.0 - SHRINKS[refuse]) and first_part.v1 < v1

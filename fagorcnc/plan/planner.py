@@ -49,6 +49,8 @@ GROUP_MEMBERS = 64
 #: alternates the two (a dry run is 11 to 22 % faster); the records read ahead are a few
 #: milliseconds of interpretation, and the look-ahead window holds far more than that anyway.
 READ_AHEAD = 1024
+#: The end speed's reductions (relative) a span is timed with in turn until ruckig has a profile.
+SHRINKS = (0.0, 1e-9, 1e-6, 1e-4, 1e-2)
 
 
 class Planner(CornerMixin):
@@ -297,16 +299,20 @@ class Planner(CornerMixin):
                     v1 = nxt
             members = g.members
             keep = self.keep or len(members) > 1
-            profile = None
             if not g.curves and g.length >= MICRO:   # lines: their single cap, without _time's general steps
+                first = 0
                 try:
                     duration, profile = solver.line(g, v, v1, keep)
                 except ProfileError:
                     duration = None
-            else:
-                duration = None
+            else:   # _time's first step (its end speed v1 * (1 - 0.0) is v1) without its loop
+                first = 1
+                try:
+                    duration, _vc, profile = solver.time(g, v, v1, keep)
+                except ProfileError:
+                    duration = None
             if duration is None:   # or the general steps, which also lower the end speed if ruckig needs it
-                duration, profile, v1 = self._time(g, v, v1, keep=keep)
+                duration, profile, v1 = self._time(g, v, v1, keep, first)
             if len(members) == 1:
                 s = members[0]
                 yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1,
@@ -347,8 +353,10 @@ class Planner(CornerMixin):
             yield Segment(ev.kind, clock[0], ev.duration, ev.line, ev.record)
             clock[0] += ev.duration
 
-    def _time(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None, float]:
-        for shrink in (0.0, 1e-9, 1e-6, 1e-4, 1e-2):
+    def _time(self, span, v0: float, v1: float, keep: bool, first: int = 0) -> tuple[float, Profile | None, float]:
+        """(duration, profile, end speed) of ``span`` from ``v0``: at ``v1``, or the end speed a little
+        lower when ruckig needs it (the :data:`SHRINKS` from the ``first``-th on)."""
+        for shrink in SHRINKS[first:]:
             target = v1 * (1.0 - shrink)
             try:
                 duration, _vc, profile = self.solver.time(span, v0, target, keep)
