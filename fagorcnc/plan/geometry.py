@@ -19,6 +19,7 @@ within a fraction of a percent of 1 and its bounds computed exactly.
 from __future__ import annotations
 
 import math
+import operator
 from abc import ABC, abstractmethod
 from itertools import pairwise
 
@@ -192,7 +193,7 @@ class ArcPiece(Piece):
         r0 = math.hypot(a[ia] - cx, a[io] - cy)
         r1 = math.hypot(b[ia] - cx, b[io] - cy)
         self.theta0 = math.atan2(a[io] - cy, a[ia] - cx)
-        other = [y - x for x, y in zip(a, b)]  # noqa: B905 (both points have every axis; no keyword on every arc)
+        other = list(map(operator.sub, b, a))   # y - x per axis (map: no comprehension's frame on every arc)
         other[ia] = other[io] = 0.0
         planar = abs(sweep) * (r0 + r1) / 2.0
         self.length = length = math.hypot(planar, math.hypot(*other))
@@ -203,7 +204,7 @@ class ArcPiece(Piece):
         self.lin = np.array(lin)
         # what every part and trim of the arc (which share its ``lin``) asks of it: its floats, their
         # magnitudes (the other axes' d1) and the sum of their squares (in speed_factor's order)
-        self._lin = (lin, [abs(x) for x in lin], sum(x * x for x in lin))
+        self._lin = (lin, list(map(abs, lin)), sum(map(operator.mul, lin, lin)))
         self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
         self._bounded = None
 
