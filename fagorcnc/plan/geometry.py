@@ -19,7 +19,9 @@ within a fraction of a percent of 1 and its bounds computed exactly.
 from __future__ import annotations
 
 import math
+import operator
 from abc import ABC, abstractmethod
+from itertools import pairwise
 
 import numpy as np
 
@@ -73,10 +75,29 @@ class Piece(ABC):
         return 1.0
 
 
+#: The slot ``d1`` of :class:`Piece` itself (a line makes its own on first use, see :attr:`LinePiece.d1`).
+_D1_SLOT = Piece.__dict__["d1"]
+
+
 class LinePiece(Piece):
     """A straight segment."""
 
     __slots__ = ("length", "u", "ul")
+
+    @property
+    def d1(self) -> np.ndarray:
+        """Per-axis max ``|q'|``: ``|u|``, made on first use (a line's own limits run over ``ul``:
+        most lines are never asked for it)."""
+        try:
+            return _D1_SLOT.__get__(self)
+        except AttributeError:
+            d1 = np.abs(self.u)
+            _D1_SLOT.__set__(self, d1)
+            return d1
+
+    @d1.setter
+    def d1(self, value: np.ndarray) -> None:
+        _D1_SLOT.__set__(self, value)
 
     def __init__(self, start: np.ndarray, end: np.ndarray) -> None:
         self.start, self.end = start, end
@@ -84,7 +105,6 @@ class LinePiece(Piece):
         self.length = length = math.hypot(*delta.tolist())
         self.u = delta / length if length > 0 else delta * 0.0
         self.ul = self.u.tolist()   # the direction as floats, for the per-corner tests
-        self.d1 = np.abs(self.u)
         self.d2 = self.d3 = _zeros(len(delta))
 
     def derivatives(self, s):
@@ -112,7 +132,7 @@ class LinePiece(Piece):
             out.start = self.start if s0 == 0.0 else self.start + s0 * self.u
         out.end = self.end if s1 == self.length else self.start + s1 * self.u
         out.length = s1 - s0
-        out.u, out.ul, out.d1, out.d2, out.d3 = self.u, self.ul, self.d1, self.d2, self.d3
+        out.u, out.ul, out.d2, out.d3 = self.u, self.ul, self.d2, self.d3   # d1: |u| when asked
         return out
 
 
@@ -144,7 +164,7 @@ class ArcPiece(Piece):
     ``theta = theta0 + w s``, radius ``rho = r0 + dr s``, other axes linear.
     """
 
-    __slots__ = ("_bounded", "_ends", "center", "dr", "ia", "io", "length", "lin", "r0", "theta0", "w")
+    __slots__ = ("_bounded", "_ends", "_lin", "center", "dr", "ia", "io", "length", "lin", "r0", "theta0", "w")
 
     curved = True
 
@@ -173,7 +193,7 @@ class ArcPiece(Piece):
         r0 = math.hypot(a[ia] - cx, a[io] - cy)
         r1 = math.hypot(b[ia] - cx, b[io] - cy)
         self.theta0 = math.atan2(a[io] - cy, a[ia] - cx)
-        other = [y - x for x, y in zip(a, b)]  # noqa: B905 (both points have every axis; no keyword on every arc)
+        other = list(map(operator.sub, b, a))   # y - x per axis (map: no comprehension's frame on every arc)
         other[ia] = other[io] = 0.0
         planar = abs(sweep) * (r0 + r1) / 2.0
         self.length = length = math.hypot(planar, math.hypot(*other))
@@ -182,6 +202,9 @@ class ArcPiece(Piece):
         self.w = sweep / length
         lin = [x / length for x in other]
         self.lin = np.array(lin)
+        # what every part and trim of the arc (which share its ``lin``) asks of it: its floats, their
+        # magnitudes (the other axes' d1) and the sum of their squares (in speed_factor's order)
+        self._lin = (lin, list(map(abs, lin)), sum(map(operator.mul, lin, lin)))
         self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
         self._bounded = None
 
@@ -193,21 +216,25 @@ class ArcPiece(Piece):
         """The bounds ``d1, d2, d3`` as lists of floats, made on first use."""
         if self._bounded is not None:
             return self._bounded
-        r0, (r1, sweep), lin = self.r0, self._ends, self.lin.tolist()
+        r0, (r1, sweep), (_, lin_abs, _) = self.r0, self._ends, self._lin
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
         rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
         ia, io = self.ia, self.io
-        d1 = [abs(x) for x in lin]
-        d2 = [0.0] * len(lin)
-        d3 = [0.0] * len(lin)
+        d1 = list(lin_abs)
+        d2 = [0.0] * len(d1)
+        d3 = [0.0] * len(d1)
         # q_a = rho cos(th): q' = dr cos - rho w sin; q'' = -2 dr w sin - rho w² cos;
         # q''' = -3 dr w² cos + rho w³ sin
-        d1[ia] = dr * mc + rmax * w * ms
-        d1[io] = dr * ms + rmax * w * mc
-        d2[ia] = 2 * dr * w * ms + rmax * w * w * mc
-        d2[io] = 2 * dr * w * mc + rmax * w * w * ms
-        d3[ia] = 3 * dr * w * w * mc + rmax * w ** 3 * ms
-        d3[io] = 3 * dr * w * w * ms + rmax * w ** 3 * mc
+        # the products each pair shares made once: Python multiplies left to right, so ``rmax * w * ms``
+        # is ``(rmax * w) * ms`` (the same numbers)
+        rw, dw2 = rmax * w, 2 * dr * w
+        rww, dww3, rw3 = rw * w, 3 * dr * w * w, rmax * w ** 3
+        d1[ia] = dr * mc + rw * ms
+        d1[io] = dr * ms + rw * mc
+        d2[ia] = dw2 * ms + rww * mc
+        d2[io] = dw2 * mc + rww * ms
+        d3[ia] = dww3 * mc + rw3 * ms
+        d3[io] = dww3 * ms + rw3 * mc
         self._bounded = bounds = (d1, d2, d3)
         return bounds
 
@@ -272,15 +299,33 @@ class ArcPiece(Piece):
 
     def speed_factor(self) -> float:
         rmax = max(self.r0, self.r0 + self.dr * self.length)
-        return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + sum(x * x for x in self.lin.tolist()))
+        return math.sqrt((self.dr ** 2 + (rmax * self.w) ** 2) + self._lin[2])
+
+    def pieces(self, cuts: list[float]) -> list[ArcPiece]:
+        """``[sub(cuts[i], cuts[i + 1]) ...]`` for the increasing ``cuts``: the same pieces, with the
+        point at a cut inside the arc computed once for the two pieces that meet there (a long arc
+        is planned in parts)."""
+        length = self.length
+        out = []
+        shared = None   # point(s0) when the piece before made it as its end
+        for s0, s1 in pairwise(cuts):
+            start = self.start if s0 == 0.0 else shared if shared is not None else self.point(s0)
+            end = shared = None if s1 == length else self.point(s1)
+            out.append(self._between(s0, s1, start, self.end if end is None else end))
+        return out
 
     def sub(self, s0: float, s1: float) -> ArcPiece:
         # the same curve over [s0, s1] with the same parameter (angle and radius linear in it): only
         # the ends, the start angle and radius move; an end that stays keeps its point
+        return self._between(s0, s1, self.start if s0 == 0.0 else self.point(s0),
+                             self.end if s1 == self.length else self.point(s1))
+
+    def _between(self, s0: float, s1: float, start: np.ndarray, end: np.ndarray) -> ArcPiece:
+        """:meth:`sub` with its end points (``point(s0)``, ``point(s1)`` or the arc's own ends)."""
         out = ArcPiece.__new__(ArcPiece)
         out.ia, out.io, out.center, out.w, out.dr, out.lin = self.ia, self.io, self.center, self.w, self.dr, self.lin
-        out.start = self.start if s0 == 0.0 else self.point(s0)
-        out.end = self.end if s1 == self.length else self.point(s1)
+        out._lin = self._lin
+        out.start, out.end = start, end
         out.theta0 = self.theta0 + self.w * s0
         out.r0 = r0 = self.r0 + self.dr * s0
         out.length = length = s1 - s0

@@ -49,6 +49,8 @@ GROUP_MEMBERS = 64
 #: alternates the two (a dry run is 11 to 22 % faster); the records read ahead are a few
 #: milliseconds of interpretation, and the look-ahead window holds far more than that anyway.
 READ_AHEAD = 1024
+#: The end speed's reductions (relative) a span is timed with in turn until ruckig has a profile.
+SHRINKS = (0.0, 1e-9, 1e-6, 1e-4, 1e-2)
 
 
 class Planner(CornerMixin):
@@ -134,7 +136,7 @@ class Planner(CornerMixin):
         dyn = rec.dyn
         rapid = rec.rapid   # G00, or an arc inserted before one (no feed: run at rapid, seed 002 L8460)
         if rapid:   # the channel's rapid is a linear speed: a move of rotary axes alone is not held to it
-            linear = self.machine.rapid_feed > 0 and (piece.curved or any(piece.ul[i] for i in self._linear))
+            linear = self.machine.rapid_feed > 0 and (piece.curved or any(map(piece.ul.__getitem__, self._linear)))
             feed = self.machine.rapid_feed / 60.0 if linear else math.inf
             override = min(cfg.rapid_override, 100.0)
             if override <= 0:   # seed 002 L20355: the 0 % position always holds the axes, G00 included
@@ -154,9 +156,11 @@ class Planner(CornerMixin):
         # the program's V.G.MAXACCEL/MAXJERK replace the machine parameters until M30/reset (seed 002 L36469)
         path = dyn.path_limits if dyn is not None and dyn.path_limits is not None else \
             (cfg.max_path_acceleration, cfg.max_path_jerk)
+        last = self._last_limits   # the limits of the block before when it asked the same (inline: every block)
+        lim = last[2] if dyn is last[0] and rapid is last[1] else self._axis_limits(dyn, rapid)
         if not piece.curved:
-            return Span.of_line(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1])
-        return Span(piece, rec, feed, self._axis_limits(dyn, rapid), rapid, dyn, path[0], path[1], False, True)
+            return Span.of_line(piece, rec, feed, lim, rapid, dyn, path[0], path[1])
+        return Span(piece, rec, feed, lim, rapid, dyn, path[0], path[1], False, True)
 
     def _rapid_speed(self, piece: Piece, rec) -> float:
         """Path speed (mm/s) of a rapid at which its fastest axis reaches its max_velocity: on a line
@@ -182,9 +186,7 @@ class Planner(CornerMixin):
                     yield span
                     continue
                 # long arcs in parts: each part picks its own cap (more tangential budget where slow)
-                cuts = [span.length * i / parts for i in range(parts + 1)]
-                for i in range(parts):
-                    yield span.part(cuts[i], cuts[i + 1], later=True)
+                yield from span.parts([span.length * i / parts for i in range(parts + 1)])
             elif kind == "dwell":
                 yield Event(rec, rec.seconds)
             elif kind == "aux":
@@ -297,16 +299,20 @@ class Planner(CornerMixin):
                     v1 = nxt
             members = g.members
             keep = self.keep or len(members) > 1
-            profile = None
             if not g.curves and g.length >= MICRO:   # lines: their single cap, without _time's general steps
+                first = 0
                 try:
                     duration, profile = solver.line(g, v, v1, keep)
                 except ProfileError:
                     duration = None
-            else:
-                duration = None
+            else:   # _time's first step (its end speed v1 * (1 - 0.0) is v1) without its loop
+                first = 1
+                try:
+                    duration, _vc, profile = solver.time(g, v, v1, keep)
+                except ProfileError:
+                    duration = None
             if duration is None:   # or the general steps, which also lower the end speed if ruckig needs it
-                duration, profile, v1 = self._time(g, v, v1, keep=keep)
+                duration, profile, v1 = self._time(g, v, v1, keep, first)
             if len(members) == 1:
                 s = members[0]
                 yield Segment("motion", clock[0], duration, s.line, s.record, s.piece, v, v1,
@@ -347,8 +353,10 @@ class Planner(CornerMixin):
             yield Segment(ev.kind, clock[0], ev.duration, ev.line, ev.record)
             clock[0] += ev.duration
 
-    def _time(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None, float]:
-        for shrink in (0.0, 1e-9, 1e-6, 1e-4, 1e-2):
+    def _time(self, span, v0: float, v1: float, keep: bool, first: int = 0) -> tuple[float, Profile | None, float]:
+        """(duration, profile, end speed) of ``span`` from ``v0``: at ``v1``, or the end speed a little
+        lower when ruckig needs it (the :data:`SHRINKS` from the ``first``-th on)."""
+        for shrink in SHRINKS[first:]:
             target = v1 * (1.0 - shrink)
             try:
                 duration, _vc, profile = self.solver.time(span, v0, target, keep)

@@ -188,6 +188,12 @@ def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> b
 RUNG_MARGIN = 1.0 + 1e-9
 
 
+#: The speed at rest (one object: see Solver._hold).
+_REST = 0.0
+#: ruckig's results of a request it solved.
+_SOLVED = (Result.Working, Result.Finished)
+
+
 class Solver:
     """A reusable ruckig 1-DOF solver."""
 
@@ -199,6 +205,22 @@ class Solver:
         self.inp.current_acceleration = [0.0]
         self.inp.target_acceleration = [0.0]
         self.inp.min_velocity = [0.0]
+        self._held = (None, None, None)   # the start speed, length and end speed ruckig holds (see _hold)
+
+    def _hold(self, v0: float, length: float, v1: float) -> None:
+        """Give ruckig the start speed, length and end speed of a request: each only when it differs
+        from the one it holds (a setter converts a list; the rungs of a span and the G50 blocks from
+        rest to rest ask the same ones again).  A float equal to the one held and not zero is the
+        same number; a zero is set again unless it is the very object held (0.0 and -0.0 are equal)."""
+        h0, h1, h2 = self._held
+        inp = self.inp
+        if not (v0 is h0 or (v0 == h0 and v0 != 0.0)):
+            inp.current_velocity = [v0]
+        if not (length is h1 or (length == h1 and length != 0.0)):
+            inp.target_position = [length]
+        if not (v1 is h2 or (v1 == h2 and v1 != 0.0)):
+            inp.target_velocity = [v1]
+        self._held = (v0, length, v1)
 
     def duration(self, length: float, v0: float, v1: float, vc: float, acc: float, jerk: float) -> float:
         """Duration of the time-optimal profile, or ``inf`` when ruckig finds none.
@@ -225,10 +247,8 @@ class Solver:
                 stop += (0.0 + v1) / 2.0 * t
                 if length < stop * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
                     return math.inf
+        self._hold(v0, length, v1)
         inp = self.inp
-        inp.current_velocity = [v0]
-        inp.target_position = [length]
-        inp.target_velocity = [v1]
         inp.max_velocity = [vc]
         inp.max_acceleration = [acc]
         inp.max_jerk = [jerk]
@@ -236,7 +256,7 @@ class Solver:
             result = self.otg.calculate(inp, self.traj)
         except (RuckigError, RuntimeError):
             return math.inf
-        if result not in (Result.Working, Result.Finished):
+        if result not in _SOLVED:
             return math.inf
         return self.traj.duration
 
@@ -272,10 +292,8 @@ class Solver:
             if isinstance(prof, Profile):
                 return prof.duration, prof
             return prof, None
+        self._hold(_REST, length, _REST)
         inp = self.inp
-        inp.current_velocity = [0.0]
-        inp.target_position = [length]
-        inp.target_velocity = [0.0]
         inp.max_velocity = [vc]
         for scale in (1.0, EDGE_SCALE):   # as time(): the limits a billionth lower on a second try
             acc, jerk = span.acc, span.jerk
@@ -287,7 +305,7 @@ class Solver:
                 result = self.otg.calculate(inp, self.traj)
             except (RuckigError, RuntimeError):
                 continue
-            if result in (Result.Working, Result.Finished):
+            if result in _SOLVED:
                 return self.traj.duration, (self.profile() if keep else None)
         raise ProfileError(f"no profile for a {length:.6g} mm span from rest to rest")
 

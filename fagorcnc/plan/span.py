@@ -144,6 +144,12 @@ class Span:
         if self.stale and self.piece is not None:
             self.refresh()
 
+    def parts(self, cuts: list[float]) -> list[Span]:
+        """:meth:`part` ``(cuts[i], cuts[i + 1], later=True)`` for the increasing ``cuts`` of an arc
+        (:meth:`~fagorcnc.plan.geometry.ArcPiece.pieces`: the point at each cut made once)."""
+        return [Span(piece, self.record, self.feed, self.lim, self.rapid, self.dyn, self.path_acc, self.path_jerk,
+                     self.blend, True) for piece in self.piece.pieces(cuts)]
+
     def part(self, s0: float, s1: float, feed: float | None = None, later: bool = False) -> Span:
         """The stretch ``[s0, s1]`` of this span as a new span (optionally with another feed; ``later``:
         its limits made when :meth:`settle` asks, as with :meth:`trim`)."""
