@@ -15,7 +15,6 @@ from __future__ import annotations
 import copy
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -524,8 +523,6 @@ def _build(data: dict) -> Machine:
 def _machine_parameters(table: Any, axes: dict, spindles: Any) -> dict:
     """``[machine_parameters]``: ``"MPA.FFGAIN.X" = 100``, ``"MPG.PRB1MIN" = -10``, ``"MTB.P" = [1.5, 2]``
     (the manual's names; fagorcnc.config.mpcatalogue)."""
-    from .mpcatalogue import parse_key
-
     values: dict[tuple, float] = {}
     mtb: list[float] = []
     for key, value in _table("machine_parameters", table).items():
@@ -533,6 +530,8 @@ def _machine_parameters(table: Any, axes: dict, spindles: Any) -> dict:
         if key == "MTB.P":
             mtb = [_number(f"{where}[{i}]", v) for i, v in enumerate(_list(where, value))]
             continue
+        from .mpcatalogue import parse_key  # on first use: the default machine has no such table
+
         parsed = parse_key(str(key))
         if isinstance(parsed, str):
             raise MachineError(f"{where}: {parsed}")
@@ -738,6 +737,8 @@ def load_machine(machine: Machine | dict | str | Path | None = None) -> Machine:
                 return _build(_over_default(load_ini(path)))
             except MachineError as exc:
                 raise MachineError(_in_file(path, exc)) from None
+        import tomllib  # on first use: the default machine is a dict
+
         try:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except OSError as exc:
