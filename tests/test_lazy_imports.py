@@ -28,7 +28,9 @@ NOT_FOR_A_PLAIN_CHECK = (
     "fagorcnc.plan.trajectory", "fagorcnc.interp.movestore", "fagorcnc.kinematics.statements",
     "fagorcnc.kinematics.caxis", "fagorcnc.interp.vcatalogue", "fagorcnc.interp.cycles.drilling",
     "fagorcnc.interp.cycles.milling", "fagorcnc.interp.cycles.patterns", "fagorcnc.interp.cycles.pockets",
-    "fagorcnc.interp.cycles.threads", "concurrent.futures.process", "multiprocessing", "xml.etree",
+    "fagorcnc.interp.cycles.threads", "fagorcnc.interp.independent", "fagorcnc.config.mpcatalogue",
+    "fagorcnc.path.spline", "fagorcnc.path.clearance", "fagorcnc.path.proximity", "tomllib",
+    "concurrent.futures.process", "multiprocessing", "xml.etree",
 )
 #: ... and what the ``fagorcnc check`` command does not load either.
 NOT_FOR_THE_CHECK_COMMAND = (*NOT_FOR_A_PLAIN_CHECK, "fagorcnc.commands.plot", "fagorcnc.commands.plot_tool",
@@ -37,6 +39,7 @@ NOT_FOR_THE_CHECK_COMMAND = (*NOT_FOR_A_PLAIN_CHECK, "fagorcnc.commands.plot", "
 
 PLAIN = "G90 G0 X0 Y0 Z5 F1000\nG1 X10 Y5 Z-1\nG2 X20 Y5 I5 J0\nG3 X10 Y5 I-5 J0\nG0 Z5\nM30\n"
 CYCLE = "S1000 M3\nG00 G90 X0 Y0 Z50\nG98 G81 X10 Y20 Z2 I-15 K0.5 F200\nX30\nG80\nM30\n"
+COMPENSATED = "G90 G0 X0 Y0 Z5 F1000\nT1 D1 M6\nG41 G1 X10 Y0\nX20\nX30 Y10\nG40 G1 X40\nM30\n"
 SENTENCE = "G0 X0 Y0 Z0\nG1 X10 Y10 F100\n#FLUSH\nM30\n"   # the kinematics statements are asked first
 
 
@@ -84,8 +87,8 @@ def test_the_check_command_does_not_load_the_other_commands(tmp_path):
 
 
 def test_the_lazy_modules_are_loaded_when_a_program_needs_them(tmp_path):
-    """The counterpart: a cycle imports its family, a sentence the kinematics statements, and
-    ``fagorcnc.run`` the back-ends, so the lists above are not vacuous."""
+    """The counterpart: a cycle imports its family, G41 the gouge checks, a sentence the kinematics
+    statements, and ``fagorcnc.run`` the back-ends, so the lists above are not vacuous."""
     cycle = _loaded("""
         from fagorcnc.commands.check import check_file
         report = check_file(PATH)
@@ -93,6 +96,12 @@ def test_the_lazy_modules_are_loaded_when_a_program_needs_them(tmp_path):
     """, CYCLE, tmp_path)
     assert cycle["result"]["verdict"] == "pass" and cycle["result"]["moves"] > 4
     assert "fagorcnc.interp.cycles.drilling" in cycle["modules"]
+    compensated = _loaded("""
+        from fagorcnc.commands.check import check_file
+        result["verdict"] = check_file(PATH).verdict()
+    """, COMPENSATED, tmp_path)
+    assert compensated["result"] == {"verdict": "pass"}
+    assert {"fagorcnc.path.clearance", "fagorcnc.path.proximity"} <= set(compensated["modules"])
     sentence = _loaded("""
         import fagorcnc
         result["ok"] = fagorcnc.simulate(PATH).ok
