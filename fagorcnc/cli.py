@@ -15,23 +15,30 @@ on bad usage (unreadable file, unknown option).
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from .commands import check as check_command
 from .commands import ci as ci_options
 from .commands import diff as diff_command
-from .commands import emulate as emulate_command
 from .commands import expand as expand_command
 from .commands import init as init_command
-from .commands import parse as parse_command
-from .commands import plot as plot_command
-from .commands import run as run_command
 from .commands import view as view_command
 from .commands._shared import configure_logging, duration
 from .program_files import PROGRAM_EXTENSIONS
 from .runtime import keep_freed_memory
 from .version import __version__
+
+
+def _handler(module: str) -> Callable[[argparse.Namespace], int]:
+    """The ``command`` function of :mod:`fagorcnc.commands` ``module``, imported when the command runs
+    (``fagorcnc check`` does not load the back-ends of ``run`` nor the plotting of ``plot``)."""
+
+    def command(args: argparse.Namespace) -> int:
+        return importlib.import_module(f"{__package__}.commands.{module}").command(args)
+
+    return command
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -49,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("-q", "--quiet", action="store_true", help="print only diagnostics")
         p.add_argument("--brief", action="store_true", help="one line per diagnostic, no source excerpt")
         p.add_argument("-v", "--verbose", action="store_true", help="also print informational notes")
-        p.set_defaults(func=parse_command.command)
+        p.set_defaults(func=_handler("parse"))
     run = sub.add_parser("run", help="run a program (embedded simulator by default, or an InterpCNC card)")
     run.add_argument("file", metavar="FILE", help="part program file ('-': standard input)")
     run.add_argument("--machine", metavar="M", help="machine configuration (TOML); default: built-in machine")
@@ -74,7 +81,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="stop a program whose interpretation takes longer, in CPU seconds (INT082; 0 = no limit; "
                           "default: the machine's limits.max_seconds, none)")
     run.add_argument("-v", "--verbose", action="store_true", help="list every move and informational notes")
-    run.set_defaults(func=run_command.command)
+    run.set_defaults(func=_handler("run"))
     check = sub.add_parser("check", help="verify programs offline for CI: diagnostics, limits, tools, cycle time")
     check.add_argument("files", nargs="*", metavar="FILE",
                        help="part program files, or directories (their program files, recursively); '-': "
@@ -121,7 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
                            "in the part frame")
     plot.add_argument("--no-tool-axis", action="store_true",
                       help="do not draw the tool-axis glyphs of the moves made under a kinematics")
-    plot.set_defaults(func=plot_command.command)
+    plot.set_defaults(func=_handler("plot"))
     expand_command.add_parser(sub)
     diff_command.add_parser(sub)
     view_command.add_parser(sub)
@@ -135,6 +142,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``fagorcnc`` console script; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["emulate"]:   # its own options: fagorcnc emulate --help
+        from .commands import emulate as emulate_command
+
         return emulate_command.command(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -13,21 +13,25 @@ import os
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .config.machine import Machine, MachineError, load_machine
 from .config.parameter_file import attach_parameter_file
 from .diagnostics import Diagnostic
 from .interp.interpreter import Interpreter
-from .interp.movestore import Moves
 from .interp.records import record_time
 from .interp.state import ChannelState
-from .plan import Planner, PlanningError, Segment, Trajectory, planning_code, sample
+from .plan import Planner, PlanningError, Segment, planning_code
 from .plan.envelope import Envelope
 from .program_files import Source, no_block, resolve, source_name
 from .runtime import fewer_collections
 from .summary import Ending, RunSummary, is_move, not_started, program_ending, stopping_error
 from .syntax import parse_file, parse_text, source_encoding
 from .syntax.ast import Block, Program
+
+if TYPE_CHECKING:   # imported where used: dry_run (fagorcnc check) needs neither
+    from .interp.movestore import Moves
+    from .plan.trajectory import Trajectory
 
 
 class FinalState:
@@ -142,6 +146,7 @@ class Result:
         ``.jerk`` arrays in machine coordinates."""
         mach = self.machine or load_machine(None)
         start = self.moves[0].start if self.moves else None
+        from .plan.trajectory import sample
         return sample(self.segments(), mach.axis_names, period or mach.planner.servo_period, start)
 
 
@@ -168,6 +173,7 @@ def simulate(source: str | os.PathLike | None = None, machine: Machine | dict | 
         mach = load_machine(machine)
     except MachineError as exc:
         d = Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))
+        from .interp.movestore import Moves
         return Result(False, [d], Moves(), None, 0.0, None)
     with fewer_collections():
         return _simulate(program_source, mach, block_skip)
@@ -199,6 +205,7 @@ def _simulate_streamed(source: Source, file: str, encoding: str, mach: Machine, 
                        syntax: list[Diagnostic]) -> Result:
     """A program without syntax errors, streamed through the interpreter as :func:`dry_run` runs it: only
     its records are kept (the program's tree is parsed again if :attr:`Result.program` is asked for)."""
+    from .interp.movestore import Moves
     from .interp.source import stream_program
 
     lines = _lines_of(source, encoding)
@@ -262,6 +269,8 @@ def _planned(mach: Machine, records: _Kept, file: str, notes: list) -> tuple[flo
 
 def _simulate_whole(source: Source, mach: Machine, block_skip: bool) -> Result:
     """A program with a syntax error (not started) or without a block: parsed whole, as it always was."""
+    from .interp.movestore import Moves
+
     program = _parse(source, mach)
     if _empty(program):
         program = program._replace(diagnostics=(*program.diagnostics, no_block(program.file)))

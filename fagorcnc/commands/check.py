@@ -88,11 +88,9 @@ import os
 import sys
 import tempfile
 from collections.abc import Iterable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-from urllib.parse import quote
 
 from ..config.machine import Machine, MachineError, load_machine
 from ..diagnostics import CODES, Diagnostic
@@ -307,6 +305,8 @@ def check_files(paths: Sequence[str | Path], machine: Machine | dict | str | Pat
         for name in names:
             yield check_file(name, mach, **options)
         return
+    from concurrent.futures import ProcessPoolExecutor  # on first use: one file is checked in this process
+
     with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker, initargs=(mach, options)) as pool:
         yield from pool.map(_work, names)
 
@@ -395,6 +395,8 @@ _SARIF_LEVEL = {"error": "error", "warning": "warning", "info": "note"}
 def _uri(file: str) -> str:
     """A file's SARIF URI: relative to the working directory (the repository a CI job checks out)
     when it lies within it, without '..'; otherwise absolute (code scanning maps no '../' path)."""
+    from urllib.parse import quote
+
     path = Path(file)
     if not path.is_absolute() and ".." not in path.parts:
         return quote(path.as_posix(), safe="/")

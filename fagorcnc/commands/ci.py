@@ -33,13 +33,11 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-import tomllib
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-from xml.etree import ElementTree
 
 from ..diagnostics import CODES, Diagnostic
 from ..syntax.reader import bounded_lines
@@ -93,6 +91,8 @@ def load_config(path: Path | None) -> Config:
     """Read ``[tool.fagorcnc]`` of ``path`` (None: nothing).  Raises :class:`ConfigError`."""
     if path is None:
         return Config()
+    import tomllib
+
     try:
         with open(path, "rb") as f:
             document = tomllib.load(f)
@@ -289,6 +289,8 @@ def junit_report(reports: Sequence, *, fail_on: str = "error", verbose: bool = F
     """A JUnit XML document: one test suite per program, one test case per diagnostic (a failure
     when it fails the check, else passed with the message in ``system-out``), one passing case
     ``check`` for a clean program; a program that could not be checked is an ``error``."""
+    from xml.etree import ElementTree
+
     failing = ("error", "warning") if fail_on == "warning" else ("error",)
     root = ElementTree.Element("testsuites", name="fagorcnc check")
     totals = Counter()

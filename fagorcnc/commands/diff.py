@@ -39,13 +39,15 @@ import math
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..config.machine import Machine, MachineError, load_machine
 from ._shared import clock, not_a_file
-from .geometry_index import Directed, SegmentIndex, directed
+
+if TYPE_CHECKING:
+    from .geometry_index import Directed
 
 SCHEMA = "fagorcnc-diff/1"
 #: Largest chord sagitta of a curved piece (mm).
@@ -305,6 +307,8 @@ def diff_programs(a: str | Path, b: str | Path, machine: Machine | dict | str | 
     if not len(pa.lines) or not len(pb.lines):
         empty = pa.file if not len(pa.lines) else pb.file
         raise DiffError(f"{empty}: no motion to compare")
+    from .geometry_index import SegmentIndex, directed  # on first use: the CLI builds this command's parser
+
     a_to_b = directed(pa.a, pa.b, SegmentIndex(pb.a, pb.b), tolerance, eps)
     b_to_a = directed(pb.a, pb.b, SegmentIndex(pa.a, pa.b), tolerance, eps)
     names = [a for a in mach.axis_names if not mach.axes[a].rotary][:3]

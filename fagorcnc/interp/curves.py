@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kinematics.stage import StageError
-from ..path.spline import CHORD_TOLERANCE, CurveError, poly_points, poly_tangent, spline_points
 from ..syntax.ast import ItemList, Keyed
 from .expressions import InterpError
 from .records import Arc, CurveLine, IndependentMove, Line, Source, _AtPosition
@@ -82,6 +81,8 @@ def _items(node) -> list:
 # ------------------------------------------------------------------ #POLY
 def poly_statement(interp, node, src: Source):
     """``#POLY [X[a,b,c,d,e] Y[...] SP sp EP ep]`` (seed 002 L15822-L15870): the chords of the curve."""
+    from ..path.spline import CHORD_TOLERANCE, CurveError, poly_points  # on first use: a program without curves
+
     st = interp.state
     iso = interp.iso
     ev = interp.evaluator
@@ -143,6 +144,8 @@ def poly_statement(interp, node, src: Source):
 
 def _poly_records(interp, src: Source, axes: list, points: np.ndarray, cur: dict, table, p_end: float,
                   unit: np.ndarray, direction: float):
+    from ..path.spline import poly_tangent
+
     st = interp.state
     iso = interp.iso
     ends = []
@@ -322,6 +325,8 @@ class _Spline:
 
     def emit(self, end_tangent):
         """The chords (and the events at their points) of the stretch collected."""
+        from ..path.spline import CurveError, spline_points
+
         yield from self.events.get(0, ())
         if len(self.points) < 2:
             return

@@ -18,7 +18,6 @@ from __future__ import annotations
 import math
 
 from ..kinematics import tangential
-from ..kinematics.statements import adjust_target
 from ..path.aids import Aid
 from . import compat, dynamics
 from .cycles import CycleRunner
@@ -97,6 +96,7 @@ class IsoExecutor(MotionMixin, WordsMixin):
             out[axis] = current_part[axis] + v if incremental else v
         kin = st.kin
         if kin.pending_ori or kin.angax or kin.tangential or kin.c_axes:   # #TOOL ORI, #ANGAX SUSP, G45, #CAX
+            from ..kinematics.statements import adjust_target  # on first use: a plain program never needs it
             adjust_target(self.interp, bw, out)
         return out
 

@@ -9,7 +9,6 @@ import math
 from ..path import arcs
 from .expressions import InterpError
 from .gvars import arc_data
-from .independent import check_general
 from .plain import record_maker
 from .records import Arc, Line, Source, feed_mode, shared_tuple
 from .toolvars import refuse_turning_compensation
@@ -45,6 +44,8 @@ class MotionMixin:
         if not bw.axes and mode in (2, 3) and _ARC_WORDS.isdisjoint(bw.params):
             return None
         if self.interp.curves.independent:   # an axis a #MOVE moved, before #SYNC POS (interp/independent.py)
+            from .independent import check_general  # on first use: a program without #MOVE never needs it
+
             check_general(self.interp, bw.axes, next(iter(bw.axes.values()))[1] if bw.axes else 1)
         prepared = self.sync.prepare(mode, bw) if mode in (33, 63) else None   # refused before anything moves
         if st.mcs_on or self.interp.mcs_block:

@@ -17,9 +17,12 @@ gives each axis set 1 (its own values) and the sets 2-4 of ``axes.X.sets`` (NPAR
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
-from ..config.mpcatalogue import Entry, lookup
 from .expressions import InterpError, whole
+
+if TYPE_CHECKING:
+    from ..config.mpcatalogue import Entry
 
 _AXIS_ORDER = "XYZUVWABC"
 
@@ -200,6 +203,8 @@ class MachineParameters:
             return None
         prefix, word = parts[1], parts[2]
         base = word.replace("[]", "")
+        from ..config.mpcatalogue import lookup  # on first use: a program that reads no V.MP variable never needs it
+
         found = lookup(prefix, base)
         if found is None:
             return None

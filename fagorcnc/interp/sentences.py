@@ -15,7 +15,6 @@ Three kinds:
 
 from __future__ import annotations
 
-from ..kinematics import statements as kinematics
 from ..syntax.ast import Direction, ItemList, Keyed, Name, Str, Var
 from . import axes, curves, dynamics, independent, laser, macros, manual, spindle, spindle_config
 from .expressions import InterpError
@@ -215,6 +214,7 @@ def execute_sentence(interp, node, src):
         st.tool_axis = (item.name, 1 if item.sign == "+" else -1)
         interp.iso.cycles.cancel_for_plane()   # a new tool axis cancels the canned cycle (spec 09 §1.1)
         return
+    from ..kinematics import statements as kinematics  # on first use: a program without sentences never needs it
     if kinematics.handles(kw, sub):   # seed 002 ch. 14-17: #KIN ID, #CS, #ACS, #RTCP, #TLC, #TOOL ORI...
         yield from kinematics.execute(interp, node, src)
         return

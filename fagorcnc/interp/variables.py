@@ -24,7 +24,6 @@ from .iso import INCH, whole
 from .mpvars import MachineParameters
 from .state import ChannelState
 from .toolvars import ToolVariables
-from .vcatalogue import interface_only, manual_defined
 
 Getter = Callable[[ChannelState, tuple, str | None], float]
 Setter = Callable[[ChannelState, tuple, str | None, float], None]
@@ -381,6 +380,7 @@ class Variables:
         if "[" not in name and (f"{name}[]" in self.plain_vars or f"{name}[]" in self.axis_vars):
             # V.G.CIRERR is V.G.CIRERR[1] or [2] (L40483): a missing index, not a variable fagorcnc lacks
             raise InterpError("INT244", f"{name} needs its index: {name}[1]", col)
+        from .vcatalogue import interface_only, manual_defined  # on first use: the error path of an unknown name
         only = interface_only(name)
         if only is not None:
             raise InterpError("INT241", f"{name.replace('[]', '[..]')} is read by the PLC or the interface only, not "

@@ -52,8 +52,6 @@ from dataclasses import replace
 
 from .aids import _arc_record, _circle_circle, _cross, _left, _line_circle, _line_record, _moved, _unit
 from .arcs import sweep
-from .clearance import Clearance
-from .proximity import GOUGE_TOLERANCE, nearest
 
 Point = tuple[float, float]
 
@@ -520,6 +518,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
                 raise CompensationError(rec, "radius compensation starts with a straight move (G00/G01), "
                                         "not an arc (L9659)")
             pending = _Move(rec, _pts(rec, a, o)[0], activation=True)
+            from .clearance import Clearance  # on first use: a program without G41/G42 never needs it
             clear = Clearance(rc[1])
             continue
         s, r, _t, _m, (a, o) = comp
@@ -541,6 +540,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
             clear = None   # the joins of a side change cross the profile on purpose (spec 04 §22)
             yield from flush()
             comp = rc
+            from .clearance import Clearance  # on first use: a program without G41/G42 never needs it
             clear = Clearance(rc[1])   # the other side, or another radius: watched from here on
             pending = _Move(rec, next_start)
             continue
@@ -558,6 +558,7 @@ def compensate(records: Iterable, warn: Warn | None = None) -> Iterator:
             held = []
             waiting = False
             pending = _Move(rec, b)
+            from .clearance import Clearance  # on first use: a program without G41/G42 never needs it
             clear = Clearance(r)
             watch(rec)
             if not _followable(rec, a, o, s, r):
@@ -627,6 +628,8 @@ def _check_local(move: _Move, before: list, nxt_rec, inserted: list, cancel: boo
     its own, the next and any dropped between; the paths of the two before keep R from its own.  Only curvature
     and the G137 prolongations can break this (an arc curling back into a corner's join, a join reaching back
     to a move two blocks away): the tool does not fit there, and fagorcnc refuses it."""
+    from .proximity import GOUGE_TOLERANCE, nearest
+
     profiles = [*dropped, *(_element(m.rec, a, o) for m in before if not m.activation)]
     if not move.activation:
         profiles.append(_element(move.rec, a, o))
@@ -647,6 +650,8 @@ def _check_local(move: _Move, before: list, nxt_rec, inserted: list, cancel: boo
 def _clear(before: _Move | None, move: _Move, nxt_rec, cancel: bool, dropped: list, a, o, s, r) -> bool:
     """Whether ``before`` and ``nxt_rec`` would meet with the next move's offset clear of the dropped moves and
     of ``move`` dropped too (a guess of which way to drop: what is kept is checked in full afterwards)."""
+    from .proximity import GOUGE_TOLERANCE, nearest
+
     if before is None or move.activation:
         return False
     trial = _Move(before.rec, before.start, before.activation)
@@ -661,6 +666,8 @@ def _clear(before: _Move | None, move: _Move, nxt_rec, cancel: bool, dropped: li
 def _check_dropped(prev: _Move, nxt_rec, start: Point, cancel: bool, dropped: list, a, o, s, r) -> None:
     """The path re-joined over dropped blocks must keep the tool radius from them: the stretch of ``prev`` and
     the offset of the next move up to its end (or, cancelling, the move to its end point)."""
+    from .proximity import GOUGE_TOLERANCE, nearest
+
     pieces = [_element(prev.rec, a, o, prev.start if not prev.activation else None, prev.end)]
     end = _pts(nxt_rec, a, o)[1] if cancel else _offset_point(nxt_rec, a, o, s, r, True)
     pieces.append(_element(nxt_rec, a, o, start, end))

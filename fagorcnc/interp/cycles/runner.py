@@ -20,12 +20,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
+from ..._lazy import LazyModule
 from ..dynamics import build as _dynamics
 from ..expressions import InterpError
 from ..records import Arc, Dwell, Line, Source, feed_mode
-from . import choices, drilling, milling, patterns, pockets, threads
+from . import choices
 from .model import CYCLE_CODES, PATTERN_CODES, ActiveCycle
+
+if TYPE_CHECKING:
+    from . import drilling, milling, patterns, pockets, threads
+else:   # the families are imported when a program first runs a cycle (a plain program never does)
+    drilling, milling, patterns, pockets, threads = (
+        LazyModule(f"{__package__}.{family}") for family in ("drilling", "milling", "patterns", "pockets", "threads"))
 
 INCH = 25.4
 
