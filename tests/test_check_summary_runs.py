@@ -190,13 +190,15 @@ def test_random_streams_give_the_reference_summary(seed):
     assert _outcome(_fed(MoveSummary(), stream)) == _outcome(_fed(Reference(), stream))
 
 
-@pytest.mark.parametrize("points", [1, 2, 3, 7])
+@pytest.mark.parametrize(("points", "batch"), [(1, 1), (2, 3), (3, 64), (7, 2), (1024, 5)])
 @pytest.mark.parametrize("seed", range(12))
-def test_short_lists_and_boxes_asked_midway_change_nothing(monkeypatch, seed, points):
-    # the lists reduced every few points (bounded memory), and the boxes asked for now and then
+def test_short_lists_batches_and_boxes_asked_midway_change_nothing(monkeypatch, seed, points, batch):
+    # the lists reduced every few points (bounded memory), the records summarised every few (the
+    # origin changing inside a batch or between two), and the boxes asked for now and then
     stream = _stream(100 + seed)
     expected = _outcome(_fed(Reference(), stream))
     monkeypatch.setattr(extents, "RUN_POINTS", points)
+    monkeypatch.setattr(extents, "BATCH", batch)
     summary = MoveSummary()
     assert _outcome(_fed(summary, stream, lambda i: i % 17 == 5 and summary.boxes())) == expected
 
@@ -229,14 +231,13 @@ def test_continuing_lines_take_the_short_way(monkeypatch):
     # only the first line of each kind switch and the line after M06 go the general way
     calls = []
     general = MoveSummary._add
-    monkeypatch.setattr(MoveSummary, "_add", lambda self, rec, interp, kind: (calls.append(rec.line),
-                                                                              general(self, rec, interp, kind)))
+    monkeypatch.setattr(MoveSummary, "_add", lambda self, rec, kind: calls.append(rec.line) or general(self, rec, kind))
     stream = _chain(("rapid", {"X": 0.0, "Y": 0.0, "Z": 10.0}), ("linear", {"X": 5.0, "Y": 0.0, "Z": 10.0}),
                     ("linear", {"X": 5.0, "Y": 5.0, "Z": 10.0}), ("linear", {"X": 5.0, "Y": 5.0, "Z": 2.0}),
                     ("rapid", {"X": 5.0, "Y": 5.0, "Z": 30.0}), ("rapid", {"X": -1.0, "Y": 5.0, "Z": 30.0}))
     summary = _fed(MoveSummary(), stream)
-    assert calls == [1, 2, 5]
     assert _outcome(summary) == _outcome(_fed(Reference(), stream))
+    assert calls == [1, 2, 5]
     box = summary.boxes()[0]
     assert box.feed_machine.lo == {"X": 0.0, "Y": 0.0, "Z": 2.0}   # the first feed's start (the rapid's end) is in
     assert box.machine.hi["Z"] == 30.0 and box.feed_machine.hi["Z"] == 10.0
@@ -301,13 +302,19 @@ def test_a_line_without_part_point_is_not_counted():
     assert summary.boxes()[0].machine.hi["X"] == 1.0
 
 
-def test_the_origin_is_read_at_each_record():
-    # the origin changes between two continuing lines: the second counts for the new one, from its line
+@pytest.mark.parametrize("batch", [1, 2, 256])
+def test_the_origin_is_read_at_each_record(monkeypatch, batch):
+    # the origin changes between two continuing lines: the second counts for the new one, from its
+    # line; an auxiliary function under a third origin counts for none; labels made again (equal
+    # strings, other objects) are the same origin
+    monkeypatch.setattr(extents, "BATCH", batch)
     stream = _chain(("linear", {"X": 1.0, "Y": 0.0, "Z": 0.0}), ("linear", {"X": 2.0, "Y": 0.0, "Z": 0.0}),
-                    ("linear", {"X": 3.0, "Y": 0.0, "Z": 0.0}))
-    stream = [stream[0], (stream[1][0], "G55"), (stream[2][0], "G54")]
+                    ("linear", {"X": 3.0, "Y": 0.0, "Z": 0.0}), ("linear", {"X": 4.0, "Y": 0.0, "Z": 0.0}))
+    aux = Aux("aux", "M", 3.0, "before", stream[2][0].end, Source("p.nc", 7, ""))
+    again = "".join(["G", "55"])
+    stream = [stream[0], (stream[1][0], "G55"), (aux, "G56"), (stream[2][0], "G54"), (stream[3][0], again)]
     summary = _fed(MoveSummary(), stream)
-    assert [(o.origin, o.first_line, o.moves) for o in summary.origins()] == [("G54", 1, 2), ("G55", 2, 1)]
+    assert [(o.origin, o.first_line, o.moves) for o in summary.origins()] == [("G54", 1, 2), ("G55", 2, 2)]
 
 
 # ----------------------------------------------------------------------------- the reduction
@@ -388,3 +395,16 @@ def test_part_points_told_from_machine_points_by_more_than_their_first_ones():
     assert _outcome(summary) == _outcome(_fed(Reference(), stream))
     box = summary.boxes()[0]
     assert box.feed_machine.hi["Y"] == pytest.approx(5.0) and box.feed_part.hi["Y"] == start["Y"]
+
+
+def test_memory_stays_bounded():
+    # a long stream of continuing lines and arcs: never more than BATCH records kept, nor more than
+    # RUN_POINTS points in a list (plus the few points of the record that filled it)
+    stream = _stream(7, n=3000)
+    summary = MoveSummary()
+    sizes = []
+    _fed(summary, stream, lambda i: sizes.append((len(summary._pending), *map(len, summary._rapids),
+                                                  *map(len, summary._feeds))))
+    assert max(s[0] for s in sizes) < extents.BATCH
+    assert max(max(s[1:]) for s in sizes) < extents.RUN_POINTS + 10
+    assert _outcome(summary) == _outcome(_fed(Reference(), stream))

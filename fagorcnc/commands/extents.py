@@ -116,8 +116,9 @@ class MoveSummary:
         "_boxes",
         "_feed",
         "_feeds",
+        "_in_force",
         "_interp",
-        "_label",
+        "_labels",
         "_last_end",
         "_line_kind",
         "_machine_points",
@@ -125,11 +126,12 @@ class MoveSummary:
         "_order",
         "_part_here",
         "_part_points",
+        "_pending",
         "_rapids",
         "_run",
+        "_seen",
         "_tool",
         "_tools",
-        "_use",
         "_used",
     )
 
@@ -140,8 +142,12 @@ class MoveSummary:
         self._tool = self._next_tool = 0
         self._part_here: dict[str, float] | None = None
         self._interp = None
-        self._label: str | None = None        # the origin of the last move, and its entry
-        self._use: OriginUse | None = None
+        # records not yet summarised, where the origin changed among them (index, origin), the origin
+        # last seen and the one in force at the first of them
+        self._pending: list = []
+        self._labels: list[tuple[int, str]] = []
+        self._seen: str | None = None
+        self._in_force = "?"
         # the run: the tool's boxes its points go into; the points of its rapids and of its feeds (machine,
         # part); those the next move adds to (``_feed``: the feeds'); where each list took over, in turn
         self._run: ToolBox | None = None
@@ -156,39 +162,73 @@ class MoveSummary:
         self._line_kind: str | None = None
 
     def add(self, rec, interp) -> None:
-        """Take one record (``on_record`` of :func:`fagorcnc.simulate.dry_run`)."""
-        kind = rec.kind
-        if kind is self._line_kind and rec.start is self._last_end and type(rec) in _LINES:
-            end_part = rec.end_part   # a line continuing the last move: its end points alone
-            if end_part is None:
-                return
-            label = getattr(interp.state, "origin_source", "?")
-            if label != self._label:
-                self._origin(label, rec)
-            self._use.moves += 1
-            self._last_end = end = rec.end
-            points = self._machine_points
-            points.append(end)
-            self._part_points.append(end_part)
-            self._part_here = end_part
-            if len(points) >= RUN_POINTS:
-                self._flush()
-            return
-        self._add(rec, interp, kind)
-
-    def _add(self, rec, interp, kind: str) -> None:
-        """:meth:`add` of any record but a line continuing the last move."""
+        """Take one record (``on_record`` of :func:`fagorcnc.simulate.dry_run`): kept, with the origin in
+        force if it changed, and summarised with the others of its batch (:meth:`_take`)."""
+        pending = self._pending
+        pending.append(rec)
+        label = getattr(interp.state, "origin_source", "?")
+        if label is not self._seen:   # (an equal string made again: one more mark, nothing else)
+            self._seen = label
+            self._labels.append((len(pending) - 1, label))
         self._interp = interp
+        if len(pending) >= BATCH:
+            self._take()
+
+    def _take(self) -> None:
+        """The pending records into the summary, each under the origin in force when it came."""
+        pending, labels = self._pending, self._labels
+        if not pending:
+            return
+        begin, label = 0, self._in_force
+        for at, following in labels:
+            if at > begin:
+                self._summarise(pending[begin:at], label)
+            begin, label = at, following
+        self._summarise(pending[begin:] if begin else pending, label)
+        self._in_force = label
+        pending.clear()
+        labels.clear()
+
+    def _summarise(self, records: list, label: str) -> None:
+        """``records``, made under the origin ``label``, into the summary: a plain line that continues
+        the last move by its end points alone, any other record by :meth:`_add`."""
+        moves = 0
+        for rec in records:
+            kind = rec.kind
+            if kind is self._line_kind and rec.start is self._last_end and type(rec) in _LINES:
+                end_part = rec.end_part
+                if end_part is None:
+                    continue
+                if not moves:
+                    self._enter(label, rec)
+                moves += 1
+                self._last_end = end = rec.end
+                points = self._machine_points
+                points.append(end)
+                self._part_points.append(end_part)
+                self._part_here = end_part
+                if len(points) >= RUN_POINTS:
+                    self._flush()
+            elif self._add(rec, kind):
+                if not moves:
+                    self._enter(label, rec)
+                moves += 1
+        if moves:
+            self._used[label].moves += moves
+
+    def _enter(self, label: str, rec) -> None:
+        """The entry of the origin ``label``, made at its first move ``rec``."""
+        if label not in self._used:
+            self._used[label] = OriginUse(label, rec.line)
+
+    def _add(self, rec, kind: str) -> bool:
+        """Any record but a line continuing the last move: whether it is a move (counted for its origin)."""
         if kind == "aux":
             self._aux(rec)
-            return
+            return False
         end_part = getattr(rec, "end_part", None)
         if kind == "dwell" or end_part is None:
-            return
-        label = getattr(interp.state, "origin_source", "?")
-        if label != self._label:
-            self._origin(label, rec)
-        self._use.moves += 1
+            return False
         start, end = rec.start, rec.end
         feed = not rec.rapid
         box = self._boxes.get(self._tool)
@@ -220,18 +260,12 @@ class MoveSummary:
         self._line_kind = "linear" if feed else "rapid"
         if len(machine) >= RUN_POINTS:
             self._flush()
+        return True
 
     def _use_lists(self, feed: bool) -> None:
         """The next points go to the feeds' lists (``feed``) or the rapids'."""
         self._feed = feed
         self._machine_points, self._part_points = self._feeds if feed else self._rapids
-
-    def _origin(self, label: str, rec) -> None:
-        """The origin changed since the last move: its entry (made at its first move)."""
-        use = self._used.get(label)
-        if use is None:
-            use = self._used[label] = OriginUse(label, rec.line)
-        self._label, self._use = label, use
 
     def _aux(self, rec) -> None:
         """T, M06 and D: the tools used and their offsets."""
@@ -284,9 +318,11 @@ class MoveSummary:
                         feeds.add(point)
 
     def tools(self) -> list[ToolUse]:
+        self._take()
         return list(self._tools.values())
 
     def origins(self) -> list[OriginUse]:
+        self._take()
         return list(self._used.values())
 
     def cycles(self) -> list[dict[str, Any]]:
@@ -294,12 +330,16 @@ class MoveSummary:
         return self._interp.state.cycles.report() if self._interp is not None else []
 
     def boxes(self) -> list[ToolBox]:
+        self._take()
         self._flush()
         return [self._boxes[t] for t in sorted(self._boxes)]
 
 
 #: Points a list of :class:`MoveSummary` keeps before they are reduced into its boxes.
 RUN_POINTS = 1024
+#: Records :meth:`MoveSummary.add` keeps before it summarises them (in one warm loop, not one by one
+#: between the interpreter's and the planner's work).
+BATCH = 256
 
 #: The record types whose ``rapid`` is ``kind == "rapid"``: a line of one of them that starts where
 #: the last move ended, of the kind the current lists take, goes into them (unless M06 came between).
