@@ -408,3 +408,60 @@ def test_memory_stays_bounded():
     assert max(s[0] for s in sizes) < extents.BATCH
     assert max(max(s[1:]) for s in sizes) < extents.RUN_POINTS + 10
     assert _outcome(summary) == _outcome(_fed(Reference(), stream))
+
+
+# ----------------------------------------------------------------------------- arcs inside one quadrant
+def _arc(start_angle: float, sweep: float, radius: float = 10.0, center=(3.0, -2.0), r1=None, turns: int = 0,
+         plane=("X", "Y", "Z")) -> Arc:
+    a, o, n = plane
+    ca, co = center
+    r1 = radius if r1 is None else r1
+    start = {a: ca + radius * math.cos(start_angle), o: co + radius * math.sin(start_angle), n: 1.0}
+    end = {a: ca + r1 * math.cos(start_angle + sweep), o: co + r1 * math.sin(start_angle + sweep), n: 1.0}
+    return Arc("arc", start, end, end, {a: ca, o: co}, {a: ca, o: co}, "ccw" if sweep > 0 else "cw", plane, radius,
+               turns, 100.0, "G94", Source("p.nc", 1, ""))
+
+
+def _no_point(arc: Arc) -> bool:
+    return arc_points(arc.start, arc.end, arc.center, arc.plane, arc.sweep) == []
+
+
+def test_an_arc_inside_one_quadrant_has_no_quarter_turn_point():
+    # random arcs, many of them close to a quadrant's edge, tiny, huge, spirals or nearly full turns:
+    # whenever the cheap test says "inside one quadrant", arc_points (with the sweep) gives no point
+    rng = random.Random(5)
+    said = 0
+    for _ in range(20000):
+        edge = rng.randint(-4, 4) * math.pi / 2
+        start = edge + rng.choice([rng.uniform(-1.6, 1.6), rng.uniform(-1e-6, 1e-6), rng.uniform(-1e-12, 1e-12)])
+        full = math.copysign(2 * math.pi - rng.uniform(0, 1e-6), rng.random() - 0.5)
+        sweep = rng.choice([rng.uniform(-1.6, 1.6), rng.uniform(-1e-6, 1e-6), edge - start + rng.uniform(-1e-9, 1e-9),
+                            rng.uniform(-6.3, 6.3), full])
+        if sweep == 0.0:
+            continue
+        radius = rng.choice([1e-4, 0.5, 10.0, 1e5])
+        center = (rng.choice([0.0, 1e6, -3.25]), rng.choice([0.0, -1e6, 7.5]))
+        arc = _arc(start, sweep, radius, center, r1=radius * rng.choice([1.0, 1.0, 0.5, 1.5]))
+        if extents._in_one_quadrant(arc, arc.start, arc.end, arc.center):
+            said += 1
+            assert _no_point(arc), (start, sweep, radius, center)
+    assert said > 2000   # the cheap test does pass short arcs
+
+
+@pytest.mark.parametrize(("arc", "why"), [
+    (_arc(0.3, 0.5, turns=1), "an extra full turn"),
+    (_arc(0.0, 0.5), "the start on the X axis"),
+    (_arc(0.3, math.pi / 2 - 0.3), "the end on the Y axis"),
+    (_arc(0.3, 1.5), "the ends in two quadrants"),
+    (_arc(0.3, 0.2 - 2 * math.pi), "the long way round"),
+    (_arc(0.3, 1e-12), "the end at the start: a full circle"),
+    (_arc(0.3, 1e-13, r1=20.0), "a straight radial move: a full circle"),
+    (_arc(0.3, 0.5, plane=("Z", "X", "Y")), "in G18"),
+])
+def test_the_quadrant_test_steps_aside(arc, why):
+    if why == "in G18":   # the plane's own axes: inside one quadrant there too
+        assert extents._in_one_quadrant(arc, arc.start, arc.end, arc.center) and _no_point(arc)
+        return
+    assert not extents._in_one_quadrant(arc, arc.start, arc.end, arc.center), why
+    if why in ("the start on the X axis", "the ends in two quadrants", "the long way round", "an extra full turn"):
+        assert not _no_point(arc)   # those do cross a quarter turn

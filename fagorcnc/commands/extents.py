@@ -347,17 +347,54 @@ _LINES = frozenset({Line, CurveLine, IndependentMove})
 
 
 def _arc_points_of(rec, start_part: dict, end_part: dict, machine: list, part: list) -> None:
-    """An arc's quarter-turn points (:func:`arc_points`) added to ``machine`` and ``part``; in part
-    coordinates the same points when the arc is the same there (no origin shift: equal points)."""
-    sweep = rec.sweep
+    """An arc's quarter-turn points (:func:`arc_points`) added to ``machine`` and ``part``: none for an
+    arc that stays inside one quadrant of its centre (:func:`_in_one_quadrant`); in part coordinates
+    the same points when the arc is the same there (no origin shift: equal points)."""
     start, end, center = rec.start, rec.end, rec.center
-    points = arc_points(start, end, center, rec.plane, sweep)
-    machine += points
     center_part = getattr(rec, "center_part", None) or {}
-    if end_part == end and start_part == start and center_part == center:
+    same = end_part == end and start_part == start and center_part == center
+    short = _in_one_quadrant(rec, start, end, center)
+    if short and same:
+        return
+    sweep = rec.sweep
+    points = [] if short else arc_points(start, end, center, rec.plane, sweep)
+    machine += points
+    if same:
         part += points   # the same arithmetic on equal values; _orientation is 1 on equal points
         return
     part += arc_points(start_part, end_part, center_part, rec.plane, sweep * _orientation(rec, start_part, end_part))
+
+
+#: How far (relative) from a quadrant's edges an arc's ends and how far from a straight line its turn
+#: must be for :func:`_in_one_quadrant` (the float error of the angles is some 1e-15 of them).
+_CLEAR = 1e-9
+
+
+def _in_one_quadrant(rec, start: dict, end: dict, center: dict) -> bool:
+    """Whether the arc surely crosses no quarter turn, so that :func:`arc_points` gives no point
+    (without its sweep): no full turn, both ends clearly inside one quadrant of the centre, the
+    end clearly on the side its direction turns to (the short way, under 90 degrees), the ends
+    apart (a full circle is programmed with the end at the start).  False when in doubt."""
+    if rec.turns:
+        return False
+    plane = rec.plane
+    a, o = plane[0], plane[1]
+    ca, co = center.get(a), center.get(o)
+    if ca is None or co is None:
+        return False
+    sa, so, ea, eo = start[a], start[o], end[a], end[o]
+    ua, uo, va, vo = sa - ca, so - co, ea - ca, eo - co
+    size_u, size_v = abs(ua) + abs(uo), abs(va) + abs(vo)
+    clear = _CLEAR * (size_u + size_v)
+    if not (abs(ua) > clear and abs(uo) > clear and abs(va) > clear and abs(vo) > clear):
+        return False   # an end near an edge of its quadrant (or the centre)
+    if (ua > 0.0) != (va > 0.0) or (uo > 0.0) != (vo > 0.0):
+        return False   # the ends in two quadrants
+    if max(abs(ea - sa), abs(eo - so)) <= 1e-6:
+        return False   # a full circle (the end at the start: within 1e-7, path/arcs.py sweep)
+    cross = ua * vo - uo * va
+    turn = _CLEAR * size_u * size_v
+    return cross > turn if rec.direction == "ccw" else cross < -turn
 
 
 def _widen(every: Box, feeds: Box, rapids: list | None, feed: list | None) -> bool:

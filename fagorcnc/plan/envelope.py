@@ -74,8 +74,10 @@ class Envelope:
         kind = type(piece)
         if kind is BlendPiece:
             reach = piece.length * (1.0 + 1e-6) + tol
-            return all(lo <= v - reach and v + reach <= hi for v, (lo, hi) in zip(piece.start.tolist(), limits,
-                                                                                   strict=True))
+            for v, (lo, hi) in zip(piece.start.tolist(), limits, strict=True):   # a loop: no generator per piece
+                if not (lo <= v - reach and v + reach <= hi):
+                    return False
+            return True
         if kind is ArcPiece:
             radius = max(piece.r0, piece.r0 + piece.dr * piece.length) + tol
             ia, io = piece.ia, piece.io
