@@ -79,7 +79,9 @@ class Envelope:
                     return False
             return True
         if kind is ArcPiece:
-            radius = max(piece.r0, piece.r0 + piece.dr * piece.length) + tol
+            r0 = piece.r0
+            r1 = r0 + piece.dr * piece.length
+            radius = (r1 if r1 > r0 else r0) + tol   # max(r0, r1), without the call
             ia, io = piece.ia, piece.io
             cx, cy = piece.center
             lo, hi = limits[ia]
@@ -95,7 +97,8 @@ class Envelope:
                 start, end = piece.start.tolist(), piece.end.tolist()
                 for i in others:
                     lo, hi = limits[i]
-                    if min(start[i], end[i]) < lo - tol or max(start[i], end[i]) > hi + tol:
+                    s, e = start[i], end[i]
+                    if (e if e < s else s) < lo - tol or (e if e > s else s) > hi + tol:   # min(s, e), max(s, e)
                         return False
             return True
         return False
