@@ -1,7 +1,10 @@
 """What ``fagorcnc check`` reports of the moves: tools, origins and the bounding box per tool.
 
-:class:`MoveSummary` is fed every motion record as the dry run makes it; the boxes are widened
-once per block from the block's own box (:func:`extent`), not point by point.
+:class:`MoveSummary` is fed every motion record as the dry run makes it, takes them in batches and
+widens the boxes by runs of points reduced per axis at C speed (:func:`_reduce`): the values
+widening them point by point (:meth:`Box.add`) gives.  :func:`extent`, :func:`_add_to_both` and
+:func:`_merge_into_both` widen boxes by one block or one point (public helpers, not on the
+summary's way any more).
 """
 
 from __future__ import annotations
