@@ -25,7 +25,7 @@ from .plan import Planner, PlanningError, Segment, planning_code
 from .plan.envelope import Envelope
 from .program_files import Source, no_block, resolve, source_name
 from .runtime import fewer_collections
-from .summary import Ending, RunSummary, is_move, not_started, program_ending, stopping_error
+from .summary import NOT_MOVES, Ending, RunSummary, is_move, not_started, program_ending, stopping_error
 from .syntax import parse_file, parse_text, source_encoding
 from .syntax.ast import Block, Program
 
@@ -395,10 +395,11 @@ class _Watched:
 
     def __next__(self):
         rec = next(self._records)
-        if is_move(rec):
+        if rec.kind not in NOT_MOVES:   # is_move(rec)
             self.moves += 1
-        if self._watch is not None:
-            self._watch(rec, self._interp)
+        watch = self._watch
+        if watch is not None:
+            watch(rec, self._interp)
         return rec
 
 
@@ -493,10 +494,15 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
         clock = 0.0
         planning = None
         planner = Planner(mach)
+        envelope_add = envelope.add
         try:
             for seg in planner.segments(records):
-                clock = max(clock, seg.t0 + seg.duration)   # #MOVE's segments overlap the general ones
-                envelope.add(seg)
+                end = seg.t0 + seg.duration
+                if end > clock:   # max(clock, end): #MOVE's segments overlap the general ones
+                    clock = end
+                piece = seg.piece
+                if piece is not None and getattr(piece, "curved", False):   # a straight piece: nothing (Envelope.add)
+                    envelope_add(seg)
                 if on_segment is not None:
                     on_segment(seg)
         except PlanningError as exc:

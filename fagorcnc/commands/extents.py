@@ -1,14 +1,20 @@
 """What ``fagorcnc check`` reports of the moves: tools, origins and the bounding box per tool.
 
-:class:`MoveSummary` is fed every motion record as the dry run makes it; the boxes are widened
-once per block from the block's own box (:func:`extent`), not point by point.
+:class:`MoveSummary` is fed every motion record as the dry run makes it, takes them in batches and
+widens the boxes by runs of points reduced per axis at C speed (:func:`_reduce`): the values
+widening them point by point (:meth:`Box.add`) gives.  :func:`extent`, :func:`_add_to_both` and
+:func:`_merge_into_both` widen boxes by one block or one point (public helpers, not on the
+summary's way any more).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from operator import is_, itemgetter
 from typing import Any
+
+from ..interp.records import CurveLine, IndependentMove, Line
 
 
 def _round(v: float) -> float:
@@ -98,7 +104,39 @@ class ToolBox:
 
 class MoveSummary:
     """Tools, origins and per-tool boxes, from the motion records as the interpreter makes them
-    (:meth:`add`; the absolute origin in force is read from its state at that moment)."""
+    (:meth:`add`; the absolute origin in force is read from its state at that moment).
+
+    The boxes are widened by runs, not point by point: the points of the moves made with one tool
+    are kept in plain lists (machine and part coordinates; rapids and feeds apart), and reduced per
+    axis at C speed when the tool changes, a list holds :data:`RUN_POINTS` points or the boxes are
+    asked for (:func:`_reduce`).  A move's points are its start (unless it starts where the last
+    move of its kind ended: already in), its end and an arc's quarter-turn points
+    (:func:`arc_points`); a plain line that continues the last move takes the short way at the top
+    of :meth:`add`.  The boxes get the values widening them point by point gives.
+    """
+
+    __slots__ = (
+        "_boxes",
+        "_feed",
+        "_feeds",
+        "_in_force",
+        "_interp",
+        "_labels",
+        "_last_end",
+        "_line_kind",
+        "_machine_points",
+        "_next_tool",
+        "_order",
+        "_part_here",
+        "_part_points",
+        "_pending",
+        "_rapids",
+        "_run",
+        "_seen",
+        "_tool",
+        "_tools",
+        "_used",
+    )
 
     def __init__(self) -> None:
         self._tools: dict[int, ToolUse] = {}
@@ -107,82 +145,187 @@ class MoveSummary:
         self._tool = self._next_tool = 0
         self._part_here: dict[str, float] | None = None
         self._interp = None
-        # the last move's end point, the box it went into and whether it was a rapid: a line that
-        # starts there (the same dict: consecutive records share it) widens the boxes by its end alone
-        self._after: tuple = (None, None, None)
+        # records not yet summarised, where the origin changed among them (index, origin), the origin
+        # last seen and the one in force at the first of them
+        self._pending: list = []
+        self._labels: list[tuple[int, str]] = []
+        self._seen: str | None = None
+        self._in_force = "?"
+        # the run: the tool's boxes its points go into; the points of its rapids and of its feeds (machine,
+        # part); those the next move adds to (``_feed``: the feeds'); where each list took over, in turn
+        self._run: ToolBox | None = None
+        self._rapids: tuple[list, list] = ([], [])
+        self._feeds: tuple[list, list] = ([], [])
+        self._feed = False
+        self._machine_points, self._part_points = self._rapids
+        self._order: list[tuple[bool, int, int]] = [(False, 0, 0)]
+        # the end of the last move, when it is in the current lists (or the boxes), and the kind a plain
+        # line (:data:`_LINES`) has when it goes into the current lists: "rapid", "linear" or None
+        self._last_end: dict[str, float] | None = None
+        self._line_kind: str | None = None
 
     def add(self, rec, interp) -> None:
+        """Take one record (``on_record`` of :func:`fagorcnc.simulate.dry_run`): kept, with the origin in
+        force if it changed, and summarised with the others of its batch (:meth:`_take`)."""
+        pending = self._pending
+        pending.append(rec)
+        label = getattr(interp.state, "origin_source", "?")
+        if label is not self._seen:   # (an equal string made again: one more mark, nothing else)
+            self._seen = label
+            self._labels.append((len(pending) - 1, label))
         self._interp = interp
-        tools = self._tools
-        kind = rec.kind
-        if kind == "aux":
-            f, value = rec.function, int(rec.value)
-            if f == "T":
-                self._next_tool = value
-                use = tools.setdefault(value, ToolUse(value))
-                if rec.line not in use.lines:
-                    use.lines.append(rec.line)
-            elif f == "M" and value == 6:   # the preselected tool goes to the spindle (seed 002 L4700)
-                self._tool = self._next_tool
-                tools.setdefault(self._tool, ToolUse(self._tool)).loaded = True
-            elif f == "D":
-                use = tools.setdefault(self._tool, ToolUse(self._tool))
-                if value not in use.offsets:
-                    use.offsets.append(value)
+        if len(pending) >= BATCH:
+            self._take()
+
+    def _take(self) -> None:
+        """The pending records into the summary, each under the origin in force when it came."""
+        pending, labels = self._pending, self._labels
+        if not pending:
             return
+        begin, label = 0, self._in_force
+        for at, following in labels:
+            if at > begin:
+                self._summarise(pending[begin:at], label)
+            begin, label = at, following
+        self._summarise(pending[begin:] if begin else pending, label)
+        self._in_force = label
+        pending.clear()
+        labels.clear()
+
+    def _summarise(self, records: list, label: str) -> None:
+        """``records``, made under the origin ``label``, into the summary: a plain line that continues
+        the last move by its end points alone, any other record by :meth:`_add`."""
+        moves = 0
+        for rec in records:
+            kind = rec.kind
+            if kind is self._line_kind and rec.start is self._last_end and type(rec) in _LINES:
+                end_part = rec.end_part
+                if end_part is None:
+                    continue
+                if not moves:
+                    self._enter(label, rec)
+                moves += 1
+                self._last_end = end = rec.end
+                points = self._machine_points
+                points.append(end)
+                self._part_points.append(end_part)
+                self._part_here = end_part
+                if len(points) >= RUN_POINTS:
+                    self._flush()
+            elif self._add(rec, kind):
+                if not moves:
+                    self._enter(label, rec)
+                moves += 1
+        if moves:
+            self._used[label].moves += moves
+
+    def _enter(self, label: str, rec) -> None:
+        """The entry of the origin ``label``, made at its first move ``rec``."""
+        if label not in self._used:
+            self._used[label] = OriginUse(label, rec.line)
+
+    def _add(self, rec, kind: str) -> bool:
+        """Any record but a line continuing the last move: whether it is a move (counted for its origin)."""
+        if kind == "aux":
+            self._aux(rec)
+            return False
         end_part = getattr(rec, "end_part", None)
         if kind == "dwell" or end_part is None:
-            return
-        label = getattr(interp.state, "origin_source", "?")
-        used = self._used
-        if label not in used:
-            used[label] = OriginUse(label, rec.line)
-        used[label].moves += 1
-        part_here = self._part_here
+            return False
         start, end = rec.start, rec.end
-        rapid = rec.rapid
-        last_end, last_box, last_rapid = self._after
-        if kind != "arc" and start is last_end and part_here is not None and rapid is last_rapid:
-            box = self._boxes.get(self._tool)
-            if box is last_box:
-                # its start is already in these boxes (the last move ended there): the box of
-                # start and end widens them exactly as its end alone does
-                if rapid:
-                    box.machine.add(end)
-                    box.part.add(end_part)
-                else:
-                    _add_to_both(box.machine, box.feed_machine, end)
-                    _add_to_both(box.part, box.feed_part, end_part)
-                self._part_here = end_part
-                self._after = (end, box, rapid)
-                return
-        start_part = part_here if part_here is not None else \
-            {a: rec.start.get(a, 0.0) - (rec.end.get(a, 0.0) - end_part[a]) for a in end_part}
-        if kind == "arc":
-            sweep = rec.sweep
-            machine_lo, machine_hi = extent(start, end, arc_points(start, end, rec.center, rec.plane, sweep))
-            part_lo, part_hi = extent(start_part, end_part, arc_points(
-                start_part, end_part, getattr(rec, "center_part", None) or {}, rec.plane,
-                sweep * _orientation(rec, start_part, end_part)))
-        else:
-            machine_lo, machine_hi = extent(start, end, ())
-            part_lo, part_hi = extent(start_part, end_part, ())
+        feed = not rec.rapid
         box = self._boxes.get(self._tool)
         if box is None:
             box = self._boxes[self._tool] = ToolBox(self._tool)
-        if rapid:
-            box.machine.merge(machine_lo, machine_hi)
-            box.part.merge(part_lo, part_hi)
+        if box is not self._run:
+            self._flush()
+            self._run, self._last_end = box, None
+            self._use_lists(feed)
+            self._order = [(feed, 0, 0)]
+        elif feed is not self._feed:
+            self._use_lists(feed)
+            self._order.append((feed, len(self._machine_points), len(self._part_points)))
+            self._last_end = None   # its start was not a point of these lists
+        machine, part = self._machine_points, self._part_points
+        part_here = self._part_here
+        if start is self._last_end:
+            start_part = part_here   # the last move of the run ended there: both already in
         else:
-            _merge_into_both(box.machine, box.feed_machine, machine_lo, machine_hi)
-            _merge_into_both(box.part, box.feed_part, part_lo, part_hi)
-        self._part_here = end_part
-        self._after = (end, box, rapid)
+            start_part = part_here if part_here is not None else \
+                {a: start.get(a, 0.0) - (end.get(a, 0.0) - end_part[a]) for a in end_part}
+            machine.append(start)
+            part.append(start_part)
+        machine.append(end)
+        part.append(end_part)
+        if kind == "arc":
+            _arc_points_of(rec, start_part, end_part, machine, part)
+        self._part_here, self._last_end = end_part, end
+        self._line_kind = "linear" if feed else "rapid"
+        if len(machine) >= RUN_POINTS:
+            self._flush()
+        return True
+
+    def _use_lists(self, feed: bool) -> None:
+        """The next points go to the feeds' lists (``feed``) or the rapids'."""
+        self._feed = feed
+        self._machine_points, self._part_points = self._feeds if feed else self._rapids
+
+    def _aux(self, rec) -> None:
+        """T, M06 and D: the tools used and their offsets."""
+        tools = self._tools
+        f, value = rec.function, int(rec.value)
+        if f == "T":
+            self._next_tool = value
+            use = tools.setdefault(value, ToolUse(value))
+            if rec.line not in use.lines:
+                use.lines.append(rec.line)
+        elif f == "M" and value == 6:   # the preselected tool goes to the spindle (seed 002 L4700)
+            self._tool = self._next_tool
+            tools.setdefault(self._tool, ToolUse(self._tool)).loaded = True
+            self._line_kind = None   # the next move may go into other boxes
+        elif f == "D":
+            use = tools.setdefault(self._tool, ToolUse(self._tool))
+            if value not in use.offsets:
+                use.offsets.append(value)
+
+    def _flush(self) -> None:
+        """The run's points into its boxes (the lists emptied; the run goes on)."""
+        box = self._run
+        if box is None:
+            return
+        (rapid_machine, rapid_part), (feed_machine, feed_part) = self._rapids, self._feeds
+        if rapid_machine or feed_machine:
+            rapids, feeds = _reduce(rapid_machine), _reduce(feed_machine)
+            rapids_part = rapids if _same(rapid_machine, rapid_part) else _reduce(rapid_part)
+            feeds_part = feeds if _same(feed_machine, feed_part) else _reduce(feed_part)
+            if not (_widen(box.machine, box.feed_machine, rapids, feeds)
+                    and _widen(box.part, box.feed_part, rapids_part, feeds_part)):
+                self._pointwise(box)
+            for points in (rapid_machine, rapid_part, feed_machine, feed_part):
+                points.clear()
+        self._order = [(self._feed, 0, 0)]
+
+    def _pointwise(self, box: ToolBox) -> None:
+        """:meth:`_flush` point by point, in the order the points came (axes appearing later: their order
+        in the boxes is that of their first point)."""
+        for frame, every, feeds in ((0, box.machine, box.feed_machine), (1, box.part, box.feed_part)):
+            lists = {False: self._rapids[frame], True: self._feeds[frame]}
+            ends = {feed: [entry[1 + frame] for entry in self._order if entry[0] is feed] + [len(lists[feed])]
+                    for feed in (False, True)}
+            taken = {False: 0, True: 0}
+            for feed, *begins in self._order:
+                n = taken[feed] = taken[feed] + 1
+                for point in lists[feed][begins[frame]:ends[feed][n]]:
+                    every.add(point)
+                    if feed:
+                        feeds.add(point)
 
     def tools(self) -> list[ToolUse]:
+        self._take()
         return list(self._tools.values())
 
     def origins(self) -> list[OriginUse]:
+        self._take()
         return list(self._used.values())
 
     def cycles(self) -> list[dict[str, Any]]:
@@ -190,7 +333,126 @@ class MoveSummary:
         return self._interp.state.cycles.report() if self._interp is not None else []
 
     def boxes(self) -> list[ToolBox]:
+        self._take()
+        self._flush()
         return [self._boxes[t] for t in sorted(self._boxes)]
+
+
+#: Points a list of :class:`MoveSummary` keeps before they are reduced into its boxes.
+RUN_POINTS = 1024
+#: Records :meth:`MoveSummary.add` keeps before it summarises them (in one warm loop, not one by one
+#: between the interpreter's and the planner's work).
+BATCH = 256
+
+#: The record types whose ``rapid`` is ``kind == "rapid"``: a line of one of them that starts where
+#: the last move ended, of the kind the current lists take, goes into them (unless M06 came between).
+_LINES = frozenset({Line, CurveLine, IndependentMove})
+
+
+def _arc_points_of(rec, start_part: dict, end_part: dict, machine: list, part: list) -> None:
+    """An arc's quarter-turn points (:func:`arc_points`) added to ``machine`` and ``part``: none for an
+    arc that stays inside one quadrant of its centre (:func:`_in_one_quadrant`); in part coordinates
+    the same points when the arc is the same there (no origin shift: equal points)."""
+    start, end, center = rec.start, rec.end, rec.center
+    center_part = getattr(rec, "center_part", None) or {}
+    same = end_part == end and start_part == start and center_part == center
+    short = _in_one_quadrant(rec, start, end, center)
+    if short and same:
+        return
+    sweep = rec.sweep
+    points = [] if short else arc_points(start, end, center, rec.plane, sweep)
+    machine += points
+    if same:
+        part += points   # the same arithmetic on equal values; _orientation is 1 on equal points
+        return
+    part += arc_points(start_part, end_part, center_part, rec.plane, sweep * _orientation(rec, start_part, end_part))
+
+
+#: How far (relative) from a quadrant's edges an arc's ends and how far from a straight line its turn
+#: must be for :func:`_in_one_quadrant` (the float error of the angles is some 1e-15 of them).
+_CLEAR = 1e-9
+
+
+def _in_one_quadrant(rec, start: dict, end: dict, center: dict) -> bool:
+    """Whether the arc surely crosses no quarter turn, so that :func:`arc_points` gives no point
+    (without its sweep): no full turn, both ends clearly inside one quadrant of the centre, the
+    end clearly on the side its direction turns to (the short way, under 90 degrees), the ends
+    apart (a full circle is programmed with the end at the start).  False when in doubt."""
+    if rec.turns:
+        return False
+    plane = rec.plane
+    a, o = plane[0], plane[1]
+    ca, co = center.get(a), center.get(o)
+    if ca is None or co is None:
+        return False
+    sa, so, ea, eo = start[a], start[o], end[a], end[o]
+    ua, uo, va, vo = sa - ca, so - co, ea - ca, eo - co
+    size_u, size_v = abs(ua) + abs(uo), abs(va) + abs(vo)
+    clear = _CLEAR * (size_u + size_v)
+    if not (abs(ua) > clear and abs(uo) > clear and abs(va) > clear and abs(vo) > clear):
+        return False   # an end near an edge of its quadrant (or the centre)
+    if (ua > 0.0) != (va > 0.0) or (uo > 0.0) != (vo > 0.0):
+        return False   # the ends in two quadrants
+    if max(abs(ea - sa), abs(eo - so)) <= 1e-6:
+        return False   # a full circle (the end at the start: within 1e-7, path/arcs.py sweep)
+    cross = ua * vo - uo * va
+    turn = _CLEAR * size_u * size_v
+    return cross > turn if rec.direction == "ccw" else cross < -turn
+
+
+def _widen(every: Box, feeds: Box, rapids: list | None, feed: list | None) -> bool:
+    """Widen the box of all moves by the reductions of both lists (:func:`_reduce`) and that of the
+    feeds by ``feed``'s: False, and nothing done, when that must go point by point: a reduction is
+    None, or an axis is not yet in the box of all moves (its place there is that of its first point)."""
+    if rapids is None or feed is None:
+        return False
+    lo, hi = every.lo, every.hi
+    if any(axis not in lo for axis, _, _ in rapids) or any(axis not in lo for axis, _, _ in feed):
+        return False
+    for reduced in (rapids, feed):
+        for axis, low, high in reduced:
+            if low < lo[axis]:
+                lo[axis] = low
+            if high > hi[axis]:
+                hi[axis] = high
+    lo, hi = feeds.lo, feeds.hi
+    for axis, low, high in feed:
+        mine = lo.get(axis)
+        if mine is None:   # the feeds' first: the axes in the order of their first point
+            lo[axis], hi[axis] = low, high
+            continue
+        if low < mine:
+            lo[axis] = low
+        if high > hi[axis]:
+            hi[axis] = high
+    return True
+
+
+def _same(machine: list, part: list) -> bool:
+    """Whether every part point is its machine point (one dict: no origin shift), at C speed."""
+    return len(machine) == len(part) and all(map(is_, machine, part))
+
+
+def _reduce(points: list[dict[str, float]]) -> list[tuple[str, float, float]] | None:
+    """Per axis of the points, in the order of the first one: ``(axis, min, max)``, the values point
+    by point widening gives ([] for no point); None when the points do not all have the same axes,
+    or a NaN leads an axis (min/max would keep it)."""
+    if not points:
+        return []
+    first = points[0]
+    if sum(map(len, points)) != len(first) * len(points):
+        return None
+    out = []
+    try:
+        for axis in first:
+            values = list(map(itemgetter(axis), points))
+            lo, hi = min(values), max(values)
+            if lo != lo or hi != hi:
+                return None
+            out.append((axis, lo, hi))
+    except KeyError:   # the same number of axes, not the same axes
+        return None
+    return out
 
 
 def _add_to_both(a: Box, b: Box, point: dict[str, float]) -> None:
@@ -263,6 +525,9 @@ def extent(start: dict, end: dict, others) -> tuple[dict[str, float], dict[str, 
     return lo, hi
 
 
+_QUARTER = math.pi / 2
+
+
 def arc_points(start: dict, end: dict, center: dict, plane: tuple, sweep: float) -> list[dict]:
     """Points of an arc (helix) where its angle crosses a quarter turn: with the end
     points they give its exact bounding box.  ``sweep`` in degrees, signed (negative
@@ -272,12 +537,15 @@ def arc_points(start: dict, end: dict, center: dict, plane: tuple, sweep: float)
         return []
     ca, co = center[a], center[o]
     th0 = math.atan2(start[o] - co, start[a] - ca)
+    sw = math.radians(sweep)
+    quarter = _QUARTER
+    th1 = th0 + sw
+    k0 = math.ceil((th1 if th1 < th0 else th0) / quarter)   # min(th0, th1), max(th0, th1)
+    k1 = math.floor((th1 if th1 > th0 else th0) / quarter)
+    if k1 < k0:
+        return []   # no quarter turn crossed (most short arcs)
     r0 = math.hypot(start[a] - ca, start[o] - co)
     r1 = math.hypot(end[a] - ca, end[o] - co)
-    sw = math.radians(sweep)
-    quarter = math.pi / 2
-    k0 = math.ceil(min(th0, th0 + sw) / quarter)
-    k1 = math.floor(max(th0, th0 + sw) / quarter)
     out = []
     for k in range(k0, min(k1, k0 + 4000) + 1):
         th = k * quarter

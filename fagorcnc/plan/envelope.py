@@ -74,10 +74,14 @@ class Envelope:
         kind = type(piece)
         if kind is BlendPiece:
             reach = piece.length * (1.0 + 1e-6) + tol
-            return all(lo <= v - reach and v + reach <= hi for v, (lo, hi) in zip(piece.start.tolist(), limits,
-                                                                                   strict=True))
+            for v, (lo, hi) in zip(piece.start.tolist(), limits, strict=True):   # a loop: no generator per piece
+                if not (lo <= v - reach and v + reach <= hi):
+                    return False
+            return True
         if kind is ArcPiece:
-            radius = max(piece.r0, piece.r0 + piece.dr * piece.length) + tol
+            r0 = piece.r0
+            r1 = r0 + piece.dr * piece.length
+            radius = (r1 if r1 > r0 else r0) + tol   # max(r0, r1), without the call
             ia, io = piece.ia, piece.io
             cx, cy = piece.center
             lo, hi = limits[ia]
@@ -93,7 +97,8 @@ class Envelope:
                 start, end = piece.start.tolist(), piece.end.tolist()
                 for i in others:
                     lo, hi = limits[i]
-                    if min(start[i], end[i]) < lo - tol or max(start[i], end[i]) > hi + tol:
+                    s, e = start[i], end[i]
+                    if (e if e < s else s) < lo - tol or (e if e > s else s) > hi + tol:   # min(s, e), max(s, e)
                         return False
             return True
         return False
