@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from .config.machine import Machine, MachineError, load_machine
 from .config.parameter_file import attach_parameter_file
 from .diagnostics import Diagnostic
-from .interp.interpreter import Interpreter
+from .interp.interpreter import Interpreter, handed_in_runs
 from .interp.records import record_time
 from .interp.state import ChannelState
 from .plan import Planner, PlanningError, Segment, planning_code
@@ -496,7 +496,9 @@ def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, 
         planner = Planner(mach)
         envelope_add = envelope.add
         try:
-            for seg in planner.segments(records):
+            # the planner takes the records in runs (its read-ahead): the interpretation clock (limits.max_seconds)
+            # is stopped once per run while the planner has them, not around every record
+            for seg in planner.segments(handed_in_runs(interp, records)):
                 end = seg.t0 + seg.duration
                 if end > clock:   # max(clock, end): #MOVE's segments overlap the general ones
                     clock = end

@@ -87,6 +87,42 @@ def test_the_time_the_consumer_holds_the_records_does_not_count(monkeypatch):
     assert run.ok, [str(d) for d in run.diagnostics]
 
 
+def test_a_dry_runs_planner_time_does_not_count(monkeypatch):
+    # dry_run (fagorcnc check) hands the records to the planner in runs and stops the clock while the
+    # planner has them: a fake clock advanced 10 s per planned segment (30 000 s) never reaches the
+    # 1 s limit, and the clock is read twice per run of 1024 records, not twice per record
+    now = [0.0]
+    reads = [0]
+
+    def clock():
+        reads[0] += 1
+        return now[0]
+
+    def planner_busy(_segment):
+        now[0] += 10.0
+
+    monkeypatch.setattr(interpreter, "cpu_time", clock)
+    r = fagorcnc.dry_run(text="G90 G1 X1 F1000\nG1 X0\n" * 1500 + "M30\n",
+                         machine={"limits": {"max_seconds": 1}}, on_segment=planner_busy)
+    assert r.ok and not r.diagnostics, [str(d) for d in r.diagnostics]
+    assert r.moves == 3000
+    assert reads[0] <= 12   # start, 2 per run of 1024 (3 runs), the limit's checks every 1024 blocks
+
+
+def test_a_dry_runs_interpretation_time_still_counts(monkeypatch):
+    # what runs as the records are made (here a watcher of them, 10 s each) is interpretation time:
+    # the limit stops the run at the first check (block 1024) with INT082
+    now = [0.0]
+
+    def watcher(_record, _interp):
+        now[0] += 10.0
+
+    monkeypatch.setattr(interpreter, "cpu_time", lambda: now[0])
+    r = fagorcnc.dry_run(text="G90 G1 X1 F1000\nG1 X0\n" * 1500 + "M30\n",
+                         machine={"limits": {"max_seconds": 1}}, on_record=watcher)
+    assert [d.code for d in r.diagnostics if d.is_error] == ["INT082"]
+
+
 def test_the_time_limit_counts_cpu_time_not_a_busy_machines_wall_clock(monkeypatch):
     # issue 25.1: a loaded CI runner leaves the interpreter off the CPU; simulated by a 0.4 s sleep
     # (wall-clock time, no CPU time) at block 1000 of 1500.  The limit (0.25 s) is checked every

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from itertools import islice
 from pathlib import Path
 from time import process_time as cpu_time
 
@@ -135,7 +136,9 @@ class Interpreter(FlowMixin):
             records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
             # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
             timed = self._timed
-            limited = clock.seconds > 0   # without a time limit, no clock to read twice per record
+            # without a time limit, or when the consumer stops the clock itself (handed_in_runs), no clock
+            # to read twice per record
+            limited = clock.seconds > 0 and not self.consumer_excluded
             for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
                 known = timed.pop(id(record), None)   # the time _loop worked out for the same record
                 self.cycle_time += known[1] if known is not None and known[0] is record else \
@@ -171,6 +174,9 @@ class Interpreter(FlowMixin):
             pass
 
     failed = False
+    #: True when the consumer of :meth:`run` takes the records in runs and stops the interpretation clock
+    #: while it has them (:func:`handed_in_runs`), so that run() does not read the clock around each record.
+    consumer_excluded = False
     #: Plain blocks (literal G00-G03 moves) take the fast path of :mod:`fagorcnc.interp.plain`; False runs
     #: every block through the general executor (the tests compare both).
     plain_blocks = True
@@ -601,6 +607,20 @@ class Interpreter(FlowMixin):
         from .sentences import execute_sentence
 
         yield from execute_sentence(self, node, src)
+
+
+def handed_in_runs(interp: Interpreter, records: Iterator, size: int = 1024) -> Iterator:
+    """``records`` (made by ``interp.run()``, directly or through a watcher) taken ``size`` at a time:
+    each run is interpreted, then handed on with the interpretation clock stopped until the consumer asks
+    for more, so that limits.max_seconds still counts interpretation alone (:class:`_Clock`) with two
+    clock reads per run instead of two per record (a system call each).  What runs while a run is being
+    taken (a watcher of the records) counts as interpretation.  Sets ``interp.consumer_excluded``."""
+    interp.consumer_excluded = True
+    clock = interp.clock
+    while run := list(islice(records, size)):
+        handed = cpu_time()
+        yield from run
+        clock.exclude(handed)
 
 
 class _Clock:
