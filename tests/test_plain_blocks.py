@@ -254,6 +254,12 @@ FEEDS = {
     "G95": "S1000 M3\nG95\nG1 X1 F0.1\nY2\nG94\nX3 F200\n",
     "F0": "G1 X1 F100\nX2 F0\nY3\n",
     "DEFAULTFEED": "G0 X1\nG1 X2\nY3 F100\n",
+    # arcs: G94 takes F without the arc's length (MAXFEED still clamps), the other modes their own way
+    "G94 arcs": "G1 X1 F100\nG2 X3 I1 J0\nG3 X1 I-1 J0 Z1 F9000\nG2 X3 R1 F250.5\n",
+    "G93 arcs": "G93\nG1 X1 F2\nG2 X3 I1 J0 F0.5\nG3 X1 I-1 J0 Z2\nG94\nG2 X3 I1 J0 F300\n",
+    "G95 arcs": "S1000 M3\nG95\nG1 X1 F0.1\nG2 X3 I1 J0\nG3 X1 Z1 I-1 J0\n",
+    "F0 arcs": "G1 X1 F100\nG2 X3 I1 J0 F0\n",
+    "DEFAULTFEED arcs": "G0 X1\nG2 X3 I1 J0\nG3 X1 I-1 J0 F100\n",
 }
 FEED_MACHINE = {**MACHINE, "max_feed": 5000.0, "defaults": {"DEFAULTFEED": 1}}
 

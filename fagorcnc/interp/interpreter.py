@@ -196,6 +196,8 @@ class Interpreter(FlowMixin):
         plain_blocks = PlainBlocks(self)
         plain = plain_blocks.run if self.plain_blocks else None
         max_blocks = self.machine.limits.max_blocks
+        machine = self.machine
+        timed = self._timed
         while len(frames) > depth:
             frame = frames[-1]
             if frame.repeat is not None and frame.pc > frame.repeat[1]:
@@ -234,7 +236,13 @@ class Interpreter(FlowMixin):
                     if record is not None:
                         if state.sync:
                             yield self._sync(block, record.start)
-                        state.elapsed += self._time(record, plain_blocks.seconds)
+                        t = plain_blocks.seconds   # self._time(record, seconds), inline
+                        if t is None:
+                            t = record_time(machine, record)
+                        if len(timed) >= 256:
+                            timed.clear()
+                        timed[id(record)] = (record, t)
+                        state.elapsed += t
                         yield record
                     if state.sync:
                         yield self._sync(block, None)

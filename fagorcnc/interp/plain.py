@@ -169,10 +169,16 @@ class PlainBlocks:
                 iso._feed(*feed)
         mode = modes["motion"]
         src = _source(interp.frames[-1].program.file, block.line, block.text)   # interp._src(block)
-        if mode < 2:
-            rec = self._line(mode, axes, src) if axes and not params and self._simple() else NOT_PLAIN
-        else:
-            rec = self._arc(mode, axes, params, src) if params and self._simple() else NOT_PLAIN
+        rec = NOT_PLAIN
+        if params if mode >= 2 else axes and not params:
+            kin = st.kin
+            tr = st.transform
+            # the simplest state: no transformation, radius compensation, kinematics or per-block planning
+            # context; then _line and _arc are MotionMixin._motion's steps for the block
+            if (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and modes["compensation"] not in (41, 42)
+                    and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
+                    and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes):
+                rec = self._line(mode, axes, src) if mode < 2 else self._arc(mode, axes, params, src)
         if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
             bw = BlockWords()
             bw.g = [(n, col, None) for (n, _group), col in gl]
@@ -186,19 +192,10 @@ class PlainBlocks:
         return rec
 
     # ------------------------------------------------------------ G00/G01 in the simplest state
-    def _simple(self) -> bool:
-        """No transformation, radius compensation, kinematics or per-block planning context: then
-        :meth:`_line` is ``MotionMixin._motion`` for a G00/G01 of axis words."""
-        st = self.state
-        kin = st.kin
-        tr = st.transform
-        return (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and st.modes["compensation"] not in (41, 42)
-                and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
-                and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes)
-
     def _line(self, mode: int, words: dict, src: Source):
-        """``MotionMixin._motion`` of a G00/G01 with axis words under :meth:`_simple`, step by step (the
-        same arithmetic in the same order): the programmed point is the part point (no transformation),
+        """``MotionMixin._motion`` of a G00/G01 with axis words in the simplest state (no transformation, radius
+        compensation, kinematics or per-block planning context: :meth:`run`), step by step (the same arithmetic
+        in the same order): the programmed point is the part point (no transformation),
         the origin chain is worked out again only when the tool length compensation changed it, no
         rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
         st = self.state
@@ -262,7 +259,7 @@ class PlainBlocks:
         css = iso._css() if mode_f == 95 else None   # _css() is None outside G95
         if css is None:   # record_time() of the record: the same length (Line.length), the same division
             self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
-        dyn = st._dynamics   # st.dynamics(): no per-block modes under _simple()
+        dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
         # Line's fields in order: kind, start, end, end_part, feed, feed_mode, src, comp, dyn, frame, joins,
         # thread, css
         return _line_record("linear", start, end, end_part, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f), src,
@@ -273,7 +270,7 @@ class PlainBlocks:
     def _arc(self, mode: int, words: dict, params: dict, src: Source):
         """``MotionMixin._motion`` then ``_arc`` of a G02/G03 by its centre (the plane's centre words, from
         the start point or absolute under G261) or by R (an end point in the plane), helix pitch included,
-        under :meth:`_simple`, step by step with the same arithmetic in the same order (seed 002 ch. 8.3-8.5).
+        in the simplest state, step by step with the same arithmetic in the same order (seed 002 ch. 8.3-8.5).
         :data:`NOT_PLAIN` before anything changed for what it does not take: another plane than G17-G19, a
         rotary axis word, R without an end point in the plane (a polar move), neither centre nor R (the
         stored radius, a null move), a letter that is not the plane's."""
@@ -286,7 +283,11 @@ class PlainBlocks:
         ci, cj, ck = letters
         if not self._linear.issuperset(words):
             return NOT_PLAIN   # a rotary axis
-        a, o, n = st.plane_axes()
+        slots = st.channel.slots
+        if modes["plane"] == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
+            a, o, n = slots[0], slots[1], slots[2]
+        else:
+            a, o, n = st.plane_axes()
         if a is None or o is None:
             return NOT_PLAIN   # INT150: the general path says it
         by_centre = ci in params or cj in params
@@ -362,15 +363,26 @@ class PlainBlocks:
         center_part = {a: center[0], o: center[1]}
         center_m = {a: center[0] + 0.0, o: center[1] + 0.0} if off is None else \
             {a: center[0] + off[a], o: center[1] + off[o]}
-        planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
-        other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
-        feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
-        return _arc_record(kind="arc", start=start, end=end, end_part=end_part, center=center_m,
-                           center_part=center_part, direction="ccw" if ccw else "cw", plane=(a, o, n),
-                           radius=math.dist(ep, center) * 1.0, turns=turns, feed=feed,
-                           feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
-                           joins=shared_tuple((modes["transition"], modes["comp_start"])),
-                           css=iso._css() if modes["feed"] == 95 else None)
+        mode_f = modes["feed"]
+        feed = st.feed
+        if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself at most MAXFEED, whatever the length
+            if self._max_feed > 0:
+                feed = min(feed, self._max_feed)
+        else:
+            planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
+            other = 0.0   # sum() of the squares off the plane (a float sum starts at 0.0), without a generator
+            for x, v in end.items():
+                if x != a and x != o:
+                    other += (v - start[x]) ** 2
+            feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
+        dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
+        # Arc's fields in order: kind, start, end, end_part, center, center_part, direction, plane, radius, turns,
+        # feed, feed_mode, src, comp, dyn, frame, joins, css
+        return _arc_record("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw", (a, o, n),
+                           math.dist(ep, center) * 1.0, turns, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f),
+                           src, None, dyn if dyn is not None else st.dynamics(), None,
+                           _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins),
+                           iso._css() if mode_f == 95 else None)
 
 
 def record_maker(cls):
