@@ -388,3 +388,22 @@ def test_signed_zeros_and_offsets_same_both_ways(head, monkeypatch):
                       "G91 G1 X-0 Y-0 Z-0\nX-1 Y0\nG90 G0 X-0 Z-0\nM30\n")
     _same(program, monkeypatch, MACHINE)
     _same(program, monkeypatch)
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_arc_variables_read_after_a_plain_arc(fast, monkeypatch):
+    # V.G.R, V.G.I, V.G.J and V.G.CIRERR are worked out when read, from the last arc's points (kept as given):
+    # the arc G2 X2 Y0 I1.0005 J0 from X0 Y0, its end radius 0.0005 short, centre corrected by G265 onto X1
+    monkeypatch.setattr(Interpreter, "plain_blocks", fast)
+    program = ("%V\nG90 G0 X0 Y0 Z0\nG265\nG1 F800\nG2 X2 Y0 I1.0005 J0\n"
+               "P1 = V.G.R\nP2 = V.G.I\nP3 = V.G.J\nP4 = V.G.CIRERR[1]\nP5 = V.G.CIRERR[2]\nM30\n")
+    r = fagorcnc.simulate(program, {"cirinerr": 0.01})
+    assert r.ok, r.diagnostics
+    values = [r.state.param(n) for n in range(1, 6)]
+    assert values == pytest.approx([1.0, 1.0, 0.0, 0.0005, 0.0], abs=1e-12)
+    import math
+
+    from fagorcnc.interp.gvars import arc_values
+    start, programmed, centre, end = (0.0, 0.0), (1.0005, 0.0), (1.0, 0.0), (2.0, 0.0)
+    assert arc_values((start, programmed, centre, end, ("X", "Y", "Z"))) == (
+        math.dist(end, centre), {"X": 1.0, "Y": 0.0}, {"X": 1.0005 - 1.0, "Y": 0.0}, ("X", "Y", "Z"))

@@ -338,7 +338,7 @@ class PlainBlocks:
         if r0 < 1e-9:
             raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
         programmed = center
-        if by_centre:
+        if by_centre and not abs(math.dist(ep, center) - r0) <= 1e-12:   # else _radius_check() keeps the centre
             center = iso._radius_check(sp, ep, center, col)   # CIRINERR, CIRINFACT, G264/G265
         arc_data(st, sp, programmed, center, ep, (a, o, n))   # V.G.R, I, J, K, CIRERR (L40454)
         delta = arcs.sweep(sp, ep, center, ccw)
