@@ -149,15 +149,18 @@ class PlainBlocks:
         interp.axis_sentence = None
         if number is not None:
             st.last_n = int(number)
-        if gl:
+        if groups & 2:   # a G90/G91, the one G function of a plain block from G10 up
             text = block.text
             for (n, _group), col in gl:
                 if n >= 10:
                     compat.leading_zero(interp, n, col, text)   # "G090" is G90
         iso = self.iso
         iso.sync.previous_motion = modes["motion"]   # G33 joins the thread of the block before (L7366)
-        for (n, group), _col in gl:
-            modes[group] = n
+        if motion is not None:
+            modes["motion"] = motion
+        if groups & 2:
+            for (n, group), _col in gl:
+                modes[group] = n
         if st.block_modes:
             st.block_modes = {}
         if feed is not None:
