@@ -382,25 +382,26 @@ RecordWatcher = Callable[[object, Interpreter], None]
 
 class _Watched:
     """The interpreter's records, each shown to a watcher and counted on its way to the planner.
-    An iterator object, not a generator: after a planning error the rest is still interpreted."""
+    Every iteration takes the same stream on: after a planning error the rest is still interpreted.
+    (A generator's step costs less than an iterator object's ``__next__``.)"""
 
     def __init__(self, interp: Interpreter, watch: RecordWatcher | None) -> None:
-        self._records = interp.run()
         self._interp = interp
         self._watch = watch
         self.moves = 0
+        self._stream = self._each(interp.run())
 
-    def __iter__(self) -> _Watched:
-        return self
+    def __iter__(self) -> Iterator:
+        return self._stream
 
-    def __next__(self):
-        rec = next(self._records)
-        if rec.kind not in NOT_MOVES:   # is_move(rec)
-            self.moves += 1
-        watch = self._watch
-        if watch is not None:
-            watch(rec, self._interp)
-        return rec
+    def _each(self, records: Iterator) -> Iterator:
+        interp, watch = self._interp, self._watch
+        for rec in records:
+            if rec.kind not in NOT_MOVES:   # is_move(rec)
+                self.moves += 1
+            if watch is not None:
+                watch(rec, interp)
+            yield rec
 
 
 def _lines_of(source: Source, encoding: str):

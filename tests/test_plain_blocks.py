@@ -254,6 +254,12 @@ FEEDS = {
     "G95": "S1000 M3\nG95\nG1 X1 F0.1\nY2\nG94\nX3 F200\n",
     "F0": "G1 X1 F100\nX2 F0\nY3\n",
     "DEFAULTFEED": "G0 X1\nG1 X2\nY3 F100\n",
+    # arcs: G94 takes F without the arc's length (MAXFEED still clamps), the other modes their own way
+    "G94 arcs": "G1 X1 F100\nG2 X3 I1 J0\nG3 X1 I-1 J0 Z1 F9000\nG2 X3 R1 F250.5\n",
+    "G93 arcs": "G93\nG1 X1 F2\nG2 X3 I1 J0 F0.5\nG3 X1 I-1 J0 Z2\nG94\nG2 X3 I1 J0 F300\n",
+    "G95 arcs": "S1000 M3\nG95\nG1 X1 F0.1\nG2 X3 I1 J0\nG3 X1 Z1 I-1 J0\n",
+    "F0 arcs": "G1 X1 F100\nG2 X3 I1 J0 F0\n",
+    "DEFAULTFEED arcs": "G0 X1\nG2 X3 I1 J0\nG3 X1 I-1 J0 F100\n",
 }
 FEED_MACHINE = {**MACHINE, "max_feed": 5000.0, "defaults": {"DEFAULTFEED": 1}}
 
@@ -324,3 +330,80 @@ def test_record_maker_makes_the_same_records():
         y: list = dataclasses.field(default_factory=list)
 
     assert plain.record_maker(Plain) is Plain
+
+
+def test_record_maker_takes_the_fields_in_order():
+    # the plain blocks call the maker with the fields in the class's order: the same record as by keyword
+    from fagorcnc.interp.records import Line, Source
+
+    src = Source("p.nc", 3, "G1 X1")
+    start, end = {"X": 0.0}, {"X": 1.0}
+    make = plain.record_maker(Line)
+    by_order = make("linear", start, end, end, 800.0, "G94", src, None, None, None, (136, 139), None, None)
+    by_name = make(kind="linear", start=start, end=end, end_part=end, feed=800.0, feed_mode="G94", src=src,
+                   joins=(136, 139))
+    assert repr(by_order) == repr(by_name) and by_order == Line("linear", start, end, end, 800.0, "G94", src,
+                                                                  joins=(136, 139))
+
+
+def _general_points(state, pos: dict, end_part: dict) -> tuple:
+    """The part position and the machine end point as ``_motion`` works them out (offsets(), to_machine(),
+    shared_end())."""
+    off = state.offsets()
+    cur_part = {x: pos[x] - off[x] for x in state.axes}
+    end = {x: v + off[x] for x, v in end_part.items()}
+    return cur_part, state.shared_end(end, end_part)
+
+
+@pytest.mark.parametrize("origin", [0.0, -0.0, 2.5])
+@pytest.mark.parametrize("length", [None, 50.0])
+@pytest.mark.parametrize("point", [(1.0, -0.0, 3.5), (float("inf"), 0.0, -0.0), (float("nan"), 1.0, 2.0),
+                                   (float("inf"), float("-inf"), 0.0)])
+@pytest.mark.parametrize("order", ["XYZ", "ZXY"])
+def test_part_point_and_machine_end_as_offsets_make_them(origin, length, point, order):
+    # the shortcut of every offset 0.0 gives the general path's points to the last bit (-0.0, inf, NaN), the
+    # same dict where the general path shares it, and the channel's axis order
+    from fagorcnc.config.machine import load_machine
+    from fagorcnc.interp.state import ChannelState
+
+    st = ChannelState(load_machine(None))
+    st.abs_offset["Y"] = origin
+    st.inc_offset["X"] = -origin
+    if length is not None:
+        st.length_offset = {"Z": length}
+    pos = {a: v for a, v in zip(order, (4.0, -0.0, 1.25), strict=True)}
+    end_part = dict(zip("XYZ", point, strict=True))
+    off, cur_part = plain._part_point(st, pos)
+    general_part, general_end = _general_points(st, pos, end_part)
+    assert repr(cur_part) == repr(general_part)
+    assert (off is None) == (origin == 0.0 and length is None)
+    end = plain._machine_end(st, end_part, off)
+    assert repr(end) == repr(general_end) and (end is end_part) == (general_end is end_part)
+
+
+@pytest.mark.parametrize("head", ["", "G54\n", "T1 D1 M6\nG54\n", "G159=2\nG158 X-0 Y0\n"])
+def test_signed_zeros_and_offsets_same_both_ways(head, monkeypatch):
+    # -0.0 words and positions, with and without origins and tool length, lines and arcs
+    program = head + ("G90 G1 X-0 Y-0 Z-0 F1000\nG1 X0 Y-0\nG2 X-0 Y0 I-0 J0\nX1 Y-0\nG3 X-0 Y1 I-1 J0\n"
+                      "G91 G1 X-0 Y-0 Z-0\nX-1 Y0\nG90 G0 X-0 Z-0\nM30\n")
+    _same(program, monkeypatch, MACHINE)
+    _same(program, monkeypatch)
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_arc_variables_read_after_a_plain_arc(fast, monkeypatch):
+    # V.G.R, V.G.I, V.G.J and V.G.CIRERR are worked out when read, from the last arc's points (kept as given):
+    # the arc G2 X2 Y0 I1.0005 J0 from X0 Y0, its end radius 0.0005 short, centre corrected by G265 onto X1
+    monkeypatch.setattr(Interpreter, "plain_blocks", fast)
+    program = ("%V\nG90 G0 X0 Y0 Z0\nG265\nG1 F800\nG2 X2 Y0 I1.0005 J0\n"
+               "P1 = V.G.R\nP2 = V.G.I\nP3 = V.G.J\nP4 = V.G.CIRERR[1]\nP5 = V.G.CIRERR[2]\nM30\n")
+    r = fagorcnc.simulate(program, {"cirinerr": 0.01})
+    assert r.ok, r.diagnostics
+    values = [r.state.param(n) for n in range(1, 6)]
+    assert values == pytest.approx([1.0, 1.0, 0.0, 0.0005, 0.0], abs=1e-12)
+    import math
+
+    from fagorcnc.interp.gvars import arc_values
+    start, programmed, centre, end = (0.0, 0.0), (1.0005, 0.0), (1.0, 0.0), (2.0, 0.0)
+    assert arc_values((start, programmed, centre, end, ("X", "Y", "Z"))) == (
+        math.dist(end, centre), {"X": 1.0, "Y": 0.0}, {"X": 1.0005 - 1.0, "Y": 0.0}, ("X", "Y", "Z"))

@@ -26,12 +26,21 @@ from .units import INCH
 
 def arc_data(state, start: tuple, programmed: tuple, centre: tuple, end: tuple, plane: tuple) -> None:
     """Keep the last prepared arc for V.G.R/I/J/K/CIRERR: ``start``, ``end``, the ``programmed`` and the
-    (G265) ``centre`` in the plane's part coordinates (mm), ``plane`` its (abscissa, ordinate, third) axes."""
+    (G265) ``centre`` in the plane's part coordinates (mm), ``plane`` its (abscissa, ordinate, third) axes.
+    Kept as given (points are tuples): :func:`arc_values` works the variables out when one is read, not
+    for every arc."""
+    state.arc_data = (start, programmed, centre, end, plane)
+
+
+def arc_values(data: tuple) -> tuple:
+    """``(radius, centre - start, programmed - centre, plane)`` of an :func:`arc_data` entry, the last two
+    as ``{axis: mm}`` of the plane's two axes."""
+    start, programmed, centre, end, plane = data
     a, o = plane[0], plane[1]
     rel = {a: centre[0] - start[0], o: centre[1] - start[1]}
     err = {a: programmed[0] - centre[0], o: programmed[1] - centre[1]}   # programmed - corrected (L40483)
     # the radius: from the centre to the end point, as the manual's G264 example reads it (L40564-L40573)
-    state.arc_data = (math.dist(end, centre), rel, err, plane)
+    return math.dist(end, centre), rel, err, plane
 
 
 class ProgramVariables:
@@ -102,6 +111,7 @@ class ProgramVariables:
         data = self.state.arc_data
         if data is None:
             return 0.0
+        data = arc_values(data)
         if k == 0:
             return data[0] / self._unit()
         axis = self._arc_axis(data, k - 1)
@@ -124,7 +134,7 @@ class ProgramVariables:
         axes = list(self.state.axes)
         if data is None or len(axes) < n:
             return 0.0
-        return data[2].get(axes[n - 1], 0.0) / self._unit()
+        return arc_values(data)[2].get(axes[n - 1], 0.0) / self._unit()
 
     def _extorg(self, index: tuple) -> float:
         """0 G53, 1..6 G54..G59, n G159=n, 1000 a G92 preset (L41746-L41777)."""

@@ -196,14 +196,18 @@ class Interpreter(FlowMixin):
         plain_blocks = PlainBlocks(self)
         plain = plain_blocks.run if self.plain_blocks else None
         max_blocks = self.machine.limits.max_blocks
+        machine = self.machine
+        timed = self._timed
         while len(frames) > depth:
             frame = frames[-1]
             if frame.repeat is not None and frame.pc > frame.repeat[1]:
                 self._repeat_next(frame)
                 continue
             source = frame.source
-            block = source.get(frame.pc)
             if type(source) is StreamSource:   # the main program, or a large subroutine file, read lazily
+                blocks = source._builder.blocks   # source.get(frame.pc) of a block read already, without the call
+                i = frame.pc - source._base
+                block = blocks[i] if 0 <= i < len(blocks) else source.get(frame.pc)
                 seen = source._seen   # has_error() has something to look at only when diagnostics came
                 if source is stream and not self.recover and (
                         seen[2] or seen[0] is not source.diagnostics or len(seen[0]) != seen[1]) and stream.has_error():
@@ -211,6 +215,8 @@ class Interpreter(FlowMixin):
                 if frame.pc & 1023 == 0:
                     keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
                     frame.source.release(frame.pc, min(keep) if keep else None)
+            else:
+                block = source.get(frame.pc)
             if block is None:
                 self._end_of_routine(frame)
                 continue
@@ -234,7 +240,13 @@ class Interpreter(FlowMixin):
                     if record is not None:
                         if state.sync:
                             yield self._sync(block, record.start)
-                        state.elapsed += self._time(record, plain_blocks.seconds)
+                        t = plain_blocks.seconds   # self._time(record, seconds), inline
+                        if t is None:
+                            t = record_time(machine, record)
+                        if len(timed) >= 256:
+                            timed.clear()
+                        timed[id(record)] = (record, t)
+                        state.elapsed += t
                         yield record
                     if state.sync:
                         yield self._sync(block, None)

@@ -149,15 +149,18 @@ class PlainBlocks:
         interp.axis_sentence = None
         if number is not None:
             st.last_n = int(number)
-        if gl:
+        if groups & 2:   # a G90/G91, the one G function of a plain block from G10 up
             text = block.text
             for (n, _group), col in gl:
                 if n >= 10:
                     compat.leading_zero(interp, n, col, text)   # "G090" is G90
         iso = self.iso
         iso.sync.previous_motion = modes["motion"]   # G33 joins the thread of the block before (L7366)
-        for (n, group), _col in gl:
-            modes[group] = n
+        if motion is not None:
+            modes["motion"] = motion
+        if groups & 2:
+            for (n, group), _col in gl:
+                modes[group] = n
         if st.block_modes:
             st.block_modes = {}
         if feed is not None:
@@ -168,11 +171,17 @@ class PlainBlocks:
             else:
                 iso._feed(*feed)
         mode = modes["motion"]
-        src = _source(file=interp.frames[-1].program.file, line=block.line, text=block.text)   # interp._src(block)
-        if mode < 2:
-            rec = self._line(mode, axes, src) if axes and not params and self._simple() else NOT_PLAIN
-        else:
-            rec = self._arc(mode, axes, params, src) if params and self._simple() else NOT_PLAIN
+        src = _source(interp.frames[-1].program.file, block.line, block.text)   # interp._src(block)
+        rec = NOT_PLAIN
+        if params if mode >= 2 else axes and not params:
+            kin = st.kin
+            tr = st.transform
+            # the simplest state: no transformation, radius compensation, kinematics or per-block planning
+            # context; then _line and _arc are MotionMixin._motion's steps for the block
+            if (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and modes["compensation"] not in (41, 42)
+                    and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
+                    and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes):
+                rec = self._line(mode, axes, src) if mode < 2 else self._arc(mode, axes, params, src)
         if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
             bw = BlockWords()
             bw.g = [(n, col, None) for (n, _group), col in gl]
@@ -186,32 +195,26 @@ class PlainBlocks:
         return rec
 
     # ------------------------------------------------------------ G00/G01 in the simplest state
-    def _simple(self) -> bool:
-        """No transformation, radius compensation, kinematics or per-block planning context: then
-        :meth:`_line` is ``MotionMixin._motion`` for a G00/G01 of axis words."""
-        st = self.state
-        kin = st.kin
-        tr = st.transform
-        return (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and st.modes["compensation"] not in (41, 42)
-                and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
-                and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes)
-
     def _line(self, mode: int, words: dict, src: Source):
-        """``MotionMixin._motion`` of a G00/G01 with axis words under :meth:`_simple`, step by step (the
-        same arithmetic in the same order): the programmed point is the part point (no transformation),
+        """``MotionMixin._motion`` of a G00/G01 with axis words in the simplest state (no transformation, radius
+        compensation, kinematics or per-block planning context: :meth:`run`), step by step (the same arithmetic
+        in the same order): the programmed point is the part point (no transformation),
         the origin chain is worked out again only when the tool length compensation changed it, no
         rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
         st = self.state
         iso = self.iso
         if not self._linear.issuperset(words):
             return NOT_PLAIN   # a rotary axis: _motion itself (unrolled positions, directions: IsoExecutor._rotary)
-        a, o, _ = st.plane_axes()
-        off = st.offsets()
+        modes = st.modes
+        slots = st.channel.slots
+        if modes["plane"] == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
+            a, o = slots[0], slots[1]
+        else:
+            a, o, _ = st.plane_axes()
         pos = st.machine_pos
-        cur_part = {x: pos[x] - off[x] for x in st.axes}   # programmed_pos(): part_pos(), no transform
+        off, cur_part = _part_point(st, pos)
         last = st._last_end   # move_start(): the last end point when the tool is still there
         start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
-        modes = st.modes
         incremental = modes["distance"] == 91
         inch = modes["units"] == 70
         diameter = modes["diameter"] == 151
@@ -227,9 +230,7 @@ class PlainBlocks:
             iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
             if st.length_offset is not applied:
                 off = st.offsets()
-        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
-        if end == end_part and tuple(end) == tuple(end_part):   # shared_end()
-            end = end_part
+        end = _machine_end(st, end_part, off)
         lower, upper = st.lower_limits, st.upper_limits
         for x, v in end.items():   # check_limits() says more only for a point outside the limits
             if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
@@ -243,10 +244,13 @@ class PlainBlocks:
             if not d < 1e-12:
                 st.tangent = ((ea - sa) / d, (eo - so) / d)
         if mode == 0:   # _compensation() is None, _joins(None) the modal pair
-            return _line_record(kind="rapid", start=start, end=end, end_part=end_part, feed=None, feed_mode="G94",
-                                src=src, comp=None, dyn=st.dynamics(),
-                                joins=shared_tuple((modes["transition"], modes["comp_start"])))
-        length = math.sqrt(sum([(end[x] - start[x]) ** 2 for x in end]))   # a list: the same sum, in order
+            # Line's fields in order: kind, start, end, end_part, feed, feed_mode, src, comp, dyn, frame, joins
+            return _line_record("rapid", start, end, end_part, None, "G94", src, None, st.dynamics(), None,
+                                shared_tuple((modes["transition"], modes["comp_start"])))
+        squares = 0.0   # sum() of the squares (a float sum starts at 0.0), without a list
+        for x, v in end.items():
+            squares += (v - start[x]) ** 2
+        length = math.sqrt(squares)
         mode_f = modes["feed"]
         feed = st.feed
         if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself, at most MAXFEED
@@ -258,18 +262,18 @@ class PlainBlocks:
         css = iso._css() if mode_f == 95 else None   # _css() is None outside G95
         if css is None:   # record_time() of the record: the same length (Line.length), the same division
             self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
-        dyn = st._dynamics   # st.dynamics(): no per-block modes under _simple()
-        return _line_record(kind="linear", start=start, end=end, end_part=end_part, feed=feed,
-                            feed_mode=_FEED_MODES.get(mode_f) or feed_mode(mode_f), src=src, comp=None,
-                            dyn=dyn if dyn is not None else st.dynamics(),
-                            joins=_JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins),
-                            css=css)
+        dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
+        # Line's fields in order: kind, start, end, end_part, feed, feed_mode, src, comp, dyn, frame, joins,
+        # thread, css
+        return _line_record("linear", start, end, end_part, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f), src,
+                            None, dyn if dyn is not None else st.dynamics(), None,
+                            _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins), None, css)
 
     # ------------------------------------------------------------ G02/G03 in the simplest state
     def _arc(self, mode: int, words: dict, params: dict, src: Source):
         """``MotionMixin._motion`` then ``_arc`` of a G02/G03 by its centre (the plane's centre words, from
         the start point or absolute under G261) or by R (an end point in the plane), helix pitch included,
-        under :meth:`_simple`, step by step with the same arithmetic in the same order (seed 002 ch. 8.3-8.5).
+        in the simplest state, step by step with the same arithmetic in the same order (seed 002 ch. 8.3-8.5).
         :data:`NOT_PLAIN` before anything changed for what it does not take: another plane than G17-G19, a
         rotary axis word, R without an end point in the plane (a polar move), neither centre nor R (the
         stored radius, a null move), a letter that is not the plane's."""
@@ -282,7 +286,11 @@ class PlainBlocks:
         ci, cj, ck = letters
         if not self._linear.issuperset(words):
             return NOT_PLAIN   # a rotary axis
-        a, o, n = st.plane_axes()
+        slots = st.channel.slots
+        if modes["plane"] == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
+            a, o, n = slots[0], slots[1], slots[2]
+        else:
+            a, o, n = st.plane_axes()
         if a is None or o is None:
             return NOT_PLAIN   # INT150: the general path says it
         by_centre = ci in params or cj in params
@@ -293,9 +301,8 @@ class PlainBlocks:
         if not by_centre and "R" not in params:
             return NOT_PLAIN   # only the pitch: the stored radius R1=, or none (INT061)
         # _motion: programmed_pos() (no transformation: the part position), move_start()
-        off = st.offsets()
         pos = st.machine_pos
-        cur_part = {x: pos[x] - off[x] for x in st.axes}
+        off, cur_part = _part_point(st, pos)
         last = st._last_end   # move_start()
         start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
         # _arc
@@ -334,7 +341,7 @@ class PlainBlocks:
         if r0 < 1e-9:
             raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
         programmed = center
-        if by_centre:
+        if by_centre and not abs(math.dist(ep, center) - r0) <= 1e-12:   # else _radius_check() keeps the centre
             center = iso._radius_check(sp, ep, center, col)   # CIRINERR, CIRINFACT, G264/G265
         arc_data(st, sp, programmed, center, ep, (a, o, n))   # V.G.R, I, J, K, CIRERR (L40454)
         delta = arcs.sweep(sp, ep, center, ccw)
@@ -348,9 +355,7 @@ class PlainBlocks:
             if st.length_offset is not applied:
                 off = st.offsets()
         st.tangent = arcs.end_tangent(sp, ep, center, ccw)
-        end = {x: v + off[x] for x, v in end_part.items()}   # to_machine()
-        if end == end_part and tuple(end) == tuple(end_part):   # shared_end()
-            end = end_part
+        end = _machine_end(st, end_part, off)
         lower, upper = st.lower_limits, st.upper_limits
         for x, v in end.items():   # check_limits() says more only for a point outside the limits
             if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
@@ -359,23 +364,36 @@ class PlainBlocks:
         st.machine_pos = dict(end)   # moved_to()
         st._last_end = end
         center_part = {a: center[0], o: center[1]}
-        center_m = {a: center[0] + off[a], o: center[1] + off[o]}
-        planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
-        other = sum((end[x] - start[x]) ** 2 for x in end if x not in (a, o))
-        feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
-        return _arc_record(kind="arc", start=start, end=end, end_part=end_part, center=center_m,
-                           center_part=center_part, direction="ccw" if ccw else "cw", plane=(a, o, n),
-                           radius=math.dist(ep, center) * 1.0, turns=turns, feed=feed,
-                           feed_mode=feed_mode(modes["feed"]), src=src, comp=None, dyn=st.dynamics(),
-                           joins=shared_tuple((modes["transition"], modes["comp_start"])),
-                           css=iso._css() if modes["feed"] == 95 else None)
+        center_m = {a: center[0] + 0.0, o: center[1] + 0.0} if off is None else \
+            {a: center[0] + off[a], o: center[1] + off[o]}
+        mode_f = modes["feed"]
+        feed = st.feed
+        if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself at most MAXFEED, whatever the length
+            if self._max_feed > 0:
+                feed = min(feed, self._max_feed)
+        else:
+            planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
+            other = 0.0   # sum() of the squares off the plane (a float sum starts at 0.0), without a generator
+            for x, v in end.items():
+                if x != a and x != o:
+                    other += (v - start[x]) ** 2
+            feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
+        dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
+        # Arc's fields in order: kind, start, end, end_part, center, center_part, direction, plane, radius, turns,
+        # feed, feed_mode, src, comp, dyn, frame, joins, css
+        return _arc_record("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw", (a, o, n),
+                           math.dist(ep, center) * 1.0, turns, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f),
+                           src, None, dyn if dyn is not None else st.dynamics(), None,
+                           _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins),
+                           iso._css() if mode_f == 95 else None)
 
 
 def record_maker(cls):
     """A function that makes ``cls(**fields)`` without its ``__init__``: a frozen dataclass with slots sets each
     field through ``object.__setattr__``, half the cost of a move's record; this sets the slots directly, to
-    an object that compares, hashes and prints the same.  Called with keywords; the fields left out take
-    their defaults.  ``cls`` itself when it is not such a class (a ``__post_init__``, a default factory, no
+    an object that compares, hashes and prints the same.  Called with the fields in their order or by
+    keyword (a positional call costs less: the plain blocks' records); the fields left out take their
+    defaults.  ``cls`` itself when it is not such a class (a ``__post_init__``, a default factory, no
     slots)."""
     if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__") or "__slots__" not in cls.__dict__:
         return cls
@@ -392,7 +410,7 @@ def record_maker(cls):
             space[f"_default{i}"] = f.default
             params.append(f"{f.name}=_default{i}")
         body.append(f"    _set{i}(o, {f.name})\n")
-    code = f"def make(*, {', '.join(params)}):\n    o = _new(_cls)\n{''.join(body)}    return o\n"
+    code = f"def make({', '.join(params)}):\n    o = _new(_cls)\n{''.join(body)}    return o\n"
     exec(code, space)   # the code is made here, from the field names of a class of records
     return space["make"]
 
@@ -400,6 +418,34 @@ def record_maker(cls):
 _line_record = record_maker(Line)
 _arc_record = record_maker(Arc)
 _source = record_maker(Source)
+
+
+def _part_point(st, pos: dict) -> tuple:
+    """``(off, cur_part)``: :meth:`~fagorcnc.interp.state.ChannelState.offsets` and the part position
+    (``programmed_pos()`` under no transformation); ``off`` is None when every offset is 0.0 (no fixture,
+    no tool length applied, origins and additive origins 0), and ``cur_part`` then ``pos`` itself, not to
+    be changed: ``x - 0.0`` is ``x`` (a copy where the machine position's axes are not in the channel's
+    order)."""
+    if not st.fixture and not st.length_offset and not any(st.abs_offset.values()) \
+            and not any(st.inc_offset.values()):   # offsets(): 0.0 + 0.0 + 0.0 + 0.0 on every axis
+        axes = st.axes
+        if len(pos) == len(axes) and list(pos) == axes:
+            return None, pos
+        return None, {x: pos[x] for x in axes}
+    off = st.offsets()
+    return off, {x: pos[x] - off[x] for x in st.axes}
+
+
+def _machine_end(st, end_part: dict, off: dict | None) -> dict:
+    """``to_machine()`` then ``shared_end()`` of a move's end point, ``off`` as :func:`_part_point` gives it:
+    with no offset, ``end_part`` itself (``v + 0.0 == v``), unless a NaN is among its coordinates."""
+    if off is None:
+        total = sum(end_part.values())
+        if total == total:   # no NaN: every v + 0.0 equals v, shared_end() keeps end_part
+            return end_part
+        off = st.offsets()
+    end = {x: v + off[x] for x, v in end_part.items()}
+    return end_part if end == end_part and tuple(end) == tuple(end_part) else end
 
 
 class _Words:
