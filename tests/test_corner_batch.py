@@ -205,3 +205,35 @@ def test_deviations_with_the_ends_known_are_the_same_floats():
     for i in range(2 * n):
         one = slice(i, i + 1)
         assert np.array_equal(together[i], _gaps(rows, sides[one], s0[one], s1[one], pts[one], square[one], at[one])[0])
+
+
+def test_frames_worked_axis_by_axis_are_the_row_formulas_floats():
+    """PieceRows.frames works on (D, n) arrays: the same floats, to the bit, as the formulas row by
+    row on (n, D) arrays (each piece's numbers gathered, the sums over a row's axes), over lines,
+    arcs, spirals and helices in every plane, all rows or a few; and its sums over the axes are a
+    row sum's."""
+    from fagorcnc.plan.stretch import _axis_sum
+
+    ps, qs = _corners(8, 45)
+    rows = PieceRows([*ps, *qs])
+    x = np.random.default_rng(4).normal(size=(500, 3)) * 10.0 ** np.random.default_rng(5).uniform(-6, 6, (500, 3))
+    assert np.array_equal(_axis_sum(np.ascontiguousarray(x.T)), x.sum(axis=1))
+    for some in (np.arange(90), np.array([0, 44, 45, 89]), np.array([7])):
+        s = np.array([0.41 * ([*ps, *qs][i]).length for i in some])
+        cx, cy, theta0, w, r0, dr = (a[some] for a in (rows.cx, rows.cy, rows.theta0, rows.w, rows.r0, rows.dr))
+        base, lin, ea, eo = rows.base[some], rows.lin[some], rows.ea[some], rows.eo[some]
+        th = theta0 + w * s
+        c, sn = np.cos(th), np.sin(th)
+        rho = r0 + dr * s
+        q = base + s[:, None] * lin
+        q += (cx + rho * c)[:, None] * ea
+        q += (cy + rho * sn)[:, None] * eo
+        d1 = lin + (dr * c - rho * w * sn)[:, None] * ea
+        d1 += (dr * sn + rho * w * c)[:, None] * eo
+        d2 = (-2 * dr * w * sn - rho * w * w * c)[:, None] * ea
+        d2 += (2 * dr * w * c - rho * w * w * sn)[:, None] * eo
+        square = (d1 * d1).sum(axis=1)[:, None]
+        t = d1 / np.sqrt(square)
+        k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
+        got = rows.frames(s, some)
+        assert all(np.array_equal(a, b) for a, b in zip(got, (q, t, k), strict=True))

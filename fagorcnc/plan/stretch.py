@@ -66,6 +66,8 @@ class PieceRows:
         #: every row's numbers side by side (its shape, then base, lin, ea and eo): a batch takes its
         #: rows with one index instead of one per array
         self.packed = np.concatenate([shape, self.base, self.lin, self.ea, self.eo], axis=1)
+        #: the same by columns (6 + 4 D, n): what :meth:`frames` works on
+        self.columns = np.ascontiguousarray(self.packed.T)
 
     def _rows(self, rows: np.ndarray) -> tuple[np.ndarray, ...]:
         """The numbers of the pieces ``rows``, as views of one indexed copy: cx, cy, theta0, w, r0,
@@ -87,22 +89,37 @@ class PieceRows:
         return q
 
     def frames(self, s: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Point, unit tangent and curvature vector (each (n, D)) at one parameter per row."""
-        cx, cy, theta0, w, r0, dr, base, lin, ea, eo = self._rows(rows)
+        """Point, unit tangent and curvature vector (each (n, D)) at one parameter per row.  Worked
+        axis by axis on (D, n) arrays (views of them are returned): every operation then runs over
+        whole rows of the batch rather than over the D numbers of each row; the sums over the axes
+        add them in the order a sum along a row of D does, so the floats are the same."""
+        packed = self.columns.take(rows, axis=1)                   # (6 + 4 D, n)
+        dim = (len(packed) - 6) // 4
+        cx, cy, theta0, w, r0, dr = packed[:6]
+        base, lin, ea, eo = (packed[6 + i * dim:6 + (i + 1) * dim] for i in range(4))
         th = theta0 + w * s
         c, sn = np.cos(th), np.sin(th)
         rho = r0 + dr * s
-        q = base + s[:, None] * lin
-        q += (cx + rho * c)[:, None] * ea
-        q += (cy + rho * sn)[:, None] * eo
-        d1 = lin + (dr * c - rho * w * sn)[:, None] * ea
-        d1 += (dr * sn + rho * w * c)[:, None] * eo
-        d2 = (-2 * dr * w * sn - rho * w * w * c)[:, None] * ea
-        d2 += (2 * dr * w * c - rho * w * w * sn)[:, None] * eo
-        square = (d1 * d1).sum(axis=1)[:, None]
+        q = base + s * lin
+        q += (cx + rho * c) * ea
+        q += (cy + rho * sn) * eo
+        d1 = lin + (dr * c - rho * w * sn) * ea
+        d1 += (dr * sn + rho * w * c) * eo
+        d2 = (-2 * dr * w * sn - rho * w * w * c) * ea
+        d2 += (2 * dr * w * c - rho * w * w * sn) * eo
+        square = _axis_sum(d1 * d1)
         t = d1 / np.sqrt(square)
-        k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
-        return q, t, k
+        k = (d2 - _axis_sum(d2 * t) * t) / square
+        return q.T, t.T, k.T
+
+
+def _axis_sum(x: np.ndarray) -> np.ndarray:
+    """The sums over the axes (axis 0) of ``x`` (D, n), added first to last: the floats of
+    ``x.T.sum(axis=1)`` (a sum along a row of fewer than 8 numbers adds them in order)."""
+    out = x[0].copy()
+    for row in x[1:]:
+        out += row
+    return out
 
 
 def stretch_deviations(sides: PieceRows, incoming: np.ndarray, outgoing: np.ndarray, p_len: np.ndarray,
