@@ -165,3 +165,75 @@ def test_corners_at_arcs_in_a_batch_plan_as_one_by_one(monkeypatch, mode, plane)
     assert len(alone) == len(batched)
     for a, b in zip(alone, batched, strict=True):
         assert a[4:] == b[4:] and close(a[:4], b[:4])
+
+
+def test_deviations_with_the_ends_known_are_the_same_floats():
+    """A batch hands stretch_deviations the ends of the stretches it already has (the curves' own
+    ends from the frames, the pieces' end and start once per batch): the same deviations, to the
+    bit, as from the ends it evaluates itself, over lines, arcs, spirals and helices, every corner
+    or a few; and the lines' rows of a mixed batch take the segments' formula as they do alone."""
+    from fagorcnc.plan.geometry import _controls, curve_samples
+    from fagorcnc.plan.stretch import _gaps, stretch_deviations
+
+    ps, qs = _corners(5, 60)
+    rows = PieceRows([*ps, *qs])
+    n = len(ps)
+    p_len = np.array([p.length for p in ps])
+    vertex = np.array([p.end for p in ps])
+    incoming, outgoing = np.arange(n), np.arange(n, 2 * n)
+    fixed = rows.points(np.concatenate([p_len, np.zeros(n)])[:, None], np.concatenate([incoming, outgoing]))[:, 0]
+    for some in (np.arange(n), np.array([1, 2, 7]), np.array([4])):
+        d1 = np.minimum(p_len[some] / 3.0, 0.8)
+        d2 = np.array([min(qs[i].length / 3.0, 0.6) for i in some])
+        q, t, k = rows.frames(np.concatenate([p_len[some] - d1, d2]), np.concatenate([incoming[some], outgoing[some]]))
+        m = len(some)
+        controls = _controls(q[:m], t[:m], k[:m], 0.3 * d1[:, None], q[m:], t[m:], k[m:], 0.3 * d2[:, None])
+        samples, _ = curve_samples(controls)
+        args = (rows, incoming[some], outgoing[some], p_len[some], d1, d2, samples, vertex[some], False)
+        alone = stretch_deviations(*args)
+        known = stretch_deviations(*args, (q, fixed[np.concatenate([some, some + n])]))
+        assert np.array_equal(alone, known)
+    # the lines' rows among arcs (rows of lines: kind 1's incoming, kind 2's outgoing) row by row
+    sides = np.concatenate([incoming, outgoing])
+    assert rows.straight[sides].any() and not rows.straight[sides].all()
+    s0 = np.concatenate([p_len - 0.5, np.zeros(n)])
+    s1 = np.concatenate([p_len, np.full(n, 0.5)])
+    at = np.concatenate([vertex, vertex])
+    pts = np.random.default_rng(2).normal(size=(2 * n, 9, 3))
+    square = (pts * pts).sum(axis=2)
+    together = _gaps(rows, sides, s0, s1, pts, square, at)
+    for i in range(2 * n):
+        one = slice(i, i + 1)
+        assert np.array_equal(together[i], _gaps(rows, sides[one], s0[one], s1[one], pts[one], square[one], at[one])[0])
+
+
+def test_frames_worked_axis_by_axis_are_the_row_formulas_floats():
+    """PieceRows.frames works on (D, n) arrays: the same floats, to the bit, as the formulas row by
+    row on (n, D) arrays (each piece's numbers gathered, the sums over a row's axes), over lines,
+    arcs, spirals and helices in every plane, all rows or a few; and its sums over the axes are a
+    row sum's."""
+    from fagorcnc.plan.stretch import _axis_sum
+
+    ps, qs = _corners(8, 45)
+    rows = PieceRows([*ps, *qs])
+    x = np.random.default_rng(4).normal(size=(500, 3)) * 10.0 ** np.random.default_rng(5).uniform(-6, 6, (500, 3))
+    assert np.array_equal(_axis_sum(np.ascontiguousarray(x.T)), x.sum(axis=1))
+    for some in (np.arange(90), np.array([0, 44, 45, 89]), np.array([7])):
+        s = np.array([0.41 * ([*ps, *qs][i]).length for i in some])
+        cx, cy, theta0, w, r0, dr = (a[some] for a in (rows.cx, rows.cy, rows.theta0, rows.w, rows.r0, rows.dr))
+        base, lin, ea, eo = rows.base[some], rows.lin[some], rows.ea[some], rows.eo[some]
+        th = theta0 + w * s
+        c, sn = np.cos(th), np.sin(th)
+        rho = r0 + dr * s
+        q = base + s[:, None] * lin
+        q += (cx + rho * c)[:, None] * ea
+        q += (cy + rho * sn)[:, None] * eo
+        d1 = lin + (dr * c - rho * w * sn)[:, None] * ea
+        d1 += (dr * sn + rho * w * c)[:, None] * eo
+        d2 = (-2 * dr * w * sn - rho * w * w * c)[:, None] * ea
+        d2 += (2 * dr * w * c - rho * w * w * sn)[:, None] * eo
+        square = (d1 * d1).sum(axis=1)[:, None]
+        t = d1 / np.sqrt(square)
+        k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
+        got = rows.frames(s, some)
+        assert all(np.array_equal(a, b) for a, b in zip(got, (q, t, k), strict=True))

@@ -135,6 +135,9 @@ def test_curve_bounds_without_the_points_are_the_same_floats():
         alone = curve_bounds(controls)
         assert all(np.array_equal(x, y) for x, y in zip(full, alone, strict=True))
         assert alone[3][0] and np.isinf(alone[2][0]).all()
+        # without the tangents' bounds (a corner batch sizing its curves): the others the same
+        d1, *rest = curve_bounds(controls, tangents=False)
+        assert d1 is None and all(np.array_equal(x, y) for x, y in zip(full[1:], rest, strict=True))
 
 
 def test_corner_deviations_equal_deviation_from_two_lines():

@@ -43,26 +43,33 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
     lim_p, lim_q = np.asarray(lim_p, dtype=float), np.asarray(lim_q, dtype=float)
     live = (lim_p > 1e-9) & (lim_q > 1e-9)
     longest = np.maximum(lim_p, lim_q)
+    # where the stretch a curve replaces ends on the programmed path, whatever its size: the end of
+    # each corner's incoming piece, then the start of its outgoing one
+    fixed = None
+    if tolerance is not None and not corner:
+        fixed = sides.points(np.concatenate([p_len, np.zeros(n)])[:, None], np.concatenate([incoming, outgoing]))[:, 0]
 
-    def made(rows: np.ndarray, size: np.ndarray):
+    def made(rows: np.ndarray, size: np.ndarray, points: bool = False):
         d1, d2 = np.minimum(size, lim_p[rows]), np.minimum(size, lim_q[rows])
         q, t, k = sides.frames(np.concatenate([p_len[rows] - d1, d2]), np.concatenate([incoming[rows], outgoing[rows]]))
         m = len(rows)
         p0, t0, k0, p5, t5, k5 = q[:m], t[:m], k[:m], q[m:], t[m:], k[m:]
-        return d1, d2, _controls(p0, t0, k0, (SHAPE * d1)[:, None], p5, t5, k5, (SHAPE * d2)[:, None])
+        controls = _controls(p0, t0, k0, (SHAPE * d1)[:, None], p5, t5, k5, (SHAPE * d2)[:, None])
+        return (d1, d2, controls, q) if points else (d1, d2, controls)
 
     def curves(rows: np.ndarray, size: np.ndarray):
+        # the points are not looked at, nor the tangents' bounds (the bounds kept are made at the end)
         d1, d2, controls = made(rows, size)
-        b1, b2, b3, _ = curve_bounds(controls)   # the points are not looked at
-        return d1, d2, controls, b1, b2, b3, np.isfinite(b3).all(axis=1)
+        _, b2, b3, _ = curve_bounds(controls, tangents=False)
+        return d1, d2, controls, b2, b3, np.isfinite(b3).all(axis=1)
 
     def sampled(rows: np.ndarray, size: np.ndarray):
         # the curves' points alone: their bounds once they keep the tolerance (below).  A curve
         # that is not degenerate has finite bounds (its speed |B'| stays above 1e-6 of its
         # largest), so ``valid`` is the same as from the bounds
-        d1, d2, controls = made(rows, size)
+        d1, d2, controls, ends = made(rows, size, True)
         samples, degenerate = curve_samples(controls)
-        return d1, d2, controls, samples, ~degenerate & np.isfinite(samples).all(axis=(0, 1))
+        return d1, d2, controls, ends, samples, ~degenerate & np.isfinite(samples).all(axis=(0, 1))
 
     size = longest.copy()
     if speed is not None:
@@ -92,12 +99,13 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         if not len(rows):
             break
         if tolerance is None:
-            d1, d2, controls, b1, b2, b3, valid = curves(rows, size[rows])
+            d1, d2, controls, _, _, valid = curves(rows, size[rows])
             ok = valid
         else:
-            d1, d2, controls, samples, valid = sampled(rows, size[rows])
+            d1, d2, controls, ends, samples, valid = sampled(rows, size[rows])
+            known = None if fixed is None else (ends, fixed[np.concatenate([rows, rows + n])])
             dev = stretch_deviations(sides, incoming[rows], outgoing[rows], p_len[rows], d1, d2, samples,
-                                     vertex[rows], corner)
+                                     vertex[rows], corner, known)
             ok = valid & (dev <= 0.95 * tolerance)
             shrink = valid & ~ok
             size[rows[shrink]] *= np.maximum(0.1, 0.9 * tolerance / dev[shrink])

@@ -527,17 +527,21 @@ def _frames(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray, square: np.ndarray |
     return t, k, dk
 
 
-def _frame_bounds(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray, square: np.ndarray):
+def _frame_bounds(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray, square: np.ndarray, tangents: bool = True):
     """The largest magnitudes over the samples (axis 0) of the unit tangent, the curvature vector and
     its arc-length derivative per axis, each (D, n): :func:`_frames`' formulas, operation for
-    operation (the same floats), worked in two buffers instead of a new array per operation."""
+    operation (the same floats), worked in two buffers instead of a new array per operation.
+    Without ``tangents`` the tangent's is None (not worked)."""
     inv2 = 1.0 / square
     inv1 = np.sqrt(inv2)
     inv3 = inv2 * inv1
     ai = _dot(b1, b2) * inv2
-    buf = np.multiply(b1, inv1)
-    top_t = np.abs(buf, out=buf).max(axis=0)
-    np.multiply(ai, b1, out=buf)
+    if tangents:
+        buf = np.multiply(b1, inv1)
+        top_t = np.abs(buf, out=buf).max(axis=0)
+        np.multiply(ai, b1, out=buf)
+    else:
+        top_t, buf = None, np.multiply(ai, b1)
     np.subtract(b2, buf, out=buf)
     buf *= inv2
     top_k = np.abs(buf, out=buf).max(axis=0)
@@ -561,28 +565,34 @@ def _curve_bounds(controls: np.ndarray):
     return (q, *_derivative_bounds(b[m:]))
 
 
-def curve_bounds(controls: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def curve_bounds(controls: np.ndarray, tangents: bool = True) -> tuple[np.ndarray | None, np.ndarray, np.ndarray,
+                                                                      np.ndarray]:
     """:func:`_curve_bounds` without the points: ``d1, d2, d3`` and which curves are degenerate,
     the same floats (each row of a matrix product is its own dot products: the derivative rows
     alone give the same numbers) from three quarters of the products, for a batch that does not
-    look at the curves' points."""
-    return _derivative_bounds(_apply(_DERIVATIVE_B, controls))
+    look at the curves' points.  Without ``tangents``, ``d1`` is None (a curve sized for its
+    curvature does not look at it)."""
+    return _derivative_bounds(_apply(_DERIVATIVE_B, controls), tangents)
 
 
-def _derivative_bounds(b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _derivative_bounds(b: np.ndarray, tangents: bool = True) -> tuple[np.ndarray | None, np.ndarray, np.ndarray,
+                                                                      np.ndarray]:
     """The bounds and degeneracy of :func:`_curve_bounds` from the first three derivatives of B at
-    the 97 bound parameters, stacked (3 * 97, D, n)."""
+    the 97 bound parameters, stacked (3 * 97, D, n); ``d1`` None without ``tangents``."""
     m = len(_BOUND_U)
     b1, b2, b3 = b[:m], b[m:2 * m], b[2 * m:]
     square = _dot(b1, b1)
     sig = np.sqrt(square)
     degenerate = sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]
     with np.errstate(all="ignore"):   # a degenerate curve divides by zero; its bounds are set below
-        top_t, top_k, top_dk = _frame_bounds(b1, b2, b3, square)
-    d1 = np.minimum(top_t.T * 1.02, 1.0)
+        top_t, top_k, top_dk = _frame_bounds(b1, b2, b3, square, tangents)
     d2 = top_k.T * 1.05
     d3 = top_dk.T * 1.10
-    d1[degenerate] = d2[degenerate] = d3[degenerate] = np.inf
+    d2[degenerate] = d3[degenerate] = np.inf
+    if not tangents:
+        return None, d2, d3, degenerate
+    d1 = np.minimum(top_t.T * 1.02, 1.0)
+    d1[degenerate] = np.inf
     return d1, d2, d3, degenerate
 
 

@@ -63,65 +63,104 @@ class PieceRows:
         self.circular = np.zeros(n, dtype=bool)                     # arcs in their plane of constant radius
         if arcs.any():
             self.circular[arcs] = (np.abs(self.dr[arcs]) * length <= ROUND) & ~self.lin[arcs].any(axis=1)
+        #: every row's numbers side by side (its shape, then base, lin, ea and eo): a batch takes its
+        #: rows with one index instead of one per array
+        self.packed = np.concatenate([shape, self.base, self.lin, self.ea, self.eo], axis=1)
+        #: the same by columns (6 + 4 D, n): what :meth:`frames` works on
+        self.columns = np.ascontiguousarray(self.packed.T)
+
+    def _rows(self, rows: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The numbers of the pieces ``rows``, as views of one indexed copy: cx, cy, theta0, w, r0,
+        dr (m,) and base, lin, ea, eo (m, D)."""
+        packed = self.packed[rows]
+        dim = (packed.shape[1] - 6) // 4
+        return (*packed[:, :6].T, *(packed[:, 6 + i * dim:6 + (i + 1) * dim] for i in range(4)))
 
     def points(self, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """Points (n, m, D) at the parameters ``s`` (n, m) of the pieces ``rows``."""
-        th = self.theta0[rows, None] + self.w[rows, None] * s
-        rho = self.r0[rows, None] + self.dr[rows, None] * s
-        x = self.cx[rows, None] + rho * np.cos(th)
-        y = self.cy[rows, None] + rho * np.sin(th)
-        q = self.base[rows, None, :] + s[:, :, None] * self.lin[rows, None, :]
-        q += x[:, :, None] * self.ea[rows, None, :]
-        q += y[:, :, None] * self.eo[rows, None, :]
+        cx, cy, theta0, w, r0, dr, base, lin, ea, eo = self._rows(rows)
+        th = theta0[:, None] + w[:, None] * s
+        rho = r0[:, None] + dr[:, None] * s
+        x = cx[:, None] + rho * np.cos(th)
+        y = cy[:, None] + rho * np.sin(th)
+        q = base[:, None, :] + s[:, :, None] * lin[:, None, :]
+        q += x[:, :, None] * ea[:, None, :]
+        q += y[:, :, None] * eo[:, None, :]
         return q
 
     def frames(self, s: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Point, unit tangent and curvature vector (each (n, D)) at one parameter per row."""
-        th = self.theta0[rows] + self.w[rows] * s
+        """Point, unit tangent and curvature vector (each (n, D)) at one parameter per row.  Worked
+        axis by axis on (D, n) arrays (views of them are returned): every operation then runs over
+        whole rows of the batch rather than over the D numbers of each row; the sums over the axes
+        add them in the order a sum along a row of D does, so the floats are the same."""
+        packed = self.columns.take(rows, axis=1)                   # (6 + 4 D, n)
+        dim = (len(packed) - 6) // 4
+        cx, cy, theta0, w, r0, dr = packed[:6]
+        base, lin, ea, eo = (packed[6 + i * dim:6 + (i + 1) * dim] for i in range(4))
+        th = theta0 + w * s
         c, sn = np.cos(th), np.sin(th)
-        rho = self.r0[rows] + self.dr[rows] * s
-        w, dr = self.w[rows], self.dr[rows]
-        ea, eo = self.ea[rows], self.eo[rows]
-        q = self.base[rows] + s[:, None] * self.lin[rows]
-        q += (self.cx[rows] + rho * c)[:, None] * ea
-        q += (self.cy[rows] + rho * sn)[:, None] * eo
-        d1 = self.lin[rows] + (dr * c - rho * w * sn)[:, None] * ea
-        d1 += (dr * sn + rho * w * c)[:, None] * eo
-        d2 = (-2 * dr * w * sn - rho * w * w * c)[:, None] * ea
-        d2 += (2 * dr * w * c - rho * w * w * sn)[:, None] * eo
-        square = (d1 * d1).sum(axis=1)[:, None]
+        rho = r0 + dr * s
+        q = base + s * lin
+        q += (cx + rho * c) * ea
+        q += (cy + rho * sn) * eo
+        d1 = lin + (dr * c - rho * w * sn) * ea
+        d1 += (dr * sn + rho * w * c) * eo
+        d2 = (-2 * dr * w * sn - rho * w * w * c) * ea
+        d2 += (2 * dr * w * c - rho * w * w * sn) * eo
+        square = _axis_sum(d1 * d1)
         t = d1 / np.sqrt(square)
-        k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
-        return q, t, k
+        k = (d2 - _axis_sum(d2 * t) * t) / square
+        return q.T, t.T, k.T
+
+
+def _axis_sum(x: np.ndarray) -> np.ndarray:
+    """The sums over the axes (axis 0) of ``x`` (D, n), added first to last: the floats of
+    ``x.T.sum(axis=1)`` (a sum along a row of fewer than 8 numbers adds them in order)."""
+    out = x[0].copy()
+    for row in x[1:]:
+        out += row
+    return out
 
 
 def stretch_deviations(sides: PieceRows, incoming: np.ndarray, outgoing: np.ndarray, p_len: np.ndarray,
                        d1: np.ndarray, d2: np.ndarray, samples: np.ndarray, vertex: np.ndarray,
-                       corner: bool) -> np.ndarray:
+                       corner: bool, ends: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """Per corner (its pieces the rows ``incoming`` and ``outgoing`` of ``sides``), the deviation of
     its curve sampled at ``samples`` (97, D, m), which takes ``d1`` from the end of the incoming
     piece (of length ``p_len``) and ``d2`` from the start of the outgoing one: with ``corner`` the
     distance from the programmed corner point ``vertex`` to the curve (#ROUNDPAR e, seed 002
-    L8124), otherwise the largest distance from the curve to the stretch of path it replaces."""
+    L8124), otherwise the largest distance from the curve to the stretch of path it replaces.
+    ``ends``: the stretches' ends when already known (a batch has them): the points (2m, D) at
+    ``p_len - d1`` on the incoming pieces then at ``d2`` on the outgoing ones (the curves' own
+    ends, :meth:`PieceRows.frames`), and those (2m, D) at ``p_len`` on the incoming pieces then
+    at 0 on the outgoing ones (:meth:`PieceRows.points`: the same floats)."""
     pts = samples.transpose(2, 0, 1) - vertex[:, None, :]              # (m, 97, D), from the corner
     square = np.einsum("mkd,mkd->mk", pts, pts)                         # |x|², (m, 97)
     if corner:
         return np.sqrt(square.min(axis=1))
     # both sides of every corner at once: the incoming pieces' rows, then the outgoing ones'
     m = len(d1)
+    both = np.concatenate([vertex, vertex])
+    at = None
+    if ends is not None:   # each side's (a, b): the incoming (moved, fixed), the outgoing (fixed, moved)
+        moved, fixed = ends
+        at = np.empty((2 * m, 2, moved.shape[1]))
+        at[:m, 0], at[:m, 1], at[m:, 0], at[m:, 1] = moved[:m], fixed[:m], fixed[m:], moved[m:]
+        at -= both[:, None, :]
     gap = _gaps(sides, np.concatenate([incoming, outgoing]), np.concatenate([p_len - d1, np.zeros(m)]),
-                np.concatenate([p_len, d2]), np.concatenate([pts, pts]), np.concatenate([square, square]),
-                np.concatenate([vertex, vertex]))
+                np.concatenate([p_len, d2]), np.concatenate([pts, pts]), np.concatenate([square, square]), both, at)
     return np.sqrt(np.maximum(np.minimum(gap[:m], gap[m:]).max(axis=1), 0.0))
 
 
 def _gaps(sides: PieceRows, rows: np.ndarray, s0: np.ndarray, s1: np.ndarray, pts: np.ndarray,
-          square: np.ndarray, vertex: np.ndarray) -> np.ndarray:
+          square: np.ndarray, vertex: np.ndarray, ends: np.ndarray | None = None) -> np.ndarray:
     """Squared distances (m, k) from the points ``pts`` (m, k, D, relative to each row's ``vertex``;
-    ``square`` their squared norms) to the stretch ``[s0, s1]`` of the pieces ``rows``.  Lines and
-    circular arcs side by side each take both formulas over all the rows (cheaper than splitting
-    the arrays), and keep their own."""
-    ends = sides.points(np.stack([s0, s1], axis=1), rows) - vertex[:, None, :]   # (m, 2, D): a, b
+    ``square`` their squared norms) to the stretch ``[s0, s1]`` of the pieces ``rows`` (its ends
+    ``ends`` (m, 2, D) relative to the vertex when known).  Circular arcs and lines side by side
+    all take the arcs' formula (cheaper than splitting the arrays), and the lines' rows then the
+    segments' one."""
+    if ends is None:
+        ends = sides.points(np.stack([s0, s1], axis=1), rows) - vertex[:, None, :]   # (m, 2, D): a, b
     dots = pts @ ends.transpose(0, 2, 1)                                # x.a, x.b (m, k, 2)
     lengths = np.einsum("mjd,mjd->mj", ends, ends)                      # |a|², |b|² (m, 2)
     to_a = square - 2.0 * dots[:, :, 0] + lengths[:, :1]                # |x - a|²
@@ -129,8 +168,8 @@ def _gaps(sides: PieceRows, rows: np.ndarray, s0: np.ndarray, s1: np.ndarray, pt
     if straight.all():
         return _to_segments(to_a, dots, ends)
     gap = _to_arcs(sides, rows, pts, square, vertex, ends, dots, lengths, to_a)
-    if straight.any():
-        gap = np.where(straight[:, None], _to_segments(to_a, dots, ends), gap)
+    if straight.any():   # the lines' rows alone (the formula is row by row: the same floats)
+        gap[straight] = _to_segments(to_a[straight], dots[straight], ends[straight])
     other = ~(straight | circular)
     if other.any():
         gap[other] = _to_chords(sides, rows[other], s0[other], s1[other], pts[other], vertex[other])
