@@ -349,15 +349,17 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
     feed change does not end a batch (each corner has its own feed: batches of one corner each
     cost more than they save)."""
     import fagorcnc
-    from fagorcnc.plan import Planner
+    from fagorcnc.plan import Planner, junctions
     from fagorcnc.simulate import Run
 
     machine = fagorcnc.load_machine(None)
     records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
     results = _record_calls(monkeypatch, Planner, "_line_blend")
     batches = _record_calls(monkeypatch, Planner, "_line_blend_batch")
+    fast = _record_module_calls(monkeypatch, junctions, "_batched_line_corner")
     batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
-    used = [found is not None for found in results]
+    # a corner the batch holds is taken at the top of _junction, or else in _line_blend
+    used = [found is not None for found in results] + [True for found in fast if found is not None]
     assert sum(used) >= 0.95 * len(used) > 200
     assert len(batches) <= len(used) / 16
     monkeypatch.setattr(Planner, "_line_blend", lambda self, *args: None)
@@ -365,6 +367,75 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
     assert len(alone) == len(batched)
     for a, b in zip(alone, batched, strict=True):
         assert a[4:] == b[4:] and close(a[:4], b[:4])
+
+
+def _record_module_calls(monkeypatch, module, name: str) -> list:
+    """Wrap the function ``module.name`` for the test: the list it returns receives what each call returns."""
+    original = getattr(module, name)
+    results: list = []
+
+    def recorded(*args):
+        result = original(*args)
+        results.append(result)
+        return result
+
+    monkeypatch.setattr(module, name, recorded)
+    return results
+
+
+def _plan_floats(machine, records) -> list[tuple]:
+    from fagorcnc.plan import Planner
+
+    return [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend, *(() if s.piece is None else (
+        s.piece.length, *s.piece.start.tolist(), *s.piece.end.tolist())))
+        for s in Planner(machine).segments(iter(records))]
+
+
+@pytest.mark.parametrize(("roundpar", "feeds"), [("#ROUNDPAR [1, 0.01]", False), ("#ROUNDPAR [2, 40]", True),
+                                                 ("#ROUNDPAR [4, 0.002]", False)])
+def test_g05_line_corners_known_to_hold_plan_as_the_general_path(monkeypatch, roundpar, feeds):
+    """The batched G05 line corners taken at the top of _junction (checks known to hold, prev's end
+    point made with the batch) give the very floats of the general path through every check and
+    Span.trim, on a raster with feed changes, adaptation and HSC after it; the shortcut is taken
+    for most corners and refused where a line no longer stands as the batch took it."""
+    import fagorcnc
+    from fagorcnc.plan import junctions
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
+    fast = _record_module_calls(monkeypatch, junctions, "_batched_line_corner")
+    cuts = _record_module_calls(monkeypatch, junctions, "_cut_line")
+    quick = _plan_floats(machine, records)
+    assert sum(found is not None for found in fast) >= 0.9 * len(fast) > 200
+    assert len(cuts) >= 0.9 * len(fast)
+    monkeypatch.setattr(junctions, "_fast_corners", lambda chain, *args: [False] * (len(chain) - 1))
+    general = _plan_floats(machine, records)
+    assert quick == general
+
+
+def test_a_line_cut_with_its_end_known_is_the_trimmed_line():
+    """_cut_line gives the piece Span.trim(0.0, keep) gives: the same start (object), end, length,
+    direction and bounds."""
+    from fagorcnc.plan.junctions import _cut_line
+    from fagorcnc.plan.limits import AxisLimits
+    from fagorcnc.plan.span import Span
+
+    rng = np.random.default_rng(5)
+    lim = AxisLimits.__new__(AxisLimits)
+    for _ in range(50):
+        a, b = rng.normal(size=3), rng.normal(size=3)
+        piece = LinePiece(a, b).sub(float(rng.uniform(0.0, 0.1)), LinePiece(a, b).length)
+        keep = float(piece.length * rng.uniform(0.2, 1.0))
+        one, two = Span.__new__(Span), Span.__new__(Span)
+        one.piece = two.piece = piece
+        one.lim = two.lim = lim
+        one.trim(0.0, keep)
+        _cut_line(two, keep, piece.start + keep * piece.u)
+        assert two.piece.start is one.piece.start and two.length == one.length == two.piece.length
+        assert np.array_equal(two.piece.end, one.piece.end) and two.piece.length == one.piece.length
+        assert two.piece.u is one.piece.u and two.piece.ul is one.piece.ul and two.piece.d2 is one.piece.d2
+        assert np.array_equal(two.piece.d1, one.piece.d1)
 
 
 def test_an_arcs_frame_and_trim_on_floats_equal_its_derivatives():

@@ -13,6 +13,7 @@ from itertools import islice, pairwise
 
 import numpy as np
 
+from ..interp.records import Line
 from . import links
 from .corner_batch import make_blends
 from .corners import (
@@ -58,6 +59,11 @@ class CornerMixin:
     # ------------------------------------------------------------ corners
     def _junction(self, prev: Span, nxt: Span) -> Span | None:
         """Decide the junction prev -> nxt: sets ``prev.stop_after`` or returns a blend span."""
+        fast = self._line_blends.get(id(prev))
+        if fast is not None and fast[0] is nxt:
+            made = _batched_line_corner(prev, nxt, fast)
+            if made is not None:
+                return self._blend_span(prev, nxt, *made)
         dyn = prev.dyn
         corner = dyn.corner if dyn is not None else "G50"
         if prev.record is nxt.record or _pieces_of_one_move(prev.record, nxt.record):
@@ -200,12 +206,26 @@ class CornerMixin:
                      list(tables), tables[:, -1].tolist(), strict=True)
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
-        self._line_blends = {
-            (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, sp, tolerance, acc, jerk, fd, *path),
-                                             sz, curve, lm, st if b.piece.start is end else None)
-            for a, b, end, lp, lq, sp, fd, sz, curve, lm, st in zip(
+        blends = self._line_blends = {}
+        fast = _fast_corners(chain, dirs, feeds, size)
+        # where each line ends once the corner after it trims it, its start trimmed by the corner before
+        # (Span.trim's floats: the length kept, then start + kept * u)
+        kept = np.array([s.piece.length for s in chain[:-1]])
+        kept[1:] -= size[:-1]
+        whole = (kept - size == kept).tolist()
+        kept -= size
+        cut_ends = list(np.vstack([chain[0].piece.start[None], starts[:-1]]) + kept[:, None] * dirs[:-1])
+        before = chain[0].piece.start
+        for a, b, end, lp, lq, sp, fd, sz, curve, lm, st, ok, kp, ce, same in zip(
                 chain, chain[1:], ends, lim_p, lim_q, speed_list, f_list, size.tolist(), curves, limits, list(starts),
-                strict=False)}
+                fast, kept.tolist(), cut_ends, whole, strict=False):
+            st = st if b.piece.start is end else None
+            blends[id(a.piece.u), id(b.piece.u)] = (a.piece.u, b.piece.u, end, (lp, lq, sp, tolerance, acc, jerk, fd,
+                                                                                *path), sz, curve, lm, st)
+            if ok:   # and by the first span's id: what _junction asks of the corner known to hold already
+                blends[id(a)] = (b, a, end, lp, lq, fd, sz, curve, lm, st,
+                                 None if before is None or same else (before, kp, ce))
+            before = st
 
     def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object:
         """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits) and its limits,
@@ -295,9 +315,10 @@ class CornerMixin:
             for j, i in enumerate(rows)}
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
-                    start: np.ndarray | None = None) -> Span | None:
+                    start: np.ndarray | None = None, cut: tuple | None = None) -> Span | None:
         """Trim both spans for the corner curve ``made`` = (piece, d1, d2) (with its ``limits`` and the
-        point where ``nxt`` then starts when already known); None (a stop) when running through the
+        point where ``nxt`` then starts when already known; ``cut``: prev's start, its length kept and
+        the point where it then ends, when already known); None (a stop) when running through the
         curve would be slower than stopping."""
         blend, d1, d2 = made
         if limits is None:
@@ -313,7 +334,10 @@ class CornerMixin:
         nxt.trim(d2, nxt.piece.length, start, True)   # later: settled once its own end is decided
         keep = prev.piece.length - d1
         if keep > MIN_LENGTH:
-            prev.trim(0.0, keep)
+            if cut is not None and cut[1] == keep and prev.piece.start is cut[0]:
+                _cut_line(prev, keep, cut[2])
+            else:
+                prev.trim(0.0, keep)
         else:
             prev.piece = None
         return span
@@ -521,6 +545,7 @@ class CornerMixin:
         prev: Span | None = None
         pending: list[Event] = []        # events that do not stop the motion, after prev
         settle = self.config.inposition_time
+        whole = bool(self.jerk)   # corner curves stay whole (see _blend_parts)
         source = iter(items)
         ahead = self._ahead = deque(islice(source, LOOK))
         while ahead:
@@ -554,12 +579,17 @@ class CornerMixin:
                         yield from pending
                     if settle > 0 and prev.dyn is not None and prev.dyn.corner == "G07":
                         yield Event(None, settle)   # in-position wait after a square corner (INPOSW)
-                elif not (_adapts(prev) or _adapts(item)):   # no feed adaptation: the usual case
+                elif ((dyn := prev.dyn) is None or dyn.adaptation is None) and \
+                        ((dyn := item.dyn) is None or dyn.adaptation is None):   # no feed adaptation: the usual case
                     if prev.piece is not None:
                         yield prev
-                    yield from pending
+                    if pending:
+                        yield from pending
                     if blend is not None:
-                        yield from self._blend_parts(blend)
+                        if whole:
+                            yield blend
+                        else:
+                            yield from self._blend_parts(blend)
                 else:
                     item.settle()
                     before, head, item = self._adapt(prev, item)
@@ -649,6 +679,54 @@ def _roundpar_rows(params: tuple, feed: np.ndarray) -> tuple[np.ndarray, np.ndar
     if factor != 1.0:
         feed = feed * factor
     return feed, (None if speed is None else feed), tolerance
+
+
+def _fast_corners(chain: list[Span], dirs: np.ndarray, feeds: np.ndarray, size: np.ndarray) -> list[bool]:
+    """Which corners of a batch of G05 line corners (:meth:`CornerMixin._line_blend_batch`) surely
+    reach the batched curve in :meth:`CornerMixin._junction`: blocks of their own (plain lines,
+    no thread, no transformation), positive feeds, the chain's path limits, a curve made
+    (size > 0), and a turn well clear of the tests of a tangent junction and a reversal (the
+    floats of those tests are the lines', these only estimate them).  What a trim changes (the
+    lines' lengths and ends) is tested at the corner itself (:func:`_batched_line_corner`)."""
+    first = chain[0]
+    pa, pj = first.path_acc, first.path_jerk
+    plain = [type(r) is Line and r.thread is None and r.frame is None and s.path_acc == pa and s.path_jerk == pj
+             for s, r in zip(chain, [s.record for s in chain], strict=True)]
+    if not (feeds > 0.0).all() or not np.isfinite(feeds).all():
+        return [False] * (len(chain) - 1)
+    u_in, u_out = dirs[:-1], dirs[1:]
+    gap = u_out - u_in
+    turn = np.degrees(np.arccos(np.clip((u_in * u_out).sum(axis=1), -1.0, 1.0)))
+    clear = ((gap * gap).sum(axis=1) > 1e-12) & (turn <= 180.0 - 2.0 * MIN_CORNER_ANGLE) & (size > 0.0)
+    return [ok and a and b and ra is not rb for ok, a, b, ra, rb in zip(
+        clear.tolist(), plain, plain[1:], [s.record for s in chain], [s.record for s in chain[1:]], strict=False)]
+
+
+def _batched_line_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
+    """The arguments of :meth:`CornerMixin._blend_span` for the corner prev -> nxt from its entry
+    of a batch of G05 line corners (see :func:`_fast_corners`) when the lines still stand as the
+    batch took them (the same ends, the same most each may give up); None: the corner is decided
+    as any other (:meth:`CornerMixin._junction`)."""
+    _, _, end, lim_p, lim_q, feed, size, curve, limits, start, cut = fast
+    p, q = prev.piece, nxt.piece
+    if p.end is not end:
+        return None
+    half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
+    half_q = nxt.orig_length / 2.0
+    if (half_p if half_p <= p.length else p.length) != lim_p or (half_q if half_q <= q.length else q.length) != lim_q:
+        return None
+    return (BlendPiece.made(*curve), size, size), feed, limits, start, cut
+
+
+def _cut_line(span: Span, keep: float, end: np.ndarray) -> None:
+    """``span.trim(0.0, keep)`` of a line whose point at ``keep`` is known already (``end``): the same
+    piece as :meth:`~fagorcnc.plan.geometry.LinePiece.sub` makes, without computing that point."""
+    p = span.piece
+    out = LinePiece.__new__(LinePiece)
+    out.start, out.end, out.length = p.start, end, keep - 0.0
+    out.u, out.ul, out.d2, out.d3 = p.u, p.ul, p.d2, p.d3   # d1: |u| when asked
+    span.piece = out
+    span.length = out.length
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
