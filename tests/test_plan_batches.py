@@ -356,7 +356,7 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
     records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
     results = _record_calls(monkeypatch, Planner, "_line_blend")
     batches = _record_calls(monkeypatch, Planner, "_line_blend_batch")
-    fast = _record_module_calls(monkeypatch, junctions, "_batched_line_corner")
+    fast = _record_module_calls(monkeypatch, junctions, "batched_line_corner")
     batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
     # a corner the batch holds is taken at the top of _junction, or else in _line_blend
     used = [found is not None for found in results] + [True for found in fast if found is not None]
@@ -404,21 +404,50 @@ def test_g05_line_corners_known_to_hold_plan_as_the_general_path(monkeypatch, ro
 
     machine = fagorcnc.load_machine(None)
     records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
-    fast = _record_module_calls(monkeypatch, junctions, "_batched_line_corner")
-    cuts = _record_module_calls(monkeypatch, junctions, "_cut_line")
+    fast = _record_module_calls(monkeypatch, junctions, "batched_line_corner")
+    cuts = _record_module_calls(monkeypatch, junctions, "cut_line")
     quick = _plan_floats(machine, records)
     assert sum(found is not None for found in fast) >= 0.9 * len(fast) > 200
     assert len(cuts) >= 0.9 * len(fast)
-    monkeypatch.setattr(junctions, "_fast_corners", lambda chain, *args: [False] * (len(chain) - 1))
+    monkeypatch.setattr(junctions, "fast_corners", lambda chain, *args: [False] * (len(chain) - 1))
+    general = _plan_floats(machine, records)
+    assert quick == general
+
+
+@pytest.mark.parametrize("hsc", ["#HSC ON [CONTERROR 0.01]", "#HSC ON [FAST 80, E0.02, CORNER 120]",
+                                 "#HSC ON [CONTERROR 0.002]"])
+def test_hsc_splines_known_to_hold_plan_as_the_general_path(monkeypatch, hsc):
+    """The batched HSC splines taken at the top of _junction (checks known to hold, the next line's
+    start made with the batch) give the very floats of the general path through _junction and
+    _spline, on a raster whose inflections stop some splines (a candidate made again alone) and
+    with feed changes, a sharp edge and G05 after it; the shortcut is taken for most corners."""
+    import fagorcnc
+    from fagorcnc.plan import junctions
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    rows = []
+    for r in range(4):   # a 3D finishing raster (0.5 mm steps)
+        xs = [i * 0.5 for i in range(101)]
+        rows += [f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}" + (" F2500" if i % 37 == 5 else "")
+                 for i, x in enumerate(xs[::-1] if r % 2 else xs)]
+    program = ["G90 G1 X0 Y0 Z0 F3000", hsc, *rows, "X20 Y20 F3000", "X20.5 Y20", "X0 Y20.4", "X-1 Y21",
+               "#HSC OFF", "G05 X-2 Y22", "X-3 Y21", "M30"]
+    records = list(Run(iter(program), "<raster>", machine))
+    fast = _record_calls(monkeypatch, junctions.CornerMixin, "_batched_spline")
+    quick = _plan_floats(machine, records)
+    taken = [found is not junctions._MISSING for found in fast]
+    assert sum(taken) >= 0.8 * len(rows) and not all(taken)
+    monkeypatch.setattr(junctions, "fast_splines", lambda chain, *args: [False] * (len(chain) - 1))
     general = _plan_floats(machine, records)
     assert quick == general
 
 
 def test_a_line_cut_with_its_end_known_is_the_trimmed_line():
-    """_cut_line gives the piece Span.trim(0.0, keep) gives: the same start (object), end, length,
+    """cut_line gives the piece Span.trim(0.0, keep) gives: the same start (object), end, length,
     direction and bounds."""
-    from fagorcnc.plan.junctions import _cut_line
     from fagorcnc.plan.limits import AxisLimits
+    from fagorcnc.plan.shortcuts import cut_line
     from fagorcnc.plan.span import Span
 
     rng = np.random.default_rng(5)
@@ -431,7 +460,7 @@ def test_a_line_cut_with_its_end_known_is_the_trimmed_line():
         one.piece = two.piece = piece
         one.lim = two.lim = lim
         one.trim(0.0, keep)
-        _cut_line(two, keep, piece.start + keep * piece.u)
+        cut_line(two, keep, piece.start + keep * piece.u)
         assert two.piece.start is one.piece.start and two.length == one.length == two.piece.length
         assert np.array_equal(two.piece.end, one.piece.end) and two.piece.length == one.piece.length
         assert two.piece.u is one.piece.u and two.piece.ul is one.piece.ul and two.piece.d2 is one.piece.d2

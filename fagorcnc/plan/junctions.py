@@ -13,7 +13,6 @@ from itertools import islice, pairwise
 
 import numpy as np
 
-from ..interp.records import Line
 from . import links
 from .corner_batch import make_blends
 from .corners import (
@@ -29,6 +28,7 @@ from .corners import (
 from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
+from .shortcuts import batched_line_corner, cut_line, fast_corners, fast_splines
 from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
@@ -61,9 +61,14 @@ class CornerMixin:
         """Decide the junction prev -> nxt: sets ``prev.stop_after`` or returns a blend span."""
         fast = self._line_blends.get(id(prev))
         if fast is not None and fast[0] is nxt:
-            made = _batched_line_corner(prev, nxt, fast)
+            made = batched_line_corner(prev, nxt, fast)
             if made is not None:
                 return self._blend_span(prev, nxt, *made)
+        cached = self._candidates.get(id(nxt))
+        if cached is not None and cached[7] is not None and cached[7][0] is nxt and cached[0] is prev:
+            found = self._batched_spline(prev, nxt, cached)
+            if found is not _MISSING:
+                return found
         dyn = prev.dyn
         corner = dyn.corner if dyn is not None else "G50"
         if prev.record is nxt.record or _pieces_of_one_move(prev.record, nxt.record):
@@ -207,7 +212,7 @@ class CornerMixin:
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
         blends = self._line_blends = {}
-        fast = _fast_corners(chain, dirs, feeds, size)
+        fast = fast_corners(chain, dirs, feeds, size, MIN_CORNER_ANGLE)
         # where each line ends once the corner after it trims it, its start trimmed by the corner before
         # (Span.trim's floats: the length kept, then start + kept * u)
         kept = np.array([s.piece.length for s in chain[:-1]])
@@ -335,7 +340,7 @@ class CornerMixin:
         keep = prev.piece.length - d1
         if keep > MIN_LENGTH:
             if cut is not None and cut[1] == keep and prev.piece.start is cut[0]:
-                _cut_line(prev, keep, cut[2])
+                cut_line(prev, keep, cut[2])
             else:
                 prev.trim(0.0, keep)
         else:
@@ -364,12 +369,33 @@ class CornerMixin:
                 self._candidates.clear()
                 self._batch(prev, nxt)
                 cached = self._candidates.pop(id(nxt))
-        _, _, _, blend, d2, k5, dev = cached
+        _, _, _, blend, d2, k5, dev, _ = cached
         if not blend.valid or dev > 0.95 * tolerance:
             return None
         nxt.mid_k = k5
         self._spline_used = True
         return blend, d1, d2
+
+    def _batched_spline(self, prev: Span, nxt: Span, cached: tuple) -> Span | object | None:
+        """The HSC corner prev -> nxt from its batched spline candidate whose checks :meth:`_batch` knows to
+        hold (see :func:`~.shortcuts.fast_splines`): what :meth:`_junction` and :meth:`_spline` make of it
+        when it fits as the corner now stands (prev's curvature, the length it may give up) and keeps the
+        tolerance; ``_MISSING``: the corner is decided as any other."""
+        d1 = min(prev.orig_length / 2.0, prev.piece.length)
+        _, mid_k, length, blend, d2, k5, dev, (_, piece, start) = cached
+        if mid_k is not prev.mid_k or not _same_length(length, d1):
+            return _MISSING
+        hsc = prev.dyn.hsc
+        if not blend.valid or dev > 0.95 * hsc.tolerance:
+            return _MISSING
+        feed = prev.feed if prev.feed <= nxt.feed else nxt.feed
+        if hsc.mode == "FAST":
+            feed *= hsc.fast / 100.0
+        del self._candidates[id(nxt)]
+        nxt.mid_k = k5
+        self._spline_used = True
+        return self._blend_span(prev, nxt, (blend, d1, d2), feed, self._spline_limit(blend, prev, feed),
+                                start if nxt.piece is piece else None)
 
     def _spline_limit(self, blend, prev: Span, feed: float) -> tuple | None:
         """The limits of the spline ``blend`` computed with its batch (see :meth:`_batch`) when they
@@ -384,7 +410,7 @@ class CornerMixin:
     def _single(self, prev: Span, nxt: Span, d1: float, cached: tuple) -> tuple:
         """The spline candidate of the corner prev -> nxt made again from prev's curvature as it
         now stands, with the end (d2, curvature) of the batched one."""
-        _, _, _, _, d2, k5, _ = cached
+        _, _, _, _, d2, k5, _, _ = cached
         u0, u1 = prev.piece.u, nxt.piece.u
         vertex = nxt.piece.start
         zero = np.zeros_like(u0)
@@ -393,7 +419,7 @@ class CornerMixin:
         curves, samples = blends(p0[None], u0[None], k0[None], np.array([SPLINE_SHAPE * d1]), p5[None], u1[None],
                                  (zero if k5 is None else k5)[None], np.array([SPLINE_SHAPE * d2]))
         dev = float(corner_deviations(samples, p0[None], vertex[None], p5[None])[0]) if curves[0].valid else math.inf
-        return prev, prev.mid_k, d1, curves[0], d2, k5, dev
+        return prev, prev.mid_k, d1, curves[0], d2, k5, dev, None
 
     def _batch(self, prev: Span, nxt: Span) -> None:
         """Spline candidates for the run of HSC lines starting at ``prev``, ``nxt`` and going on
@@ -450,9 +476,15 @@ class CornerMixin:
         curved = (np.abs(kmid).max(axis=1) > 0.0).tolist()
         self._spline_batch_limits(chain, curves, valid, bounds)
         previous_k = prev.mid_k
-        for i, (curve, d_1, d_2, dev) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(), strict=True)):
+        fast = fast_splines(chain, u, angle, MIN_CORNER_ANGLE)
+        for i, (curve, d_1, d_2, dev, ok, start) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(),
+                                                                  fast, list(p5), strict=True)):
             k5 = kmid[i + 1] if curved[i + 1] else None
-            self._candidates[id(chain[i + 1])] = (chain[i], previous_k, d_1, curve, d_2, k5, dev)
+            # the last, when the corner's checks are known to hold (see _batched_spline): the line after
+            # it, its piece and where it starts once trimmed (Span.trim's floats: start + d2 * u)
+            nxt = chain[i + 1]
+            self._candidates[id(nxt)] = (chain[i], previous_k, d_1, curve, d_2, k5, dev,
+                                         (nxt, nxt.piece, start) if ok else None)
             previous_k = k5
 
     def _spline_batch_limits(self, chain: list[Span], curves: list[BlendPiece], valid: np.ndarray,
@@ -681,52 +713,8 @@ def _roundpar_rows(params: tuple, feed: np.ndarray) -> tuple[np.ndarray, np.ndar
     return feed, (None if speed is None else feed), tolerance
 
 
-def _fast_corners(chain: list[Span], dirs: np.ndarray, feeds: np.ndarray, size: np.ndarray) -> list[bool]:
-    """Which corners of a batch of G05 line corners (:meth:`CornerMixin._line_blend_batch`) surely
-    reach the batched curve in :meth:`CornerMixin._junction`: blocks of their own (plain lines,
-    no thread, no transformation), positive feeds, the chain's path limits, a curve made
-    (size > 0), and a turn well clear of the tests of a tangent junction and a reversal (the
-    floats of those tests are the lines', these only estimate them).  What a trim changes (the
-    lines' lengths and ends) is tested at the corner itself (:func:`_batched_line_corner`)."""
-    first = chain[0]
-    pa, pj = first.path_acc, first.path_jerk
-    plain = [type(r) is Line and r.thread is None and r.frame is None and s.path_acc == pa and s.path_jerk == pj
-             for s, r in zip(chain, [s.record for s in chain], strict=True)]
-    if not (feeds > 0.0).all() or not np.isfinite(feeds).all():
-        return [False] * (len(chain) - 1)
-    u_in, u_out = dirs[:-1], dirs[1:]
-    gap = u_out - u_in
-    turn = np.degrees(np.arccos(np.clip((u_in * u_out).sum(axis=1), -1.0, 1.0)))
-    clear = ((gap * gap).sum(axis=1) > 1e-12) & (turn <= 180.0 - 2.0 * MIN_CORNER_ANGLE) & (size > 0.0)
-    return [ok and a and b and ra is not rb for ok, a, b, ra, rb in zip(
-        clear.tolist(), plain, plain[1:], [s.record for s in chain], [s.record for s in chain[1:]], strict=False)]
 
 
-def _batched_line_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
-    """The arguments of :meth:`CornerMixin._blend_span` for the corner prev -> nxt from its entry
-    of a batch of G05 line corners (see :func:`_fast_corners`) when the lines still stand as the
-    batch took them (the same ends, the same most each may give up); None: the corner is decided
-    as any other (:meth:`CornerMixin._junction`)."""
-    _, _, end, lim_p, lim_q, feed, size, curve, limits, start, cut = fast
-    p, q = prev.piece, nxt.piece
-    if p.end is not end:
-        return None
-    half_p = prev.orig_length / (4.0 if prev.mid_k is not None else 2.0)
-    half_q = nxt.orig_length / 2.0
-    if (half_p if half_p <= p.length else p.length) != lim_p or (half_q if half_q <= q.length else q.length) != lim_q:
-        return None
-    return (BlendPiece.made(*curve), size, size), feed, limits, start, cut
-
-
-def _cut_line(span: Span, keep: float, end: np.ndarray) -> None:
-    """``span.trim(0.0, keep)`` of a line whose point at ``keep`` is known already (``end``): the same
-    piece as :meth:`~fagorcnc.plan.geometry.LinePiece.sub` makes, without computing that point."""
-    p = span.piece
-    out = LinePiece.__new__(LinePiece)
-    out.start, out.end, out.length = p.start, end, keep - 0.0
-    out.u, out.ul, out.d2, out.d3 = p.u, p.ul, p.d2, p.d3   # d1: |u| when asked
-    span.piece = out
-    span.length = out.length
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
