@@ -632,3 +632,30 @@ def test_roundpar_of_a_line_batch_is_roundpar_of_each_corner(params):
         one = _roundpar(params, feed)
         assert f[i] == one[0] and tolerance == one[2]
         assert (speeds is None and one[1] is None) or speeds[i] == one[1]
+
+
+def test_a_crawl_told_without_the_jerk_term_is_the_whole_test():
+    """_crawls skips the jerk term of the rest-to-rest time where the rest without it already covers
+    the time at the cap: the same answer as the whole formula, on random and edge values."""
+    import math
+
+    from fagorcnc.plan.junctions import _crawls
+    from fagorcnc.plan.span import Span
+
+    def whole(length, vc, acc, jerk):
+        at_cap = length / vc if vc > 0 else math.inf
+        if jerk == math.inf:
+            return at_cap > 2.0 * math.sqrt(length / acc)
+        return at_cap > 4.0 * (length / (2.0 * jerk)) ** (1.0 / 3.0) + 2.0 * math.sqrt(length / acc)
+
+    rng = np.random.default_rng(7)
+    cases = [(float(10 ** rng.uniform(-6, 1)), float(10 ** rng.uniform(-3, 3)), float(10 ** rng.uniform(1, 5)),
+              float(10 ** rng.uniform(2, 7)) if rng.random() < 0.8 else math.inf) for _ in range(3000)]
+    cases += [(0.1, 0.0, 1000.0, 1e5), (0.1, 50.0, 1000.0, math.nan), (0.0, 50.0, 1000.0, 1e5), (1e-9, 1e-3, 1e4, 1e6)]
+    answers = set()
+    for length, vc, acc, jerk in cases:
+        span = Span.__new__(Span)
+        span.length, span.vc, span.acc, span.jerk = length, vc, acc, jerk
+        assert _crawls(span) == whole(length, vc, acc, jerk)
+        answers.add(_crawls(span))
+    assert answers == {True, False}

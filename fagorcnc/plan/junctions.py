@@ -759,9 +759,9 @@ def _transition_curve(p: LinePiece, k: np.ndarray, steps: list[float], tol: floa
 def _crawls(span: Span) -> bool:
     """True when running through a corner curve at its speed cap takes longer than
     covering its length from rest to rest (a near-reversal): better stop there."""
-    at_cap = span.length / span.vc if span.vc > 0 else math.inf
-    if span.jerk == math.inf:
-        rest = 2.0 * math.sqrt(span.length / span.acc)
-    else:
-        rest = 4.0 * (span.length / (2.0 * span.jerk)) ** (1.0 / 3.0) + 2.0 * math.sqrt(span.length / span.acc)
-    return at_cap > rest
+    length, vc, jerk = span.length, span.vc, span.jerk
+    at_cap = length / vc if vc > 0 else math.inf
+    rest = 2.0 * math.sqrt(length / span.acc)
+    if jerk == math.inf or (at_cap <= rest and jerk > 0.0):
+        return at_cap > rest   # with a jerk limit the rest only grows (a sum of a term >= 0 and this one)
+    return at_cap > 4.0 * (length / (2.0 * jerk)) ** (1.0 / 3.0) + rest
