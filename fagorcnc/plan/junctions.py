@@ -59,20 +59,24 @@ class CornerMixin:
     # ------------------------------------------------------------ corners
     def _junction(self, prev: Span, nxt: Span) -> Span | None:
         """Decide the junction prev -> nxt: sets ``prev.stop_after`` or returns a blend span."""
-        fast = self._line_blends.get(id(prev))
-        if fast is not None and fast[0] is nxt:
+        # a corner a batch knows to hold (no batch, nothing asked: most G50 and arc programs)
+        if self._line_blends and (fast := self._line_blends.get(id(prev))) is not None and fast[0] is nxt:
             made = batched_line_corner(prev, nxt, fast)
             if made is not None:
                 return self._blend_span(prev, nxt, *made)
-        cached = self._candidates.get(id(nxt))
-        if cached is not None and cached[7] is not None and cached[7][0] is nxt and cached[0] is prev:
+        if (self._candidates and (cached := self._candidates.get(id(nxt))) is not None and cached[7] is not None
+                and cached[7][0] is nxt and cached[0] is prev):
             found = self._batched_spline(prev, nxt, cached)
             if found is not _MISSING:
                 return found
         dyn = prev.dyn
         corner = dyn.corner if dyn is not None else "G50"
-        if prev.record is nxt.record or _pieces_of_one_move(prev.record, nxt.record):
-            return None   # parts of one block (a long arc, a feed ramp): no corner between them
+        a = prev.record
+        if a is nxt.record or ((f := getattr(a, "frame", None)) is not None and f is getattr(nxt.record, "frame", None)
+                               and getattr(f, "pieces", False)):
+            # parts of one block (a long arc, a feed ramp), joint-space lines of one transformed move
+            # (fagorcnc.kinematics.stage gives them one frame): no corner between them
+            return None
         if links.decided(prev, nxt):
             return None   # chords of one curve, #MOVE links (plan/links.py)
         if prev.rapid or nxt.rapid or corner in ("G07", "G50") or getattr(nxt.record, "thread", None) is not None:
@@ -666,12 +670,6 @@ class CornerMixin:
         yield from pending
         if span.stop_after and settle > 0 and span.dyn is not None and span.dyn.corner == "G07":
             yield Event(None, settle)   # in-position wait after a square corner (INPOSW)
-
-
-def _pieces_of_one_move(a, b) -> bool:
-    """Joint-space lines of one transformed move (fagorcnc.kinematics.stage gives them one frame)."""
-    f = getattr(a, "frame", None)
-    return f is not None and f is getattr(b, "frame", None) and getattr(f, "pieces", False)
 
 
 def _thread_runs_on(prev: Span, nxt: Span) -> bool:
