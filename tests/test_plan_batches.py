@@ -352,15 +352,17 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
     feed change does not end a batch (each corner has its own feed: batches of one corner each
     cost more than they save)."""
     import fagorcnc
-    from fagorcnc.plan import Planner
+    from fagorcnc.plan import Planner, junctions
     from fagorcnc.simulate import Run
 
     machine = fagorcnc.load_machine(None)
     records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
     results = _record_calls(monkeypatch, Planner, "_line_blend")
     batches = _record_calls(monkeypatch, Planner, "_line_blend_batch")
+    fast = _record_module_calls(monkeypatch, junctions, "batched_line_corner")
     batched = [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend) for s in Planner(machine).segments(iter(records))]
-    used = [found is not None for found in results]
+    # a corner the batch holds is taken at the top of _junction, or else in _line_blend
+    used = [found is not None for found in results] + [True for found in fast if found is not None]
     assert sum(used) >= 0.95 * len(used) > 200
     assert len(batches) <= len(used) / 16
     monkeypatch.setattr(Planner, "_line_blend", lambda self, *args: None)
@@ -368,6 +370,104 @@ def test_g05_line_corners_in_a_batch_plan_as_one_by_one(monkeypatch, roundpar, f
     assert len(alone) == len(batched)
     for a, b in zip(alone, batched, strict=True):
         assert a[4:] == b[4:] and close(a[:4], b[:4])
+
+
+def _record_module_calls(monkeypatch, module, name: str) -> list:
+    """Wrap the function ``module.name`` for the test: the list it returns receives what each call returns."""
+    original = getattr(module, name)
+    results: list = []
+
+    def recorded(*args):
+        result = original(*args)
+        results.append(result)
+        return result
+
+    monkeypatch.setattr(module, name, recorded)
+    return results
+
+
+def _plan_floats(machine, records) -> list[tuple]:
+    from fagorcnc.plan import Planner
+
+    return [(s.t0, s.duration, s.v0, s.v1, s.line, s.blend, *(() if s.piece is None else (
+        s.piece.length, *s.piece.start.tolist(), *s.piece.end.tolist())))
+        for s in Planner(machine).segments(iter(records))]
+
+
+@pytest.mark.parametrize(("roundpar", "feeds"), [("#ROUNDPAR [1, 0.01]", False), ("#ROUNDPAR [2, 40]", True),
+                                                 ("#ROUNDPAR [4, 0.002]", False)])
+def test_g05_line_corners_known_to_hold_plan_as_the_general_path(monkeypatch, roundpar, feeds):
+    """The batched G05 line corners taken at the top of _junction (checks known to hold, prev's end
+    point made with the batch) give the very floats of the general path through every check and
+    Span.trim, on a raster with feed changes, adaptation and HSC after it; the shortcut is taken
+    for most corners and refused where a line no longer stands as the batch took it."""
+    import fagorcnc
+    from fagorcnc.plan import junctions
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    records = list(Run(iter(_g05_program(roundpar, feeds)), "<g05>", machine))
+    fast = _record_module_calls(monkeypatch, junctions, "batched_line_corner")
+    cuts = _record_module_calls(monkeypatch, junctions, "cut_line")
+    quick = _plan_floats(machine, records)
+    assert sum(found is not None for found in fast) >= 0.9 * len(fast) > 200
+    assert len(cuts) >= 0.9 * len(fast)
+    monkeypatch.setattr(junctions, "fast_corners", lambda chain, *args: [False] * (len(chain) - 1))
+    general = _plan_floats(machine, records)
+    assert quick == general
+
+
+@pytest.mark.parametrize("hsc", ["#HSC ON [CONTERROR 0.01]", "#HSC ON [FAST 80, E0.02, CORNER 120]",
+                                 "#HSC ON [CONTERROR 0.002]"])
+def test_hsc_splines_known_to_hold_plan_as_the_general_path(monkeypatch, hsc):
+    """The batched HSC splines taken at the top of _junction (checks known to hold, the next line's
+    start made with the batch) give the very floats of the general path through _junction and
+    _spline, on a raster whose inflections stop some splines (a candidate made again alone) and
+    with feed changes, a sharp edge and G05 after it; the shortcut is taken for most corners."""
+    import fagorcnc
+    from fagorcnc.plan import junctions
+    from fagorcnc.simulate import Run
+
+    machine = fagorcnc.load_machine(None)
+    rows = []
+    for r in range(4):   # a 3D finishing raster (0.5 mm steps)
+        xs = [i * 0.5 for i in range(101)]
+        rows += [f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}" + (" F2500" if i % 37 == 5 else "")
+                 for i, x in enumerate(xs[::-1] if r % 2 else xs)]
+    program = ["G90 G1 X0 Y0 Z0 F3000", hsc, *rows, "X20 Y20 F3000", "X20.5 Y20", "X0 Y20.4", "X-1 Y21",
+               "#HSC OFF", "G05 X-2 Y22", "X-3 Y21", "M30"]
+    records = list(Run(iter(program), "<raster>", machine))
+    fast = _record_calls(monkeypatch, junctions.CornerMixin, "_batched_spline")
+    quick = _plan_floats(machine, records)
+    taken = [found is not junctions._MISSING for found in fast]
+    assert sum(taken) >= 0.8 * len(rows) and not all(taken)
+    monkeypatch.setattr(junctions, "fast_splines", lambda chain, *args: [False] * (len(chain) - 1))
+    general = _plan_floats(machine, records)
+    assert quick == general
+
+
+def test_a_line_cut_with_its_end_known_is_the_trimmed_line():
+    """cut_line gives the piece Span.trim(0.0, keep) gives: the same start (object), end, length,
+    direction and bounds."""
+    from fagorcnc.plan.limits import AxisLimits
+    from fagorcnc.plan.shortcuts import cut_line
+    from fagorcnc.plan.span import Span
+
+    rng = np.random.default_rng(5)
+    lim = AxisLimits.__new__(AxisLimits)
+    for _ in range(50):
+        a, b = rng.normal(size=3), rng.normal(size=3)
+        piece = LinePiece(a, b).sub(float(rng.uniform(0.0, 0.1)), LinePiece(a, b).length)
+        keep = float(piece.length * rng.uniform(0.2, 1.0))
+        one, two = Span.__new__(Span), Span.__new__(Span)
+        one.piece = two.piece = piece
+        one.lim = two.lim = lim
+        one.trim(0.0, keep)
+        cut_line(two, keep, piece.start + keep * piece.u)
+        assert two.piece.start is one.piece.start and two.length == one.length == two.piece.length
+        assert np.array_equal(two.piece.end, one.piece.end) and two.piece.length == one.piece.length
+        assert two.piece.u is one.piece.u and two.piece.ul is one.piece.ul and two.piece.d2 is one.piece.d2
+        assert np.array_equal(two.piece.d1, one.piece.d1)
 
 
 def test_an_arcs_frame_and_trim_on_floats_equal_its_derivatives():
@@ -535,3 +635,30 @@ def test_roundpar_of_a_line_batch_is_roundpar_of_each_corner(params):
         one = _roundpar(params, feed)
         assert f[i] == one[0] and tolerance == one[2]
         assert (speeds is None and one[1] is None) or speeds[i] == one[1]
+
+
+def test_a_crawl_told_without_the_jerk_term_is_the_whole_test():
+    """_crawls skips the jerk term of the rest-to-rest time where the rest without it already covers
+    the time at the cap: the same answer as the whole formula, on random and edge values."""
+    import math
+
+    from fagorcnc.plan.junctions import _crawls
+    from fagorcnc.plan.span import Span
+
+    def whole(length, vc, acc, jerk):
+        at_cap = length / vc if vc > 0 else math.inf
+        if jerk == math.inf:
+            return at_cap > 2.0 * math.sqrt(length / acc)
+        return at_cap > 4.0 * (length / (2.0 * jerk)) ** (1.0 / 3.0) + 2.0 * math.sqrt(length / acc)
+
+    rng = np.random.default_rng(7)
+    cases = [(float(10 ** rng.uniform(-6, 1)), float(10 ** rng.uniform(-3, 3)), float(10 ** rng.uniform(1, 5)),
+              float(10 ** rng.uniform(2, 7)) if rng.random() < 0.8 else math.inf) for _ in range(3000)]
+    cases += [(0.1, 0.0, 1000.0, 1e5), (0.1, 50.0, 1000.0, math.nan), (0.0, 50.0, 1000.0, 1e5), (1e-9, 1e-3, 1e4, 1e6)]
+    answers = set()
+    for length, vc, acc, jerk in cases:
+        span = Span.__new__(Span)
+        span.length, span.vc, span.acc, span.jerk = length, vc, acc, jerk
+        assert _crawls(span) == whole(length, vc, acc, jerk)
+        answers.add(_crawls(span))
+    assert answers == {True, False}

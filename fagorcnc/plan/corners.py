@@ -194,7 +194,8 @@ def _units(ks: np.ndarray) -> np.ndarray:
     """Which of the unit curves ``ks`` and ``ks + 1`` are both valid, filling in those not computed yet."""
     state = _UNIT_STATE[ks], _UNIT_STATE[ks + 1]
     if not (state[0].all() and state[1].all()):
-        for k in np.unique(np.concatenate([ks[state[0] == 0], ks[state[1] == 0] + 1])).tolist():
+        # a set of ints, not np.unique: that imports numpy.ma on first use (46 M instructions)
+        for k in sorted({*ks[state[0] == 0].tolist(), *(ks[state[1] == 0] + 1).tolist()}):
             _unit(k)
         state = _UNIT_STATE[ks], _UNIT_STATE[ks + 1]
     return (state[0] == 1) & (state[1] == 1)

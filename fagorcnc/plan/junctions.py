@@ -28,6 +28,7 @@ from .corners import (
 from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
+from .shortcuts import batched_line_corner, cut_line, fast_corners, fast_splines
 from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
@@ -58,10 +59,24 @@ class CornerMixin:
     # ------------------------------------------------------------ corners
     def _junction(self, prev: Span, nxt: Span) -> Span | None:
         """Decide the junction prev -> nxt: sets ``prev.stop_after`` or returns a blend span."""
+        # a corner a batch knows to hold (no batch, nothing asked: most G50 and arc programs)
+        if self._line_blends and (fast := self._line_blends.get(id(prev))) is not None and fast[0] is nxt:
+            made = batched_line_corner(prev, nxt, fast)
+            if made is not None:
+                return self._blend_span(prev, nxt, *made)
+        if (self._candidates and (cached := self._candidates.get(id(nxt))) is not None and cached[7] is not None
+                and cached[7][0] is nxt and cached[0] is prev):
+            found = self._batched_spline(prev, nxt, cached)
+            if found is not _MISSING:
+                return found
         dyn = prev.dyn
         corner = dyn.corner if dyn is not None else "G50"
-        if prev.record is nxt.record or _pieces_of_one_move(prev.record, nxt.record):
-            return None   # parts of one block (a long arc, a feed ramp): no corner between them
+        a = prev.record
+        if a is nxt.record or ((f := getattr(a, "frame", None)) is not None and f is getattr(nxt.record, "frame", None)
+                               and getattr(f, "pieces", False)):
+            # parts of one block (a long arc, a feed ramp), joint-space lines of one transformed move
+            # (fagorcnc.kinematics.stage gives them one frame): no corner between them
+            return None
         if links.decided(prev, nxt):
             return None   # chords of one curve, #MOVE links (plan/links.py)
         if prev.rapid or nxt.rapid or corner in ("G07", "G50") or getattr(nxt.record, "thread", None) is not None:
@@ -200,12 +215,26 @@ class CornerMixin:
                      list(tables), tables[:, -1].tolist(), strict=True)
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
-        self._line_blends = {
-            (id(a.piece.u), id(b.piece.u)): (a.piece.u, b.piece.u, end, (lp, lq, sp, tolerance, acc, jerk, fd, *path),
-                                             sz, curve, lm, st if b.piece.start is end else None)
-            for a, b, end, lp, lq, sp, fd, sz, curve, lm, st in zip(
+        blends = self._line_blends = {}
+        fast = fast_corners(chain, dirs, feeds, size, MIN_CORNER_ANGLE)
+        # where each line ends once the corner after it trims it, its start trimmed by the corner before
+        # (Span.trim's floats: the length kept, then start + kept * u)
+        kept = np.array([s.piece.length for s in chain[:-1]])
+        kept[1:] -= size[:-1]
+        whole = (kept - size == kept).tolist()
+        kept -= size
+        cut_ends = list(np.vstack([chain[0].piece.start[None], starts[:-1]]) + kept[:, None] * dirs[:-1])
+        before = chain[0].piece.start
+        for a, b, end, lp, lq, sp, fd, sz, curve, lm, st, ok, kp, ce, same in zip(
                 chain, chain[1:], ends, lim_p, lim_q, speed_list, f_list, size.tolist(), curves, limits, list(starts),
-                strict=False)}
+                fast, kept.tolist(), cut_ends, whole, strict=False):
+            st = st if b.piece.start is end else None
+            blends[id(a.piece.u), id(b.piece.u)] = (a.piece.u, b.piece.u, end, (lp, lq, sp, tolerance, acc, jerk, fd,
+                                                                                *path), sz, curve, lm, st)
+            if ok:   # and by the first span's id: what _junction asks of the corner known to hold already
+                blends[id(a)] = (b, a, end, lp, lq, fd, sz, curve, lm, st,
+                                 None if before is None or same else (before, kp, ce))
+            before = st
 
     def _arc_blend(self, prev: Span, nxt: Span, inputs: tuple) -> tuple | object:
         """The corner curve at an arc between ``prev`` and ``nxt`` (None: none fits) and its limits,
@@ -295,9 +324,10 @@ class CornerMixin:
             for j, i in enumerate(rows)}
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
-                    start: np.ndarray | None = None) -> Span | None:
+                    start: np.ndarray | None = None, cut: tuple | None = None) -> Span | None:
         """Trim both spans for the corner curve ``made`` = (piece, d1, d2) (with its ``limits`` and the
-        point where ``nxt`` then starts when already known); None (a stop) when running through the
+        point where ``nxt`` then starts when already known; ``cut``: prev's start, its length kept and
+        the point where it then ends, when already known); None (a stop) when running through the
         curve would be slower than stopping."""
         blend, d1, d2 = made
         if limits is None:
@@ -313,7 +343,10 @@ class CornerMixin:
         nxt.trim(d2, nxt.piece.length, start, True)   # later: settled once its own end is decided
         keep = prev.piece.length - d1
         if keep > MIN_LENGTH:
-            prev.trim(0.0, keep)
+            if cut is not None and cut[1] == keep and prev.piece.start is cut[0]:
+                cut_line(prev, keep, cut[2])
+            else:
+                prev.trim(0.0, keep)
         else:
             prev.piece = None
         return span
@@ -340,12 +373,33 @@ class CornerMixin:
                 self._candidates.clear()
                 self._batch(prev, nxt)
                 cached = self._candidates.pop(id(nxt))
-        _, _, _, blend, d2, k5, dev = cached
+        _, _, _, blend, d2, k5, dev, _ = cached
         if not blend.valid or dev > 0.95 * tolerance:
             return None
         nxt.mid_k = k5
         self._spline_used = True
         return blend, d1, d2
+
+    def _batched_spline(self, prev: Span, nxt: Span, cached: tuple) -> Span | object | None:
+        """The HSC corner prev -> nxt from its batched spline candidate whose checks :meth:`_batch` knows to
+        hold (see :func:`~.shortcuts.fast_splines`): what :meth:`_junction` and :meth:`_spline` make of it
+        when it fits as the corner now stands (prev's curvature, the length it may give up) and keeps the
+        tolerance; ``_MISSING``: the corner is decided as any other."""
+        d1 = min(prev.orig_length / 2.0, prev.piece.length)
+        _, mid_k, length, blend, d2, k5, dev, (_, piece, start) = cached
+        if mid_k is not prev.mid_k or not _same_length(length, d1):
+            return _MISSING
+        hsc = prev.dyn.hsc
+        if not blend.valid or dev > 0.95 * hsc.tolerance:
+            return _MISSING
+        feed = prev.feed if prev.feed <= nxt.feed else nxt.feed
+        if hsc.mode == "FAST":
+            feed *= hsc.fast / 100.0
+        del self._candidates[id(nxt)]
+        nxt.mid_k = k5
+        self._spline_used = True
+        return self._blend_span(prev, nxt, (blend, d1, d2), feed, self._spline_limit(blend, prev, feed),
+                                start if nxt.piece is piece else None)
 
     def _spline_limit(self, blend, prev: Span, feed: float) -> tuple | None:
         """The limits of the spline ``blend`` computed with its batch (see :meth:`_batch`) when they
@@ -360,7 +414,7 @@ class CornerMixin:
     def _single(self, prev: Span, nxt: Span, d1: float, cached: tuple) -> tuple:
         """The spline candidate of the corner prev -> nxt made again from prev's curvature as it
         now stands, with the end (d2, curvature) of the batched one."""
-        _, _, _, _, d2, k5, _ = cached
+        _, _, _, _, d2, k5, _, _ = cached
         u0, u1 = prev.piece.u, nxt.piece.u
         vertex = nxt.piece.start
         zero = np.zeros_like(u0)
@@ -369,7 +423,7 @@ class CornerMixin:
         curves, samples = blends(p0[None], u0[None], k0[None], np.array([SPLINE_SHAPE * d1]), p5[None], u1[None],
                                  (zero if k5 is None else k5)[None], np.array([SPLINE_SHAPE * d2]))
         dev = float(corner_deviations(samples, p0[None], vertex[None], p5[None])[0]) if curves[0].valid else math.inf
-        return prev, prev.mid_k, d1, curves[0], d2, k5, dev
+        return prev, prev.mid_k, d1, curves[0], d2, k5, dev, None
 
     def _batch(self, prev: Span, nxt: Span) -> None:
         """Spline candidates for the run of HSC lines starting at ``prev``, ``nxt`` and going on
@@ -426,9 +480,15 @@ class CornerMixin:
         curved = (np.abs(kmid).max(axis=1) > 0.0).tolist()
         self._spline_batch_limits(chain, curves, valid, bounds)
         previous_k = prev.mid_k
-        for i, (curve, d_1, d_2, dev) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(), strict=True)):
+        fast = fast_splines(chain, u, angle, MIN_CORNER_ANGLE)
+        for i, (curve, d_1, d_2, dev, ok, start) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(),
+                                                                  fast, list(p5), strict=True)):
             k5 = kmid[i + 1] if curved[i + 1] else None
-            self._candidates[id(chain[i + 1])] = (chain[i], previous_k, d_1, curve, d_2, k5, dev)
+            # the last, when the corner's checks are known to hold (see _batched_spline): the line after
+            # it, its piece and where it starts once trimmed (Span.trim's floats: start + d2 * u)
+            nxt = chain[i + 1]
+            self._candidates[id(nxt)] = (chain[i], previous_k, d_1, curve, d_2, k5, dev,
+                                         (nxt, nxt.piece, start) if ok else None)
             previous_k = k5
 
     def _spline_batch_limits(self, chain: list[Span], curves: list[BlendPiece], valid: np.ndarray,
@@ -521,6 +581,7 @@ class CornerMixin:
         prev: Span | None = None
         pending: list[Event] = []        # events that do not stop the motion, after prev
         settle = self.config.inposition_time
+        whole = bool(self.jerk)   # corner curves stay whole (see _blend_parts)
         source = iter(items)
         ahead = self._ahead = deque(islice(source, LOOK))
         while ahead:
@@ -554,12 +615,17 @@ class CornerMixin:
                         yield from pending
                     if settle > 0 and prev.dyn is not None and prev.dyn.corner == "G07":
                         yield Event(None, settle)   # in-position wait after a square corner (INPOSW)
-                elif not (_adapts(prev) or _adapts(item)):   # no feed adaptation: the usual case
+                elif ((dyn := prev.dyn) is None or dyn.adaptation is None) and \
+                        ((dyn := item.dyn) is None or dyn.adaptation is None):   # no feed adaptation: the usual case
                     if prev.piece is not None:
                         yield prev
-                    yield from pending
+                    if pending:
+                        yield from pending
                     if blend is not None:
-                        yield from self._blend_parts(blend)
+                        if whole:
+                            yield blend
+                        else:
+                            yield from self._blend_parts(blend)
                 else:
                     item.settle()
                     before, head, item = self._adapt(prev, item)
@@ -606,12 +672,6 @@ class CornerMixin:
             yield Event(None, settle)   # in-position wait after a square corner (INPOSW)
 
 
-def _pieces_of_one_move(a, b) -> bool:
-    """Joint-space lines of one transformed move (fagorcnc.kinematics.stage gives them one frame)."""
-    f = getattr(a, "frame", None)
-    return f is not None and f is getattr(b, "frame", None) and getattr(f, "pieces", False)
-
-
 def _thread_runs_on(prev: Span, nxt: Span) -> bool:
     """A G33 thread joined to the one before in the same direction runs on without stopping (seed 002
     L7366-L7370: joined threads are not synchronised again); at any other joint the thread's G50 context
@@ -649,6 +709,10 @@ def _roundpar_rows(params: tuple, feed: np.ndarray) -> tuple[np.ndarray, np.ndar
     if factor != 1.0:
         feed = feed * factor
     return feed, (None if speed is None else feed), tolerance
+
+
+
+
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
@@ -693,9 +757,9 @@ def _transition_curve(p: LinePiece, k: np.ndarray, steps: list[float], tol: floa
 def _crawls(span: Span) -> bool:
     """True when running through a corner curve at its speed cap takes longer than
     covering its length from rest to rest (a near-reversal): better stop there."""
-    at_cap = span.length / span.vc if span.vc > 0 else math.inf
-    if span.jerk == math.inf:
-        rest = 2.0 * math.sqrt(span.length / span.acc)
-    else:
-        rest = 4.0 * (span.length / (2.0 * span.jerk)) ** (1.0 / 3.0) + 2.0 * math.sqrt(span.length / span.acc)
-    return at_cap > rest
+    length, vc, jerk = span.length, span.vc, span.jerk
+    at_cap = length / vc if vc > 0 else math.inf
+    rest = 2.0 * math.sqrt(length / span.acc)
+    if jerk == math.inf or (at_cap <= rest and jerk > 0.0):
+        return at_cap > rest   # with a jerk limit the rest only grows (a sum of a term >= 0 and this one)
+    return at_cap > 4.0 * (length / (2.0 * jerk)) ** (1.0 / 3.0) + rest
