@@ -188,3 +188,24 @@ def test_the_end_speed_without_the_reach_is_the_general_one(monkeypatch, jerk):
     assert len(timed) > 100
     assert all(general == v1 for general, v1, _v0 in timed)
     assert sum(v0 >= v1 > 0.0 for _g, v1, v0 in timed) > 30   # groups the shortcut times (entered fast enough)
+
+
+def test_a_profile_has_the_phases_of_the_general_arrays():
+    # Solver.profile's start times (a running sum in turn) and phase values, as the rows of one array, are
+    # those of np.cumsum and one array per row, to the bit, on random requests
+    rng = random.Random(13)
+    solver = Solver()
+    made = 0
+    for _ in range(300):
+        v0, v1 = rng.uniform(0.0, 80.0), rng.uniform(0.0, 80.0)
+        if solver.duration(rng.uniform(0.5, 20.0), v0, v1, 100.0, rng.uniform(200.0, 3000.0),
+                           rng.uniform(1e3, 5e4)) == math.inf:
+            continue
+        made += 1
+        pr = solver.traj.profiles[0][0]
+        got = solver.profile()
+        assert got.t.tolist() == np.concatenate([[0.0], np.cumsum(pr.t)])[:-1].tolist()
+        for mine, theirs in ((got.j, pr.j), (got.a, pr.a[:-1]), (got.v, pr.v[:-1]), (got.p, pr.p[:-1])):
+            assert mine.tolist() == np.array(theirs).tolist()
+        assert got.duration == solver.traj.duration and got.at(np.array([got.duration / 2]))[0].shape == (1,)
+    assert made > 200
