@@ -372,6 +372,8 @@ class Solver:
         best = (math.inf, span.vc, 0.0, 0.0)
         held = False
         length = span.length
+        rungs = span._rungs   # the rungs the look-ahead made already (read here, made by span.rung)
+        made = 0 if rungs is None else len(rungs)
         for scale in (1.0, EDGE_SCALE):
             for i, vc in enumerate(caps):
                 if best[0] * RUNG_MARGIN <= length / vc:
@@ -380,6 +382,8 @@ class Solver:
                     if extra_limits is None:
                         extra_limits = span.limits_at(vc)
                     acc, jerk = extra_limits
+                elif i < made:
+                    _cap, acc, jerk = rungs[i]
                 else:
                     _cap, acc, jerk = span.rung(i)
                 if acc <= 0 or jerk <= 0:

@@ -219,7 +219,13 @@ class Group:
         self._rungs = None
         self._terms = None
         self._path = None
-        self._classify(span)
+        if span.piece.curved:   # _classify(span) inline (every span that joins a group)
+            self.curves.append(span)
+        else:
+            if span.acc < self.line_acc:
+                self.line_acc = span.acc
+            if span.jerk < self.line_jerk:
+                self.line_jerk = span.jerk
 
     @property
     def curved(self) -> bool:
