@@ -182,20 +182,31 @@ class Group:
                  "members", "record", "stop_after", "vc")
 
     def __init__(self, first: Span) -> None:
-        # the group of no span, then ``first`` added: the least of inf and a limit is that limit, and
-        # 0.0 + its length is its length (the same numbers as taking the first's own)
-        self.members: list[Span] = []
-        self.length = 0.0
-        self.vc = self.acc = self.jerk = math.inf
+        self.members = [first]
+        self.length = first.length
+        self.vc, self.acc, self.jerk = first.vc, first.acc, first.jerk
+        self.stop_after = first.stop_after
         self.line, self.record = first.line, first.record
+        self._rungs: list | None = None   # made when the look-ahead asks (see rungs())
+        self._terms = None
+        self._path: tuple[float, float] | None = None   # the path limits below any cap (see _tangential)
         # below a lower cap only the curves' limits change: a line's terms in the formulas of
         # :func:`~fagorcnc.plan.limits.tangential` reduce exactly to its own limits
         self.curves: list[Span] = []
         self.line_acc = self.line_jerk = math.inf
-        self.add(first)
+        self._classify(first)
+
+    def _classify(self, span: Span) -> None:
+        # plain comparisons, no min() calls: this runs for every span planned
+        if span.piece.curved:
+            self.curves.append(span)
+        else:
+            if span.acc < self.line_acc:
+                self.line_acc = span.acc
+            if span.jerk < self.line_jerk:
+                self.line_jerk = span.jerk
 
     def add(self, span: Span) -> None:
-        # plain comparisons, no min() calls: this runs for every span planned
         self.members.append(span)
         self.length += span.length
         if span.vc < self.vc:
@@ -205,16 +216,10 @@ class Group:
         if span.jerk < self.jerk:
             self.jerk = span.jerk
         self.stop_after = span.stop_after
-        self._rungs: list | None = None   # made when the look-ahead asks (see rungs())
+        self._rungs = None
         self._terms = None
-        self._path: tuple[float, float] | None = None   # the path limits below any cap (see _tangential)
-        if span.piece.curved:
-            self.curves.append(span)
-        else:
-            if span.acc < self.line_acc:
-                self.line_acc = span.acc
-            if span.jerk < self.line_jerk:
-                self.line_jerk = span.jerk
+        self._path = None
+        self._classify(span)
 
     @property
     def curved(self) -> bool:
