@@ -2,7 +2,9 @@
 
 - ``Solver.duration`` tests the stop-on-the-way length only when the single pulse is too long;
 - ``Group._tangential`` keeps its path limits until a member is added;
-- ``Planner._commit`` takes 0 as the end speed of a group that stops, without asking its reach.
+- ``Planner._commit`` takes 0 as the end speed of a group that stops, without asking its reach, and the
+  backward pass's limit as the end speed of a group entered at least that fast (but curves without a
+  jerk limit).
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import random
 import numpy as np
 import pytest
 from plan_helpers import reference_duration as _reference
+from test_plan_limits import contour_pass
 
 import fagorcnc
 from fagorcnc.plan import Planner
@@ -121,3 +124,88 @@ def test_a_reach_is_never_negative():
                         False, None, 0.0, 0.0)
         v = rng.choice([0.0, rng.uniform(0.0, 1.5 * span.vc)])
         assert Group(span).reach(v) >= 0.0
+
+
+def _random_span(rng: random.Random, jerk: float) -> Span:
+    lim = AxisLimits((100.0, 100.0, 50.0), (rng.uniform(50.0, 3000.0),) * 3, (jerk,) * 3)
+    if rng.random() < 0.5:
+        end = np.array([rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-1, 1)])
+        return Span.of_line(LinePiece(np.zeros(3), end), _Rec(), rng.uniform(1.0, 200.0), lim, False, None, 0.0, 0.0)
+    return Span(_arc(np.array([5.0, 0.0, 0.0]), rng.uniform(0.01, 1.0)), _Rec(), rng.uniform(1.0, 200.0), lim,
+                False, None, 0.0, 0.0)
+
+
+def test_a_reach_is_at_least_the_speed_within_the_cap():
+    # the premise of _commit's end speed without the reach: from v a group reaches at least min(v, cap)
+    # (the speed it has, or its cap), on random groups of lines and arcs, jerk-limited or lines alone
+    rng = random.Random(12)
+    for _ in range(600):
+        jerk = rng.uniform(500.0, 5e4)
+        group = Group(_random_span(rng, jerk))
+        for _ in range(rng.randrange(3)):
+            group.add(_random_span(rng, jerk))
+        if rng.random() < 0.25:   # lines without a jerk limit
+            group = Group(Span.of_line(LinePiece(np.zeros(3), np.array([rng.uniform(0.01, 5.0), 1.0, 0.0])), _Rec(),
+                                       rng.uniform(1.0, 200.0), AxisLimits((100.0,) * 3, (800.0,) * 3, (math.inf,) * 3),
+                                       False, None, 0.0, 0.0))
+        for v in (0.0, rng.uniform(0.0, group.vc), group.vc, rng.uniform(group.vc, 2.0 * group.vc)):
+            assert group.reach(v) >= min(v, group.vc), (v, group.vc)
+
+
+@pytest.mark.parametrize("jerk", [True, False])
+def test_the_end_speed_without_the_reach_is_the_general_one(monkeypatch, jerk):
+    """Every end speed _commit times a group with is min(reach(v), limit) of its start speed v and the
+    backward pass's limit at its end (0 for a group that stops), also where it takes the limit
+    without asking the reach; and that limit is within the cap of the group before the junction."""
+    from fagorcnc.plan import planner as planner_module
+    from fagorcnc.plan.profile import Solver
+
+    # the benchmarks' contour (arcs and lines at small kinks) in G05, then in HSC, and a raster of lines
+    program = ["G90 G1 X40 Y0 Z0 F3000", "G05", *contour_pass(60), "#HSC ON [CONTERROR 0.01]", *contour_pass(60),
+               "G1 Z1", *(f"X{40 + 0.5 * (k % 20):.1f} Y{0.4 * (k // 20):.1f} Z{1 + 0.1 * (k % 3):.1f}"
+                          for k in range(60)), "M30"]
+    base = planner_module.backward
+    after: dict[int, float] = {}   # the limit after each group (by id) of the last backward pass
+
+    def backward(queue, end_speed, known):
+        out = base(queue, end_speed, known)
+        for i, g in enumerate(queue):
+            after[id(g)] = out[i + 1] if i + 1 < len(queue) else 0.0
+            assert i + 1 == len(queue) or out[i + 1] <= g.vc
+        return out
+
+    timed: list[tuple[float, float, float]] = []   # (general end speed, end speed timed with, start speed)
+
+    def check(group, v0, v1):
+        general = 0.0 if group.stop_after else min(base_reach(group, v0), after[id(group)])
+        timed.append((general, v1, v0))
+
+    base_reach, line, time = Group.reach, Solver.line, Solver.time
+    monkeypatch.setattr(planner_module, "backward", backward)
+    monkeypatch.setattr(Solver, "line", lambda self, g, v0, v1, k: (check(g, v0, v1), line(self, g, v0, v1, k))[1])
+    monkeypatch.setattr(Solver, "time", lambda self, g, v0, v1, k: (check(g, v0, v1), time(self, g, v0, v1, k))[1])
+    _plan(program, jerk)
+    assert len(timed) > 100
+    assert all(general == v1 for general, v1, _v0 in timed)
+    assert sum(v0 >= v1 > 0.0 for _g, v1, v0 in timed) > 30   # groups the shortcut times (entered fast enough)
+
+
+def test_a_profile_has_the_phases_of_the_general_arrays():
+    # Solver.profile's start times (a running sum in turn) and phase values, as the rows of one array, are
+    # those of np.cumsum and one array per row, to the bit, on random requests
+    rng = random.Random(13)
+    solver = Solver()
+    made = 0
+    for _ in range(300):
+        v0, v1 = rng.uniform(0.0, 80.0), rng.uniform(0.0, 80.0)
+        if solver.duration(rng.uniform(0.5, 20.0), v0, v1, 100.0, rng.uniform(200.0, 3000.0),
+                           rng.uniform(1e3, 5e4)) == math.inf:
+            continue
+        made += 1
+        pr = solver.traj.profiles[0][0]
+        got = solver.profile()
+        assert got.t.tolist() == np.concatenate([[0.0], np.cumsum(pr.t)])[:-1].tolist()
+        for mine, theirs in ((got.j, pr.j), (got.a, pr.a[:-1]), (got.v, pr.v[:-1]), (got.p, pr.p[:-1])):
+            assert mine.tolist() == np.array(theirs).tolist()
+        assert got.duration == solver.traj.duration and got.at(np.array([got.duration / 2]))[0].shape == (1,)
+    assert made > 200

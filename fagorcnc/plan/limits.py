@@ -176,7 +176,7 @@ def tangential(terms: Terms, vc: float, path_acc: float = 0.0, path_jerk: float 
 
 #: Terms above which :func:`tangential_arrays` is faster than :func:`tangential` (a group of
 #: many short curves asks for its limits below several lower caps).
-ARRAY_TERMS = 64
+ARRAY_TERMS = 96
 
 
 def tangential_arrays(terms: TermArrays, vc: float, path_acc: float = 0.0,

@@ -294,9 +294,15 @@ class Planner(CornerMixin):
                 v1 = 0.0
             else:
                 nxt = limit[i + 1] if i + 1 < n else 0.0
-                v1 = g.reach(v)
-                if nxt < v1:
+                if v >= nxt and (g.jerk != math.inf or not g.curves):
+                    # min(reach(v), nxt) is nxt without the reach: the backward pass keeps nxt within the
+                    # group's cap, and a reach is never below min(v, cap) but on curves without a jerk
+                    # limit (whose exact reach, Group._reach_without_jerk, can be below v)
                     v1 = nxt
+                else:
+                    v1 = g.reach(v)
+                    if nxt < v1:
+                        v1 = nxt
             members = g.members
             keep = self.keep or len(members) > 1
             if not g.curves and g.length >= MICRO:   # lines: their single cap, without _time's general steps

@@ -11,6 +11,7 @@ each phase start (at most 7 phases).
 from __future__ import annotations
 
 import math
+from itertools import accumulate
 
 import numpy as np
 from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
@@ -261,11 +262,12 @@ class Solver:
         return self.traj.duration
 
     def profile(self) -> Profile:
-        """The profile of the last successful :meth:`duration` call."""
+        """The profile of the last successful :meth:`duration` call: its 7 phases' start times (the
+        running sum of their durations, added in turn as ``np.cumsum`` adds them), jerks, and the
+        acceleration, speed and position at each start, made as the rows of one array."""
         pr = self.traj.profiles[0][0]
-        t = np.concatenate([[0.0], np.cumsum(pr.t)])
-        return Profile(t[:-1], np.array(pr.j), np.array(pr.a[:-1]), np.array(pr.v[:-1]), np.array(pr.p[:-1]),
-                       self.traj.duration)
+        t, j, a, v, p = np.array([list(accumulate(pr.t[:-1], initial=0.0)), pr.j, pr.a[:-1], pr.v[:-1], pr.p[:-1]])
+        return Profile(t, j, a, v, p, self.traj.duration)
 
     def line(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None]:
         """(duration, profile) of a ``span`` of straight lines at least :data:`MICRO` long: :meth:`time`
@@ -370,6 +372,8 @@ class Solver:
         best = (math.inf, span.vc, 0.0, 0.0)
         held = False
         length = span.length
+        rungs = span._rungs   # the rungs the look-ahead made already (read here, made by span.rung)
+        made = 0 if rungs is None else len(rungs)
         for scale in (1.0, EDGE_SCALE):
             for i, vc in enumerate(caps):
                 if best[0] * RUNG_MARGIN <= length / vc:
@@ -378,6 +382,8 @@ class Solver:
                     if extra_limits is None:
                         extra_limits = span.limits_at(vc)
                     acc, jerk = extra_limits
+                elif i < made:
+                    _cap, acc, jerk = rungs[i]
                 else:
                     _cap, acc, jerk = span.rung(i)
                 if acc <= 0 or jerk <= 0:
