@@ -247,10 +247,9 @@ class PlainBlocks:
             # Line's fields in order: kind, start, end, end_part, feed, feed_mode, src, comp, dyn, frame, joins
             return _line_record("rapid", start, end, end_part, None, "G94", src, None, st.dynamics(), None,
                                 shared_tuple((modes["transition"], modes["comp_start"])))
-        squares = 0.0   # sum() of the squares (a float sum starts at 0.0), without a list
-        for x, v in end.items():
-            squares += (v - start[x]) ** 2
-        length = math.sqrt(squares)
+        # sum(), as Line.length sums (a loop of += would differ in the last bit from Python 3.12 on, whose
+        # sum() of floats is compensated); a list: the same sum, in order
+        length = math.sqrt(sum([(v - start[x]) ** 2 for x, v in end.items()]))
         mode_f = modes["feed"]
         feed = st.feed
         if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself, at most MAXFEED
@@ -373,10 +372,8 @@ class PlainBlocks:
                 feed = min(feed, self._max_feed)
         else:
             planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
-            other = 0.0   # sum() of the squares off the plane (a float sum starts at 0.0), without a generator
-            for x, v in end.items():
-                if x != a and x != o:
-                    other += (v - start[x]) ** 2
+            # sum(), as Arc.length sums (compensated from Python 3.12 on: a loop of += would differ)
+            other = sum([(v - start[x]) ** 2 for x, v in end.items() if x != a and x != o])
             feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
         dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
         # Arc's fields in order: kind, start, end, end_part, center, center_part, direction, plane, radius, turns,
