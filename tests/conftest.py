@@ -12,17 +12,10 @@ Profiles (select one with the environment variable ``FAGORCNC_HYPOTHESIS_PROFILE
 
 No property test has a deadline: a parse of a whole program can take longer
 than Hypothesis' default 200 ms on a loaded machine.
-
-The package's bytecode is compiled once before the tests (:func:`_compile_package`): many tests
-run ``python -m fagorcnc`` or the emulator in a child process, and where the environment sets
-``PYTHONDONTWRITEBYTECODE`` (CI machines do) each child would compile every module it imports
-from source again, about 0.25 s a process.
 """
 
 from __future__ import annotations
 
-import compileall
-import importlib.util
 import os
 
 from hypothesis import settings
@@ -32,14 +25,3 @@ settings.register_profile("ci", max_examples=150, deadline=None, derandomize=Tru
 settings.register_profile("fuzz", max_examples=20000, deadline=None)
 
 settings.load_profile(os.environ.get("FAGORCNC_HYPOTHESIS_PROFILE") or ("ci" if "CI" in os.environ else "default"))
-
-
-def _compile_package() -> None:
-    """Write the bytecode of the fagorcnc package under test to its ``__pycache__`` (gitignored;
-    nothing happens where the folder is not writable: the children then compile as before)."""
-    spec = importlib.util.find_spec("fagorcnc")
-    if spec is not None and spec.submodule_search_locations:
-        compileall.compile_dir(next(iter(spec.submodule_search_locations)), quiet=2)
-
-
-_compile_package()
