@@ -237,3 +237,79 @@ def test_frames_worked_axis_by_axis_are_the_row_formulas_floats():
         k = (d2 - (d2 * t).sum(axis=1)[:, None] * t) / square
         got = rows.frames(s, some)
         assert all(np.array_equal(a, b) for a, b in zip(got, (q, t, k), strict=True))
+
+
+def _flat_corners(seed: int, n: int, z: float) -> tuple[list, list]:
+    """``n`` corners of an XY contour at the height ``z``: arcs in G17 and lines in the plane."""
+    rng = np.random.default_rng(seed)
+    ps, qs = [], []
+    for i in range(n):
+        at = np.array([*rng.uniform(-50.0, 50.0, 2), z])
+        kind = i % 3
+        back, ahead = (np.array([*rng.uniform(-5.0, 5.0, 2), 0.0]) for _ in range(2))
+        ps.append(LinePiece(at - back, at.copy()) if kind == 1 else _plane_arc(rng, at, False))
+        qs.append(LinePiece(at.copy(), at + ahead) if kind == 2 else _plane_arc(rng, at, True))
+    return ps, qs
+
+
+def _plane_arc(rng: np.random.Generator, at: np.ndarray, starts_there: bool) -> ArcPiece:
+    """An arc in the XY plane that starts or ends at ``at``."""
+    r = rng.uniform(0.5, 20.0)
+    th = rng.uniform(0.0, 2.0 * math.pi)
+    sweep = rng.uniform(0.1, 2.5) * rng.choice([-1.0, 1.0])
+    centre = (at[0] - r * math.cos(th), at[1] - r * math.sin(th))
+    far = at.copy()
+    th1 = th + (sweep if starts_there else -sweep)
+    far[0], far[1] = centre[0] + r * math.cos(th1), centre[1] + r * math.sin(th1)
+    start, end = (at.copy(), far) if starts_there else (far, at.copy())
+    return ArcPiece(start, end, 0, 1, centre, sweep)
+
+
+def test_piece_rows_leave_out_the_axes_no_piece_moves_along():
+    """An XY contour at Z -2.5: the rows hold X and Y alone, and their points and frames there are
+    the floats of the rows on every axis; a piece that moves in Z, or a YZ arc (the first two axes
+    must stay), keeps every axis."""
+    ps, qs = _flat_corners(4, 30, -2.5)
+    pieces = [*ps, *qs]
+    every = np.arange(len(pieces))
+    full, flat = PieceRows(pieces), PieceRows(pieces, still=True)
+    assert full.keep is None and flat.keep == [0, 1]
+    s = np.array([np.linspace(0.0, p.length, 7) for p in pieces])
+    assert np.array_equal(flat.points(s, every), full.points(s, every)[:, :, :2])
+    at = np.array([0.37 * p.length for p in pieces])
+    for got, want in zip(flat.frames(at, every), full.frames(at, every), strict=True):
+        assert np.array_equal(got, want[:, :2])
+        assert not want[:, 2].any() or np.all(want[:, 2] == -2.5)   # Z: the height (points), 0 (t, k)
+    rising = LinePiece(np.array([0.0, 0.0, -2.5]), np.array([1.0, 1.0, -2.0]))
+    assert PieceRows([*pieces, rising], still=True).keep is None
+    yz = ArcPiece(np.array([0.0, 1.0, -2.5]), np.array([0.0, 0.0, -1.5]), 1, 2, (0.0, -2.5), -math.pi / 2)
+    assert PieceRows([yz, yz], still=True).keep is None   # X still, but lines take their plane in X, Y
+
+
+@pytest.mark.parametrize(("tolerance", "speed", "corner"), [(0.01, 50.0, False), (0.005, None, True)])
+def test_corners_of_a_flat_contour_are_the_curves_worked_on_every_axis(monkeypatch, tolerance, speed, corner):
+    """The corner curves of an XY contour worked on X and Y alone are, to the bit, those worked on
+    X, Y and Z: the same control points (Z the contour's height), sizes and bounds (0 along Z)."""
+    import fagorcnc.plan.corner_batch as batch
+
+    ps, qs = _flat_corners(9, 60, 7.25)
+    lim_p = np.array([p.length / 2.0 for p in ps])
+    lim_q = np.array([q.length / 2.0 for q in qs])
+    speeds = None if speed is None else np.full(len(ps), speed)
+    kw = dict(tolerance=tolerance, speed=speeds, acc=1000.0, jerk=20000.0, corner=corner)
+    got = make_blends(ps, qs, lim_p, lim_q, **kw)
+    monkeypatch.setattr(batch, "PieceRows", lambda pieces, still=False: PieceRows(pieces))
+    want = make_blends(ps, qs, lim_p, lim_q, **kw)
+    made = 0
+    for g, w in zip(got, want, strict=True):
+        assert (g is None) == (w is None)
+        if w is None:
+            continue
+        made += 1
+        (b, d1, d2), (c, e1, e2) = g, w
+        assert (d1, d2) == (e1, e2)
+        assert np.array_equal(b.controls, c.controls) and np.all(b.controls[:, 2] == 7.25)
+        for x, y in ((b.d1, c.d1), (b.d2, c.d2), (b.d3, c.d3), (b.table_s, c.table_s)):
+            assert np.array_equal(x, y)
+        assert b.d2[2] == 0.0 and b.length == c.length
+    assert made >= 50

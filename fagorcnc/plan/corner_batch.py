@@ -35,11 +35,13 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         if id(p) not in at:
             at[id(p)] = len(pieces)
             pieces.append(p)
-    sides = PieceRows(pieces)
+    # on the axes some piece moves along (the others' numbers are each corner's vertex's)
+    sides = PieceRows(pieces, still=True)
     incoming = np.array([at[id(p)] for p in ps], dtype=np.intp)
     outgoing = np.array([at[id(q)] for q in qs], dtype=np.intp)
     p_len = np.array([p.length for p in ps])
-    vertex = np.array([p.end for p in ps])
+    whole = np.array([p.end for p in ps])
+    vertex = whole if sides.keep is None else whole[:, sides.keep]
     lim_p, lim_q = np.asarray(lim_p, dtype=float), np.asarray(lim_q, dtype=float)
     live = (lim_p > 1e-9) & (lim_q > 1e-9)
     longest = np.maximum(lim_p, lim_q)
@@ -120,9 +122,25 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         # the bounds of the curves kept, all at once (the same products row by row as in the loop)
         b1, b2, b3, _ = curve_bounds(controls)
         tables = arc_tables(controls)
+        if sides.keep is not None:
+            controls, b1, b2, b3 = _all_axes(sides.keep, whole[rows], controls, b1, b2, b3)
         # row by row on lists and iterated rows (views, as indexing gives them): no index per array
         for row, c, first, last, e1, e2, e3, table, length, g1, g2 in zip(
                 rows.tolist(), controls, controls[:, 0], controls[:, -1], b1, b2, b3, tables, tables[:, -1].tolist(),
                 d1.tolist(), d2.tolist(), strict=True):
             out[row] = (BlendPiece.made(c, first, last, e1, e2, e3, table, length), g1, g2)
     return out
+
+
+def _all_axes(keep: list[int], vertex: np.ndarray, controls: np.ndarray, *bounds: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Curves worked on the axes ``keep`` alone back on every axis: their control points (n, 6, D')
+    with each curve's ``vertex`` (n, D) on the axes left out (none of its pieces moves there), and
+    their derivative bounds (n, D'), 0 on those axes (what the frames' formulas give there)."""
+    full = np.repeat(vertex[:, None, :], 6, axis=1)
+    full[:, :, keep] = controls
+    out = [full]
+    for b in bounds:
+        wide = np.zeros(vertex.shape)
+        wide[:, keep] = b
+        out.append(wide)
+    return tuple(out)

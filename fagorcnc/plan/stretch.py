@@ -28,10 +28,16 @@ class PieceRows:
     of :class:`~fagorcnc.plan.geometry.ArcPiece`, a line being an arc that does not turn and whose
     radius grows along it from its start (its direction in the first two axes' plane, the rest
     linear).  The plane's two axes are picked by one-hot rows, so that every row takes the same
-    array operations."""
+    array operations.
 
-    def __init__(self, pieces: list[Piece]) -> None:
-        n, dim = len(pieces), len(pieces[0].start)
+    With ``still``, the axes along which no piece moves (a contour in the XY plane: Z, and any
+    axis the program leaves where it is) are left out of the rows when the first two axes are
+    kept: every point of such a piece, and of a corner curve between two of them, has the piece's
+    start there, so the rows' numbers on the axes kept are the same floats and the work on them
+    is a fraction of it.  :attr:`keep` then lists the axes kept (None: all of them)."""
+
+    def __init__(self, pieces: list[Piece], still: bool = False) -> None:
+        n = len(pieces)
         arc = [isinstance(p, ArcPiece) for p in pieces]
         start = np.array([p.start for p in pieces])
         direction = np.array([p.lin if a else p.u for p, a in zip(pieces, arc)])  # noqa: B905 (one flag a piece)
@@ -44,6 +50,19 @@ class PieceRows:
             shape[arcs] = rows[:, :6]
             axes[arcs] = rows[:, 7:]
             length = rows[:, 6]
+        #: the axes the rows hold (None: every axis)
+        self.keep: list[int] | None = None
+        if still:
+            moving = (direction != 0.0).any(axis=0)
+            if arcs.any():
+                moving[axes[arcs].ravel()] = True   # an arc's plane axes, whatever its radius
+            if moving[:2].all() and not moving.all():
+                keep = np.flatnonzero(moving)
+                start, direction = start[:, keep], direction[:, keep]
+                if arcs.any():   # the plane axes' places among the axes kept
+                    axes[arcs] = np.searchsorted(keep, axes[arcs])
+                self.keep = keep.tolist()
+        dim = start.shape[1]
         lines = ~arcs
         if lines.any():   # a line: in the first two axes' plane, its angle there and its speed in it
             u, at = direction[lines], start[lines]
