@@ -163,13 +163,17 @@ def tangential(terms: Terms, vc: float, path_acc: float = 0.0, path_jerk: float 
     for a, k, g in terms.acc:
         if (x := (a - vc2 * k) / g) < acc:
             acc = x
+    # ``3.0 * vc * k`` is ``(3.0 * vc) * k`` and ``3.0 * vc * acc * k`` is ``(3.0 * vc * acc) * k`` (Python
+    # multiplies left to right): the products without k made once, the same numbers
+    triple = 3.0 * vc
     if vc > 0:
         for j, k3, k in terms.cross:
-            if (x := 0.5 * (j - vc3 * k3) / (3.0 * vc * k)) < acc:
+            if (x := 0.5 * (j - vc3 * k3) / (triple * k)) < acc:
                 acc = x
     jerk = path_jerk if path_jerk > 0 else math.inf
+    triple *= acc
     for j, k, k3, g in terms.jerk:
-        if (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
+        if (x := (j - triple * k - vc3 * k3) / g) < jerk:
             jerk = x
     return acc, jerk
 

@@ -212,15 +212,16 @@ class Solver:
         """Give ruckig the start speed, length and end speed of a request: each only when it differs
         from the one it holds (a setter converts a list; the rungs of a span and the G50 blocks from
         rest to rest ask the same ones again).  A float equal to the one held and not zero is the
-        same number; a zero is set again unless it is the very object held (0.0 and -0.0 are equal)."""
+        same number; a zero is set again unless it is the very object held (0.0 and -0.0 are equal).
+        The setters take one-element tuples: a tuple converts with fewer instructions than a list."""
         h0, h1, h2 = self._held
         inp = self.inp
         if not (v0 is h0 or (v0 == h0 and v0 != 0.0)):
-            inp.current_velocity = [v0]
+            inp.current_velocity = (v0,)
         if not (length is h1 or (length == h1 and length != 0.0)):
-            inp.target_position = [length]
+            inp.target_position = (length,)
         if not (v1 is h2 or (v1 == h2 and v1 != 0.0)):
-            inp.target_velocity = [v1]
+            inp.target_velocity = (v1,)
         self._held = (v0, length, v1)
 
     def duration(self, length: float, v0: float, v1: float, vc: float, acc: float, jerk: float) -> float:
@@ -250,9 +251,9 @@ class Solver:
                     return math.inf
         self._hold(v0, length, v1)
         inp = self.inp
-        inp.max_velocity = [vc]
-        inp.max_acceleration = [acc]
-        inp.max_jerk = [jerk]
+        inp.max_velocity = (vc,)
+        inp.max_acceleration = (acc,)
+        inp.max_jerk = (jerk,)
         try:
             result = self.otg.calculate(inp, self.traj)
         except (RuckigError, RuntimeError):
@@ -296,13 +297,13 @@ class Solver:
             return prof, None
         self._hold(_REST, length, _REST)
         inp = self.inp
-        inp.max_velocity = [vc]
+        inp.max_velocity = (vc,)
         for scale in (1.0, EDGE_SCALE):   # as time(): the limits a billionth lower on a second try
             acc, jerk = span.acc, span.jerk
             if acc <= 0 or jerk <= 0:
                 continue
-            inp.max_acceleration = [acc * scale]
-            inp.max_jerk = [jerk * scale]
+            inp.max_acceleration = (acc * scale,)
+            inp.max_jerk = (jerk * scale,)
             try:
                 result = self.otg.calculate(inp, self.traj)
             except (RuckigError, RuntimeError):
@@ -323,8 +324,8 @@ class Solver:
                 return prof.duration, span.vc, prof
             if prof is not None:
                 return prof, span.vc, None
-        top = max(v0, v1)
-        if span.curved and (caps := span.caps(top)) and caps[0] == span.vc:
+        top = v0 if v0 >= v1 else v1   # max(v0, v1) (the first of equal ones), without a call
+        if span.curves and (caps := span.caps(top)) and caps[0] == span.vc:
             return self._curved(span, v0, v1, top, caps, keep)
         rungs = span.rungs(top)
         if span.curved:
@@ -370,13 +371,14 @@ class Solver:
             extra = len(caps) - 1
         extra_limits = None
         best = (math.inf, span.vc, 0.0, 0.0)
+        bound = math.inf   # best[0] * RUNG_MARGIN, made when best changes
         held = False
         length = span.length
         rungs = span._rungs   # the rungs the look-ahead made already (read here, made by span.rung)
         made = 0 if rungs is None else len(rungs)
         for scale in (1.0, EDGE_SCALE):
             for i, vc in enumerate(caps):
-                if best[0] * RUNG_MARGIN <= length / vc:
+                if bound <= length / vc:
                     break   # as in time(): no motion below this cap is shorter than length / vc
                 if i == extra:
                     if extra_limits is None:
@@ -388,11 +390,14 @@ class Solver:
                     _cap, acc, jerk = span.rung(i)
                 if acc <= 0 or jerk <= 0:
                     continue
-                acc, jerk = acc * scale, jerk * scale
-                d = self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+                if scale != 1.0:   # x * 1.0 is x: the first pass asks with the limits as they are
+                    acc, jerk = acc * scale, jerk * scale
+                # min(v0, vc), min(v1, vc) as comparisons (the same objects, no call per rung)
+                d = self.duration(length, v0 if v0 <= vc else vc, v1 if v1 <= vc else vc, vc, acc, jerk)
                 held = d < best[0]
                 if held:
                     best = (d, vc, acc, jerk)
+                    bound = d * RUNG_MARGIN
             if best[0] < math.inf:
                 break
         if best[0] == math.inf:

@@ -1,0 +1,92 @@
+"""The timing stage's shortcuts give exactly what the general forms give: the solver's rungs of a group
+of curves (Solver._curved) as its general ladder (Solver.time over span.rungs), on the groups and
+speeds the planner asks for on a contour of arcs under G05 and HSC."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import fagorcnc
+from fagorcnc.plan import Planner
+from fagorcnc.plan.profile import ProfileError, Solver
+from fagorcnc.simulate import Run
+
+_BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+if str(_BENCH) not in sys.path:
+    sys.path.insert(0, str(_BENCH))
+plan_speed = importlib.import_module("plan_speed")
+
+
+class _Recording(Solver):
+    """A solver that keeps every (group, v0, v1) it is asked to time."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.asked: list[tuple] = []
+
+    def time(self, span, v0: float, v1: float, keep: bool):
+        self.asked.append((span, v0, v1))
+        return super().time(span, v0, v1, keep)
+
+
+class _Ladder:
+    """A group whose caps are not offered: Solver.time takes its general ladder (span.rungs)."""
+
+    def __init__(self, group) -> None:
+        self.group = group
+
+    def __getattr__(self, name):
+        return getattr(self.group, name)
+
+    def caps(self, v: float) -> list[float]:
+        return []
+
+
+def _asked(mode: str) -> list[tuple]:
+    machine = fagorcnc.load_machine(None)
+    text = ["G90 G1 X40 Y0 Z0 F3000", {"G05": "G05", "HSC": "#HSC ON [CONTERROR 0.01]"}[mode],
+            *plan_speed.contour_pass(), "M30"]
+    planner = Planner(machine)
+    planner.solver = solver = _Recording()
+    assert sum(1 for _ in planner.segments(Run(iter(text), "<contour>", machine))) > 120
+    return solver.asked
+
+
+def _timed(group, v0: float, v1: float, keep: bool) -> tuple | None:
+    """A fresh solver's (duration, cap, profile) of the request, None when it finds no profile."""
+    try:
+        return Solver().time(group, v0, v1, keep)
+    except ProfileError:
+        return None
+
+
+def _same(a: tuple | None, b: tuple | None) -> None:
+    if a is None:
+        assert b is None
+        return
+    assert a[:2] == b[:2]
+    if a[2] is None:
+        assert b[2] is None
+        return
+    for x, y in zip((a[2].t, a[2].j, a[2].a, a[2].v, a[2].p), (b[2].t, b[2].j, b[2].a, b[2].v, b[2].p), strict=True):
+        assert np.array_equal(x, y)
+    assert a[2].duration == b[2].duration
+
+
+@pytest.mark.parametrize("mode", ["G05", "HSC"])
+@pytest.mark.parametrize("keep", [False, True])
+def test_the_rungs_of_a_group_of_curves_as_its_general_ladder(mode, keep):
+    asked = [(g, v0, v1) for g, v0, v1 in _asked(mode) if g.curves]
+    assert len(asked) > 60
+    lower = 0
+    for group, v0, v1 in asked:
+        for w0, w1 in ((v0, v1), (v1, v0), (0.0, v1), (v0, 0.0), (0.5 * v0, v1)):
+            fast = _timed(group, w0, w1, keep)
+            lower += fast is not None and fast[1] < group.vc
+            _same(fast, _timed(_Ladder(group), w0, w1, keep))
+    assert lower > 0   # some below the top cap: the lower rungs were compared too
