@@ -1,6 +1,7 @@
 """The timing stage's shortcuts give exactly what the general forms give: the solver's rungs of a group
-of curves (Solver._curved) as its general ladder (Solver.time over span.rungs), on the groups and
-speeds the planner asks for on a contour of arcs under G05 and HSC."""
+of curves (Solver._curved) as its general ladder (Solver.time over span.rungs), and a profile's phases
+as lists (Phases) as its arrays (Profile), on the groups and speeds the planner asks for on a contour
+of arcs under G05 and HSC."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import pytest
 
 import fagorcnc
 from fagorcnc.plan import Planner
-from fagorcnc.plan.profile import ProfileError, Solver
+from fagorcnc.plan.profile import PHASES, Phases, Profile, ProfileError, Solver
 from fagorcnc.simulate import Run
 
 _BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
@@ -90,3 +91,25 @@ def test_the_rungs_of_a_group_of_curves_as_its_general_ladder(mode, keep):
             lower += fast is not None and fast[1] < group.vc
             _same(fast, _timed(_Ladder(group), w0, w1, keep))
     assert lower > 0   # some below the top cap: the lower rungs were compared too
+
+
+@pytest.mark.parametrize("mode", ["G05", "HSC"])
+def test_the_phases_as_lists_are_the_profile_s_arrays(mode):
+    asked = [(g, v0, v1) for g, v0, v1 in _asked(mode) if len(g.members) > 1]
+    assert len(asked) > 10
+    lists = 0
+    for group, v0, v1 in asked:
+        d, vc, phases = Solver().time(group, v0, v1, PHASES)
+        d2, vc2, profile = Solver().time(group, v0, v1, True)
+        assert (d, vc) == (d2, vc2)
+        if type(profile) is Profile:   # a micro profile is made as arrays either way
+            lists += type(phases) is Phases
+        rows = (phases.t, phases.j, phases.a, phases.v, phases.p)
+        assert [list(x) for x in rows] == [x.tolist() for x in (profile.t, profile.j, profile.a, profile.v, profile.p)]
+        assert phases.duration == profile.duration
+        bounds = np.linspace(0.0, group.length, 7)[1:-1].tolist()
+        assert phases.crossings(bounds) == profile.crossings(bounds)
+        tau = np.linspace(0.0, profile.duration, 9)
+        for x, y in zip(phases.at(tau), profile.at(tau), strict=True):
+            assert np.array_equal(x, y)
+    assert lists > 10

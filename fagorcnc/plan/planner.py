@@ -24,7 +24,7 @@ from .independent import IndependentAxes
 from .junctions import MIN_LENGTH, CornerMixin
 from .limits import AxisLimits
 from .lookahead import backward
-from .profile import MICRO, Profile, ProfileError, ProfileWindow, Solver
+from .profile import MICRO, PHASES, Profile, ProfileError, ProfileWindow, Solver
 from .segment import PlanningError, Segment
 from .span import Event, Group, Span
 
@@ -304,7 +304,9 @@ class Planner(CornerMixin):
                     if nxt < v1:
                         v1 = nxt
             members = g.members
-            keep = self.keep or len(members) > 1
+            # a group of several members needs its profile to cut their segments from: as lists of phases
+            # unless the profiles are kept (no arrays made)
+            keep = True if self.keep else PHASES if len(members) > 1 else False
             if not g.curves and g.length >= MICRO:   # lines: their single cap, without _time's general steps
                 first = 0
                 try:
@@ -359,7 +361,8 @@ class Planner(CornerMixin):
             yield Segment(ev.kind, clock[0], ev.duration, ev.line, ev.record)
             clock[0] += ev.duration
 
-    def _time(self, span, v0: float, v1: float, keep: bool, first: int = 0) -> tuple[float, Profile | None, float]:
+    def _time(self, span, v0: float, v1: float, keep: bool | str,
+              first: int = 0) -> tuple[float, Profile | None, float]:
         """(duration, profile, end speed) of ``span`` from ``v0``: at ``v1``, or the end speed a little
         lower when ruckig needs it (the :data:`SHRINKS` from the ``first``-th on)."""
         for shrink in SHRINKS[first:]:

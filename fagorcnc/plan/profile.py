@@ -43,23 +43,46 @@ class Profile:
 
     def crossings(self, positions: list[float]) -> tuple[list[float], list[float]]:
         """Times at which the motion reaches the increasing ``positions`` (inside ``[0, length]``)
-        and its speeds there.  Per constant-jerk phase the position is a cubic in time, increasing
-        (the speed stays >= 0): Newton kept inside the phase by bisection, to full precision."""
-        starts, jerks, accs, speeds, places = (x.tolist() for x in (self.t, self.j, self.a, self.v, self.p))
-        ends = [*starts[1:], self.duration]
-        times, at_speed = [], []
-        k = 0
-        for b in positions:
-            while k + 1 < len(places) and places[k + 1] <= b:
-                k += 1
-            tau = _cubic_root(places[k] - b, speeds[k], accs[k], jerks[k], ends[k] - starts[k])
-            times.append(starts[k] + tau)
-            at_speed.append(speeds[k] + accs[k] * tau + jerks[k] * tau * tau / 2.0)
-        return times, at_speed
+        and its speeds there (see :func:`_crossings`)."""
+        return _crossings(self.t.tolist(), self.j.tolist(), self.a.tolist(), self.v.tolist(), self.p.tolist(),
+                          self.duration, positions)
 
     @property
     def peak_speed(self) -> float:
         return float(np.max(self.v))
+
+
+class Phases(Profile):
+    """A :class:`Profile` whose phases are lists of floats, as ruckig gives them: what a group's
+    members' segments are cut from (:meth:`crossings`, the start speed ``v[0]``, the duration) when
+    the profiles are not kept; its arrays (the same numbers) are made only when it is sampled."""
+
+    __slots__ = ()
+
+    def at(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        rows = (np.array(x) for x in (self.t, self.j, self.a, self.v, self.p))
+        return Profile(*rows, self.duration).at(tau)
+
+    def crossings(self, positions: list[float]) -> tuple[list[float], list[float]]:
+        return _crossings(self.t, self.j, self.a, self.v, self.p, self.duration, positions)
+
+
+def _crossings(starts: list[float], jerks: list[float], accs: list[float], speeds: list[float], places: list[float],
+               duration: float, positions: list[float]) -> tuple[list[float], list[float]]:
+    """Times at which a motion of the phases (their start times, jerks, and acceleration, speed and
+    position at each start) reaches the increasing ``positions`` and its speeds there.  Per
+    constant-jerk phase the position is a cubic in time, increasing (the speed stays >= 0): Newton
+    kept inside the phase by bisection, to full precision."""
+    ends = [*starts[1:], duration]
+    times, at_speed = [], []
+    k = 0
+    for b in positions:
+        while k + 1 < len(places) and places[k + 1] <= b:
+            k += 1
+        tau = _cubic_root(places[k] - b, speeds[k], accs[k], jerks[k], ends[k] - starts[k])
+        times.append(starts[k] + tau)
+        at_speed.append(speeds[k] + accs[k] * tau + jerks[k] * tau * tau / 2.0)
+    return times, at_speed
 
 
 def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float:
@@ -189,6 +212,8 @@ def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> b
 RUNG_MARGIN = 1.0 + 1e-9
 
 
+#: ``keep`` of a request whose profile is wanted as :class:`Phases` (lists), not as arrays.
+PHASES = "phases"
 #: The speed at rest (one object: see Solver._hold).
 _REST = 0.0
 #: ruckig's results of a request it solved.
@@ -266,11 +291,23 @@ class Solver:
         """The profile of the last successful :meth:`duration` call: its 7 phases' start times (the
         running sum of their durations, added in turn as ``np.cumsum`` adds them), jerks, and the
         acceleration, speed and position at each start, made as the rows of one array."""
-        pr = self.traj.profiles[0][0]
-        t, j, a, v, p = np.array([list(accumulate(pr.t[:-1], initial=0.0)), pr.j, pr.a[:-1], pr.v[:-1], pr.p[:-1]])
-        return Profile(t, j, a, v, p, self.traj.duration)
+        return Profile(*np.array(self._phases()), self.traj.duration)
 
-    def line(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None]:
+    def _phases(self) -> list[list[float]]:
+        """The rows of :meth:`profile` as lists of floats."""
+        pr = self.traj.profiles[0][0]
+        return [list(accumulate(pr.t[:-1], initial=0.0)), pr.j, pr.a[:-1], pr.v[:-1], pr.p[:-1]]
+
+    def _kept(self, keep: bool | str) -> Profile | None:
+        """What a request gives of the last successful :meth:`duration` call: nothing (``keep`` false),
+        its :class:`Phases` (``keep`` :data:`PHASES`: no arrays made) or its :class:`Profile`."""
+        if not keep:
+            return None
+        if keep is PHASES:
+            return Phases(*self._phases(), self.traj.duration)
+        return self.profile()
+
+    def line(self, span, v0: float, v1: float, keep: bool | str) -> tuple[float, Profile | None]:
         """(duration, profile) of a ``span`` of straight lines at least :data:`MICRO` long: :meth:`time`
         for its single cap (no lower caps: a line's limits do not depend on its speed), without its
         general steps (the same requests, so the same numbers).  Raises :class:`ProfileError` as
@@ -281,10 +318,10 @@ class Solver:
             for scale in (1.0, EDGE_SCALE):
                 d = self.duration(length, a, b, vc, acc * scale, jerk * scale)
                 if d < math.inf:
-                    return d, (self.profile() if keep else None)
+                    return d, self._kept(keep)
         raise ProfileError(f"no profile for a {length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
 
-    def rest_to_rest(self, span, keep: bool) -> tuple[float, Profile | None]:
+    def rest_to_rest(self, span, keep: bool | str) -> tuple[float, Profile | None]:
         """(duration, profile) of a straight ``span`` from rest to rest: :meth:`time` for a line's
         single cap with both speeds 0, without its general steps (the same requests to ruckig, so
         the same numbers; a G50 program stops at every block).  Raises :class:`ProfileError` as
@@ -309,11 +346,11 @@ class Solver:
             except (RuckigError, RuntimeError):
                 continue
             if result in _SOLVED:
-                return self.traj.duration, (self.profile() if keep else None)
+                return self.traj.duration, self._kept(keep)
         raise ProfileError(f"no profile for a {length:.6g} mm span from rest to rest")
 
-    def time(self, span, v0: float, v1: float, keep: bool) -> tuple[float, float, Profile | None]:
-        """(duration, cap used, profile) of a span from v0 to v1.
+    def time(self, span, v0: float, v1: float, keep: bool | str) -> tuple[float, float, Profile | None]:
+        """(duration, cap used, profile) of a span from v0 to v1 (the profile as :meth:`_kept` gives it).
 
         Curved spans try a few lower caps: below its cap a curve leaves more of
         the axes' acceleration for speeding up and slowing down.
@@ -358,10 +395,10 @@ class Solver:
         if not held:
             _d, vc, acc, jerk = best   # solve the best again so that the trajectory holds it
             self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
-        return best[0], best[1], self.profile()
+        return best[0], best[1], self._kept(keep)
 
     def _curved(self, span, v0: float, v1: float, top: float, caps: list[float],
-                keep: bool) -> tuple[float, float, Profile | None]:
+                keep: bool | str) -> tuple[float, float, Profile | None]:
         """:meth:`time` of a group with curves over its ``caps`` at least ``top``: the same rungs
         tried in the same order, each rung's limits made only when the rung is tried (``span.rung``:
         the group's own list, as ``span.rungs`` makes it), so the same profile."""
@@ -407,4 +444,4 @@ class Solver:
         if not held:
             _d, vc, acc, jerk = best
             self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
-        return best[0], best[1], self.profile()
+        return best[0], best[1], self._kept(keep)
