@@ -19,6 +19,9 @@ import math
 
 #: Relative margin on the reachable speed change so that ruckig always finds the profile.
 MARGIN = 1e-7
+#: The share of the reachable speed change kept (``1 - MARGIN``, made once: a name in an expression is not
+#: folded as a literal is).
+_KEPT = 1.0 - MARGIN
 
 
 def distance(v0: float, v1: float, acc: float, jerk: float) -> float:
@@ -39,7 +42,7 @@ def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
         return v0
     if jerk == math.inf:
         dv = 2.0 * length * acc / (v0 + math.sqrt(v0 * v0 + 2.0 * length * acc))
-        return v0 + dv * (1.0 - MARGIN)
+        return v0 + dv * _KEPT
     dc = acc * acc / jerk
     if length >= (2.0 * v0 + dc) * acc / jerk:
         # (2 v0 + dv)(dv/A + A/J) = 2 L  ->  dv² + dv (A²/J + 2 v0) + 2 v0 A²/J - 2 L A = 0
@@ -56,7 +59,7 @@ def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
         b = third / a
         x = rhs / (a * a + third + b * b)
         dv = x * x
-    return v0 + dv * (1.0 - MARGIN)
+    return v0 + dv * _KEPT
 
 
 def backward(spans, end_speed: float, known: list[float] | None = None) -> list[float]:

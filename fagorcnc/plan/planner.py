@@ -14,6 +14,7 @@ import math
 from collections import deque
 from collections.abc import Iterable, Iterator
 from itertools import accumulate, islice
+from operator import attrgetter
 
 import numpy as np
 
@@ -51,6 +52,8 @@ GROUP_MEMBERS = 64
 READ_AHEAD = 1024
 #: The end speed's reductions (relative) a span is timed with in turn until ruckig has a profile.
 SHRINKS = (0.0, 1e-9, 1e-6, 1e-4, 1e-2)
+#: A span's length (a group's members' lengths without a generator).
+_LENGTH = attrgetter("length")
 
 
 class Planner(CornerMixin):
@@ -338,7 +341,7 @@ class Planner(CornerMixin):
         """The members' segments of a group: the times where the group profile crosses each
         member's start."""
         members = group.members
-        bounds = list(accumulate((m.length for m in members[:-1]), initial=0.0))
+        bounds = list(accumulate(map(_LENGTH, members[:-1]), initial=0.0))
         times, speeds = profile.crossings(bounds[1:])
         t = [0.0, *times, profile.duration]
         speeds = [float(profile.v[0]), *speeds, v1]

@@ -89,21 +89,24 @@ def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float
     """The root in ``[0, span]`` of ``p0 + v0 t + a0 t²/2 + j t³/6``, non-decreasing there from
     ``p0 <= 0`` (Newton from the linear guess, kept inside the bracket by bisection)."""
     lo, hi = 0.0, span
-    rise = span * (v0 + span * (a0 / 2.0 + span * j / 6.0))
+    half = a0 / 2.0   # the loop's invariants made once (the same numbers)
+    close = 4e-16 * span
+    rise = span * (v0 + span * (half + span * j / 6.0))
     tau = span * min(1.0, -p0 / rise) if rise > 0.0 else span / 2.0
     for _ in range(100):
-        f = p0 + tau * (v0 + tau * (a0 / 2.0 + tau * j / 6.0))
+        tj = tau * j   # ``tau * j / 6.0`` is ``(tau * j) / 6.0``: the product both expressions begin with
+        f = p0 + tau * (v0 + tau * (half + tj / 6.0))
         if f == 0.0:
             return tau
         if f > 0.0:
             hi = tau
         else:
             lo = tau
-        slope = v0 + tau * (a0 + tau * j / 2.0)
+        slope = v0 + tau * (a0 + tj / 2.0)
         nxt = tau - f / slope if slope > 0.0 else (lo + hi) / 2.0
         if not lo <= nxt <= hi:
             nxt = (lo + hi) / 2.0
-        if abs(nxt - tau) <= 4e-16 * span:
+        if -close <= nxt - tau <= close:   # abs(nxt - tau) <= close, without a call
             return nxt
         tau = nxt
     return tau
@@ -173,6 +176,8 @@ class ProfileWindow:
 #: length was 1.0e-6 short of it relatively has a ruckig profile).
 SHORT_MARGIN = 1e-4
 SHORT_MARGIN_MM = 1e-7
+#: ``1 - SHORT_MARGIN``, made once (a name in an expression is not folded as a literal is).
+_SHORT_KEPT = 1.0 - SHORT_MARGIN
 
 
 def _pulse(v0: float, v1: float, acc: float, jerk: float) -> float:
@@ -204,7 +209,7 @@ def shortest_length(v0: float, v1: float, acc: float, jerk: float) -> float:
 def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> bool:
     """Whether no profile goes from ``v0`` to ``v1`` over ``length`` (shorter than
     :func:`shortest_length` by more than the margins; borderline cases go to ruckig)."""
-    return length < shortest_length(v0, v1, acc, jerk) * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM
+    return length < shortest_length(v0, v1, acc, jerk) * _SHORT_KEPT - SHORT_MARGIN_MM
 
 
 #: A lower cap is not solved when the best duration found, times this, is at most the length over
@@ -265,14 +270,14 @@ class Solver:
             dv = abs(v1 - v0)
             t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
             direct = (v0 + v1) / 2.0 * t
-            if length < direct * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+            if length < direct * _SHORT_KEPT - SHORT_MARGIN_MM:
                 dv = abs(0.0 - v0)
                 t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
                 stop = (v0 + 0.0) / 2.0 * t
                 dv = abs(v1 - 0.0)
                 t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
                 stop += (0.0 + v1) / 2.0 * t
-                if length < stop * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+                if length < stop * _SHORT_KEPT - SHORT_MARGIN_MM:
                     return math.inf
         self._hold(v0, length, v1)
         inp = self.inp
