@@ -1,7 +1,8 @@
 """The timing stage's shortcuts give exactly what the general forms give: the solver's rungs of a group
 of curves (Solver._curved) as its general ladder (Solver.time over span.rungs), and a profile's phases
 as lists (Phases) as its arrays (Profile), on the groups and speeds the planner asks for on a contour
-of arcs under G05 and HSC."""
+of arcs under G05 and HSC; a group's reach (Group.reach, its rungs made as it goes down) as the rungs
+of Group.rungs give it."""
 
 from __future__ import annotations
 
@@ -14,7 +15,9 @@ import pytest
 
 import fagorcnc
 from fagorcnc.plan import Planner
+from fagorcnc.plan.lookahead import reachable
 from fagorcnc.plan.profile import PHASES, Phases, Profile, ProfileError, Solver
+from fagorcnc.plan.span import Group
 from fagorcnc.simulate import Run
 
 _BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
@@ -113,3 +116,34 @@ def test_the_phases_as_lists_are_the_profile_s_arrays(mode):
         for x, y in zip(phases.at(tau), profile.at(tau), strict=True):
             assert np.array_equal(x, y)
     assert lists > 10
+
+
+def _reach(group, v: float) -> float:
+    """Group.reach down the ladder written over Group.rungs(v): the best speed reached, or the cap
+    once one is reached within the length."""
+    best = 0.0
+    for c, a, j in group.rungs(v):
+        if c < v or a <= 0 or j <= 0:
+            break
+        r = reachable(v, group.length, a, j)
+        if r >= c:
+            best = max(best, c)
+            break
+        best = max(best, r)
+    return best if best > 0.0 else min(group.vc, v)
+
+
+@pytest.mark.parametrize("mode", ["G05", "HSC"])
+def test_the_reach_of_a_group_of_curves_as_its_rungs_give_it(mode):
+    groups = [g for g, _v0, _v1 in _asked(mode) if g.curves]
+    below = 0
+    for group in groups:
+        for f in (0.0, 0.1, 0.5, 0.8, 0.93, 0.99, 1.0):
+            v = group.vc * f
+            fresh = Group(group.members[0])   # no rungs made yet: reach makes them
+            for m in group.members[1:]:
+                fresh.add(m)
+            got = fresh.reach(v)
+            assert got == _reach(group, v)
+            below += got < group.vc
+    assert below > 0

@@ -137,15 +137,17 @@ def term_arrays(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray, lim: AxisLimits)
 
 def axis_terms(d1, d2, d3, lim: AxisLimits) -> Terms:
     """The :class:`Terms` of a piece with derivative bounds ``d1, d2, d3``."""
-    terms = Terms([], [], [])
+    acc: list = []   # the lists as locals, the Terms made of them at the end (no attribute per term)
+    cross: list = []
+    jerk: list = []
     for g, k, k3, a, j in zip(d1, d2, d3, lim.acceleration, lim.jerk):  # noqa: B905 (_AXES)
         if g > 0:
-            terms.acc.append((a, k, g))
+            acc.append((a, k, g))
             if j != math.inf:
-                terms.jerk.append((j, k, k3, g))
+                jerk.append((j, k, k3, g))
         if k > 0 and j != math.inf:
-            terms.cross.append((j, k3, k))
-    return terms
+            cross.append((j, k3, k))
+    return Terms(acc, cross, jerk)
 
 
 def tangential(terms: Terms, vc: float, path_acc: float = 0.0, path_jerk: float = 0.0) -> tuple[float, float]:

@@ -280,16 +280,20 @@ class Group:
         rungs = self._rungs
         if rungs is None:   # _top() inline
             rungs = self._rungs = [(self.vc, self.acc, self.jerk)]
-        i = 0
+        top, length = self.vc, self.length
+        i, made = 0, len(rungs)   # made: len(rungs), counted as they are made
         while True:
-            if i == len(rungs):
-                if i > len(LADDER) or (cap := self.vc * LADDER[i - 1]) < v:
+            if i < made:
+                c, a, j = rungs[i]
+            else:
+                if i > len(LADDER) or (c := top * LADDER[i - 1]) < v:
                     break
-                rungs.append((cap, *self._tangential(cap)))
-            c, a, j = rungs[i]
+                a, j = self._tangential(c)
+                rungs.append((c, a, j))
+                made += 1
             if c < v or a <= 0 or j <= 0:
                 break
-            r = reachable(v, self.length, a, j)
+            r = reachable(v, length, a, j)
             if r >= c:
                 if c > best:
                     best = c
