@@ -137,15 +137,17 @@ def term_arrays(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray, lim: AxisLimits)
 
 def axis_terms(d1, d2, d3, lim: AxisLimits) -> Terms:
     """The :class:`Terms` of a piece with derivative bounds ``d1, d2, d3``."""
-    terms = Terms([], [], [])
+    acc: list = []   # the lists as locals, the Terms made of them at the end (no attribute per term)
+    cross: list = []
+    jerk: list = []
     for g, k, k3, a, j in zip(d1, d2, d3, lim.acceleration, lim.jerk):  # noqa: B905 (_AXES)
         if g > 0:
-            terms.acc.append((a, k, g))
+            acc.append((a, k, g))
             if j != math.inf:
-                terms.jerk.append((j, k, k3, g))
+                jerk.append((j, k, k3, g))
         if k > 0 and j != math.inf:
-            terms.cross.append((j, k3, k))
-    return terms
+            cross.append((j, k3, k))
+    return Terms(acc, cross, jerk)
 
 
 def tangential(terms: Terms, vc: float, path_acc: float = 0.0, path_jerk: float = 0.0) -> tuple[float, float]:
@@ -163,13 +165,17 @@ def tangential(terms: Terms, vc: float, path_acc: float = 0.0, path_jerk: float 
     for a, k, g in terms.acc:
         if (x := (a - vc2 * k) / g) < acc:
             acc = x
+    # ``3.0 * vc * k`` is ``(3.0 * vc) * k`` and ``3.0 * vc * acc * k`` is ``(3.0 * vc * acc) * k`` (Python
+    # multiplies left to right): the products without k made once, the same numbers
+    triple = 3.0 * vc
     if vc > 0:
         for j, k3, k in terms.cross:
-            if (x := 0.5 * (j - vc3 * k3) / (3.0 * vc * k)) < acc:
+            if (x := 0.5 * (j - vc3 * k3) / (triple * k)) < acc:
                 acc = x
     jerk = path_jerk if path_jerk > 0 else math.inf
+    triple *= acc
     for j, k, k3, g in terms.jerk:
-        if (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
+        if (x := (j - triple * k - vc3 * k3) / g) < jerk:
             jerk = x
     return acc, jerk
 

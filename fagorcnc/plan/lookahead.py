@@ -19,6 +19,9 @@ import math
 
 #: Relative margin on the reachable speed change so that ruckig always finds the profile.
 MARGIN = 1e-7
+#: The share of the reachable speed change kept (``1 - MARGIN``, made once: a name in an expression is not
+#: folded as a literal is).
+_KEPT = 1.0 - MARGIN
 
 
 def distance(v0: float, v1: float, acc: float, jerk: float) -> float:
@@ -39,24 +42,25 @@ def reachable(v0: float, length: float, acc: float, jerk: float) -> float:
         return v0
     if jerk == math.inf:
         dv = 2.0 * length * acc / (v0 + math.sqrt(v0 * v0 + 2.0 * length * acc))
-        return v0 + dv * (1.0 - MARGIN)
+        return v0 + dv * _KEPT
     dc = acc * acc / jerk
-    if length >= (2.0 * v0 + dc) * acc / jerk:
+    twice = 2.0 * v0   # what ``2.0 * v0 ...`` begins with below (Python multiplies left to right)
+    if length >= (twice + dc) * acc / jerk:
         # (2 v0 + dv)(dv/A + A/J) = 2 L  ->  dv² + dv (A²/J + 2 v0) + 2 v0 A²/J - 2 L A = 0
-        b = dc + 2.0 * v0
-        c = 2.0 * v0 * dc - 2.0 * length * acc
+        b = dc + twice
+        c = twice * dc - 2.0 * length * acc
         dv = 0.5 * (-b + math.sqrt(b * b - 4.0 * c))
     else:
         # (2 v0 + x²) x = L sqrt(J) with x = sqrt(dv): the real root of x³ + p x - r = 0 (p = 2 v0),
         # Cardano's x = A - B with A = cbrt(r/2 + sqrt(r²/4 + p³/27)) and A B = p/3, written as
         # r / (A² + A B + B²) (as A³ - B³ = r): a sum of positive terms, no cancellation
         rhs = length * math.sqrt(jerk)
-        third = 2.0 * v0 / 3.0
+        third = twice / 3.0
         a = (0.5 * rhs + math.sqrt(0.25 * rhs * rhs + third * third * third)) ** (1.0 / 3.0)
         b = third / a
         x = rhs / (a * a + third + b * b)
         dv = x * x
-    return v0 + dv * (1.0 - MARGIN)
+    return v0 + dv * _KEPT
 
 
 def backward(spans, end_speed: float, known: list[float] | None = None) -> list[float]:

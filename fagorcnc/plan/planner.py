@@ -14,6 +14,7 @@ import math
 from collections import deque
 from collections.abc import Iterable, Iterator
 from itertools import accumulate, islice
+from operator import attrgetter
 
 import numpy as np
 
@@ -24,7 +25,7 @@ from .independent import IndependentAxes
 from .junctions import MIN_LENGTH, CornerMixin
 from .limits import AxisLimits
 from .lookahead import backward
-from .profile import MICRO, Profile, ProfileError, ProfileWindow, Solver
+from .profile import MICRO, PHASES, Profile, ProfileError, ProfileWindow, Solver
 from .segment import PlanningError, Segment
 from .span import Event, Group, Span
 
@@ -51,6 +52,8 @@ GROUP_MEMBERS = 64
 READ_AHEAD = 1024
 #: The end speed's reductions (relative) a span is timed with in turn until ruckig has a profile.
 SHRINKS = (0.0, 1e-9, 1e-6, 1e-4, 1e-2)
+#: A span's length (a group's members' lengths without a generator).
+_LENGTH = attrgetter("length")
 
 
 class Planner(CornerMixin):
@@ -304,7 +307,9 @@ class Planner(CornerMixin):
                     if nxt < v1:
                         v1 = nxt
             members = g.members
-            keep = self.keep or len(members) > 1
+            # a group of several members needs its profile to cut their segments from: as lists of phases
+            # unless the profiles are kept (no arrays made)
+            keep = True if self.keep else PHASES if len(members) > 1 else False
             if not g.curves and g.length >= MICRO:   # lines: their single cap, without _time's general steps
                 first = 0
                 try:
@@ -336,7 +341,7 @@ class Planner(CornerMixin):
         """The members' segments of a group: the times where the group profile crosses each
         member's start."""
         members = group.members
-        bounds = list(accumulate((m.length for m in members[:-1]), initial=0.0))
+        bounds = list(accumulate(map(_LENGTH, members[:-1]), initial=0.0))
         times, speeds = profile.crossings(bounds[1:])
         t = [0.0, *times, profile.duration]
         speeds = [float(profile.v[0]), *speeds, v1]
@@ -359,7 +364,8 @@ class Planner(CornerMixin):
             yield Segment(ev.kind, clock[0], ev.duration, ev.line, ev.record)
             clock[0] += ev.duration
 
-    def _time(self, span, v0: float, v1: float, keep: bool, first: int = 0) -> tuple[float, Profile | None, float]:
+    def _time(self, span, v0: float, v1: float, keep: bool | str,
+              first: int = 0) -> tuple[float, Profile | None, float]:
         """(duration, profile, end speed) of ``span`` from ``v0``: at ``v1``, or the end speed a little
         lower when ruckig needs it (the :data:`SHRINKS` from the ``first``-th on)."""
         for shrink in SHRINKS[first:]:

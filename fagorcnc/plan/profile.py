@@ -43,44 +43,70 @@ class Profile:
 
     def crossings(self, positions: list[float]) -> tuple[list[float], list[float]]:
         """Times at which the motion reaches the increasing ``positions`` (inside ``[0, length]``)
-        and its speeds there.  Per constant-jerk phase the position is a cubic in time, increasing
-        (the speed stays >= 0): Newton kept inside the phase by bisection, to full precision."""
-        starts, jerks, accs, speeds, places = (x.tolist() for x in (self.t, self.j, self.a, self.v, self.p))
-        ends = [*starts[1:], self.duration]
-        times, at_speed = [], []
-        k = 0
-        for b in positions:
-            while k + 1 < len(places) and places[k + 1] <= b:
-                k += 1
-            tau = _cubic_root(places[k] - b, speeds[k], accs[k], jerks[k], ends[k] - starts[k])
-            times.append(starts[k] + tau)
-            at_speed.append(speeds[k] + accs[k] * tau + jerks[k] * tau * tau / 2.0)
-        return times, at_speed
+        and its speeds there (see :func:`_crossings`)."""
+        return _crossings(self.t.tolist(), self.j.tolist(), self.a.tolist(), self.v.tolist(), self.p.tolist(),
+                          self.duration, positions)
 
     @property
     def peak_speed(self) -> float:
         return float(np.max(self.v))
 
 
+class Phases(Profile):
+    """A :class:`Profile` whose phases are lists of floats, as ruckig gives them: what a group's
+    members' segments are cut from (:meth:`crossings`, the start speed ``v[0]``, the duration) when
+    the profiles are not kept; its arrays (the same numbers) are made only when it is sampled."""
+
+    __slots__ = ()
+
+    def at(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        rows = (np.array(x) for x in (self.t, self.j, self.a, self.v, self.p))
+        return Profile(*rows, self.duration).at(tau)
+
+    def crossings(self, positions: list[float]) -> tuple[list[float], list[float]]:
+        return _crossings(self.t, self.j, self.a, self.v, self.p, self.duration, positions)
+
+
+def _crossings(starts: list[float], jerks: list[float], accs: list[float], speeds: list[float], places: list[float],
+               duration: float, positions: list[float]) -> tuple[list[float], list[float]]:
+    """Times at which a motion of the phases (their start times, jerks, and acceleration, speed and
+    position at each start) reaches the increasing ``positions`` and its speeds there.  Per
+    constant-jerk phase the position is a cubic in time, increasing (the speed stays >= 0): Newton
+    kept inside the phase by bisection, to full precision."""
+    ends = [*starts[1:], duration]
+    times, at_speed = [], []
+    k = 0
+    for b in positions:
+        while k + 1 < len(places) and places[k + 1] <= b:
+            k += 1
+        tau = _cubic_root(places[k] - b, speeds[k], accs[k], jerks[k], ends[k] - starts[k])
+        times.append(starts[k] + tau)
+        at_speed.append(speeds[k] + accs[k] * tau + jerks[k] * tau * tau / 2.0)
+    return times, at_speed
+
+
 def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float:
     """The root in ``[0, span]`` of ``p0 + v0 t + a0 t²/2 + j t³/6``, non-decreasing there from
     ``p0 <= 0`` (Newton from the linear guess, kept inside the bracket by bisection)."""
     lo, hi = 0.0, span
-    rise = span * (v0 + span * (a0 / 2.0 + span * j / 6.0))
+    half = a0 / 2.0   # the loop's invariants made once (the same numbers)
+    close = 4e-16 * span
+    rise = span * (v0 + span * (half + span * j / 6.0))
     tau = span * min(1.0, -p0 / rise) if rise > 0.0 else span / 2.0
     for _ in range(100):
-        f = p0 + tau * (v0 + tau * (a0 / 2.0 + tau * j / 6.0))
+        tj = tau * j   # ``tau * j / 6.0`` is ``(tau * j) / 6.0``: the product both expressions begin with
+        f = p0 + tau * (v0 + tau * (half + tj / 6.0))
         if f == 0.0:
             return tau
         if f > 0.0:
             hi = tau
         else:
             lo = tau
-        slope = v0 + tau * (a0 + tau * j / 2.0)
+        slope = v0 + tau * (a0 + tj / 2.0)
         nxt = tau - f / slope if slope > 0.0 else (lo + hi) / 2.0
         if not lo <= nxt <= hi:
             nxt = (lo + hi) / 2.0
-        if abs(nxt - tau) <= 4e-16 * span:
+        if -close <= nxt - tau <= close:   # abs(nxt - tau) <= close, without a call
             return nxt
         tau = nxt
     return tau
@@ -150,6 +176,8 @@ class ProfileWindow:
 #: length was 1.0e-6 short of it relatively has a ruckig profile).
 SHORT_MARGIN = 1e-4
 SHORT_MARGIN_MM = 1e-7
+#: ``1 - SHORT_MARGIN``, made once (a name in an expression is not folded as a literal is).
+_SHORT_KEPT = 1.0 - SHORT_MARGIN
 
 
 def _pulse(v0: float, v1: float, acc: float, jerk: float) -> float:
@@ -181,7 +209,7 @@ def shortest_length(v0: float, v1: float, acc: float, jerk: float) -> float:
 def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> bool:
     """Whether no profile goes from ``v0`` to ``v1`` over ``length`` (shorter than
     :func:`shortest_length` by more than the margins; borderline cases go to ruckig)."""
-    return length < shortest_length(v0, v1, acc, jerk) * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM
+    return length < shortest_length(v0, v1, acc, jerk) * _SHORT_KEPT - SHORT_MARGIN_MM
 
 
 #: A lower cap is not solved when the best duration found, times this, is at most the length over
@@ -189,6 +217,8 @@ def too_short(length: float, v0: float, v1: float, acc: float, jerk: float) -> b
 RUNG_MARGIN = 1.0 + 1e-9
 
 
+#: ``keep`` of a request whose profile is wanted as :class:`Phases` (lists), not as arrays.
+PHASES = "phases"
 #: The speed at rest (one object: see Solver._hold).
 _REST = 0.0
 #: ruckig's results of a request it solved.
@@ -212,15 +242,16 @@ class Solver:
         """Give ruckig the start speed, length and end speed of a request: each only when it differs
         from the one it holds (a setter converts a list; the rungs of a span and the G50 blocks from
         rest to rest ask the same ones again).  A float equal to the one held and not zero is the
-        same number; a zero is set again unless it is the very object held (0.0 and -0.0 are equal)."""
+        same number; a zero is set again unless it is the very object held (0.0 and -0.0 are equal).
+        The setters take one-element tuples: a tuple converts with fewer instructions than a list."""
         h0, h1, h2 = self._held
         inp = self.inp
         if not (v0 is h0 or (v0 == h0 and v0 != 0.0)):
-            inp.current_velocity = [v0]
+            inp.current_velocity = (v0,)
         if not (length is h1 or (length == h1 and length != 0.0)):
-            inp.target_position = [length]
+            inp.target_position = (length,)
         if not (v1 is h2 or (v1 == h2 and v1 != 0.0)):
-            inp.target_velocity = [v1]
+            inp.target_velocity = (v1,)
         self._held = (v0, length, v1)
 
     def duration(self, length: float, v0: float, v1: float, vc: float, acc: float, jerk: float) -> float:
@@ -239,20 +270,20 @@ class Solver:
             dv = abs(v1 - v0)
             t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
             direct = (v0 + v1) / 2.0 * t
-            if length < direct * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+            if length < direct * _SHORT_KEPT - SHORT_MARGIN_MM:
                 dv = abs(0.0 - v0)
                 t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
                 stop = (v0 + 0.0) / 2.0 * t
                 dv = abs(v1 - 0.0)
                 t = 2.0 * math.sqrt(dv / jerk) if dv * jerk <= lim else dv / acc + acc / jerk
                 stop += (0.0 + v1) / 2.0 * t
-                if length < stop * (1.0 - SHORT_MARGIN) - SHORT_MARGIN_MM:
+                if length < stop * _SHORT_KEPT - SHORT_MARGIN_MM:
                     return math.inf
         self._hold(v0, length, v1)
         inp = self.inp
-        inp.max_velocity = [vc]
-        inp.max_acceleration = [acc]
-        inp.max_jerk = [jerk]
+        inp.max_velocity = (vc,)
+        inp.max_acceleration = (acc,)
+        inp.max_jerk = (jerk,)
         try:
             result = self.otg.calculate(inp, self.traj)
         except (RuckigError, RuntimeError):
@@ -265,11 +296,23 @@ class Solver:
         """The profile of the last successful :meth:`duration` call: its 7 phases' start times (the
         running sum of their durations, added in turn as ``np.cumsum`` adds them), jerks, and the
         acceleration, speed and position at each start, made as the rows of one array."""
-        pr = self.traj.profiles[0][0]
-        t, j, a, v, p = np.array([list(accumulate(pr.t[:-1], initial=0.0)), pr.j, pr.a[:-1], pr.v[:-1], pr.p[:-1]])
-        return Profile(t, j, a, v, p, self.traj.duration)
+        return Profile(*np.array(self._phases()), self.traj.duration)
 
-    def line(self, span, v0: float, v1: float, keep: bool) -> tuple[float, Profile | None]:
+    def _phases(self) -> list[list[float]]:
+        """The rows of :meth:`profile` as lists of floats."""
+        pr = self.traj.profiles[0][0]
+        return [list(accumulate(pr.t[:-1], initial=0.0)), pr.j, pr.a[:-1], pr.v[:-1], pr.p[:-1]]
+
+    def _kept(self, keep: bool | str) -> Profile | None:
+        """What a request gives of the last successful :meth:`duration` call: nothing (``keep`` false),
+        its :class:`Phases` (``keep`` :data:`PHASES`: no arrays made) or its :class:`Profile`."""
+        if not keep:
+            return None
+        if keep is PHASES:
+            return Phases(*self._phases(), self.traj.duration)
+        return self.profile()
+
+    def line(self, span, v0: float, v1: float, keep: bool | str) -> tuple[float, Profile | None]:
         """(duration, profile) of a ``span`` of straight lines at least :data:`MICRO` long: :meth:`time`
         for its single cap (no lower caps: a line's limits do not depend on its speed), without its
         general steps (the same requests, so the same numbers).  Raises :class:`ProfileError` as
@@ -280,10 +323,10 @@ class Solver:
             for scale in (1.0, EDGE_SCALE):
                 d = self.duration(length, a, b, vc, acc * scale, jerk * scale)
                 if d < math.inf:
-                    return d, (self.profile() if keep else None)
+                    return d, self._kept(keep)
         raise ProfileError(f"no profile for a {length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
 
-    def rest_to_rest(self, span, keep: bool) -> tuple[float, Profile | None]:
+    def rest_to_rest(self, span, keep: bool | str) -> tuple[float, Profile | None]:
         """(duration, profile) of a straight ``span`` from rest to rest: :meth:`time` for a line's
         single cap with both speeds 0, without its general steps (the same requests to ruckig, so
         the same numbers; a G50 program stops at every block).  Raises :class:`ProfileError` as
@@ -296,23 +339,23 @@ class Solver:
             return prof, None
         self._hold(_REST, length, _REST)
         inp = self.inp
-        inp.max_velocity = [vc]
+        inp.max_velocity = (vc,)
         for scale in (1.0, EDGE_SCALE):   # as time(): the limits a billionth lower on a second try
             acc, jerk = span.acc, span.jerk
             if acc <= 0 or jerk <= 0:
                 continue
-            inp.max_acceleration = [acc * scale]
-            inp.max_jerk = [jerk * scale]
+            inp.max_acceleration = (acc * scale,)
+            inp.max_jerk = (jerk * scale,)
             try:
                 result = self.otg.calculate(inp, self.traj)
             except (RuckigError, RuntimeError):
                 continue
             if result in _SOLVED:
-                return self.traj.duration, (self.profile() if keep else None)
+                return self.traj.duration, self._kept(keep)
         raise ProfileError(f"no profile for a {length:.6g} mm span from rest to rest")
 
-    def time(self, span, v0: float, v1: float, keep: bool) -> tuple[float, float, Profile | None]:
-        """(duration, cap used, profile) of a span from v0 to v1.
+    def time(self, span, v0: float, v1: float, keep: bool | str) -> tuple[float, float, Profile | None]:
+        """(duration, cap used, profile) of a span from v0 to v1 (the profile as :meth:`_kept` gives it).
 
         Curved spans try a few lower caps: below its cap a curve leaves more of
         the axes' acceleration for speeding up and slowing down.
@@ -323,8 +366,8 @@ class Solver:
                 return prof.duration, span.vc, prof
             if prof is not None:
                 return prof, span.vc, None
-        top = max(v0, v1)
-        if span.curved and (caps := span.caps(top)) and caps[0] == span.vc:
+        top = v0 if v0 >= v1 else v1   # max(v0, v1) (the first of equal ones), without a call
+        if span.curves and (caps := span.caps(top)) and caps[0] == span.vc:
             return self._curved(span, v0, v1, top, caps, keep)
         rungs = span.rungs(top)
         if span.curved:
@@ -357,10 +400,10 @@ class Solver:
         if not held:
             _d, vc, acc, jerk = best   # solve the best again so that the trajectory holds it
             self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
-        return best[0], best[1], self.profile()
+        return best[0], best[1], self._kept(keep)
 
     def _curved(self, span, v0: float, v1: float, top: float, caps: list[float],
-                keep: bool) -> tuple[float, float, Profile | None]:
+                keep: bool | str) -> tuple[float, float, Profile | None]:
         """:meth:`time` of a group with curves over its ``caps`` at least ``top``: the same rungs
         tried in the same order, each rung's limits made only when the rung is tried (``span.rung``:
         the group's own list, as ``span.rungs`` makes it), so the same profile."""
@@ -370,13 +413,14 @@ class Solver:
             extra = len(caps) - 1
         extra_limits = None
         best = (math.inf, span.vc, 0.0, 0.0)
+        bound = math.inf   # best[0] * RUNG_MARGIN, made when best changes
         held = False
         length = span.length
         rungs = span._rungs   # the rungs the look-ahead made already (read here, made by span.rung)
         made = 0 if rungs is None else len(rungs)
         for scale in (1.0, EDGE_SCALE):
             for i, vc in enumerate(caps):
-                if best[0] * RUNG_MARGIN <= length / vc:
+                if bound <= length / vc:
                     break   # as in time(): no motion below this cap is shorter than length / vc
                 if i == extra:
                     if extra_limits is None:
@@ -388,11 +432,14 @@ class Solver:
                     _cap, acc, jerk = span.rung(i)
                 if acc <= 0 or jerk <= 0:
                     continue
-                acc, jerk = acc * scale, jerk * scale
-                d = self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
+                if scale != 1.0:   # x * 1.0 is x: the first pass asks with the limits as they are
+                    acc, jerk = acc * scale, jerk * scale
+                # min(v0, vc), min(v1, vc) as comparisons (the same objects, no call per rung)
+                d = self.duration(length, v0 if v0 <= vc else vc, v1 if v1 <= vc else vc, vc, acc, jerk)
                 held = d < best[0]
                 if held:
                     best = (d, vc, acc, jerk)
+                    bound = d * RUNG_MARGIN
             if best[0] < math.inf:
                 break
         if best[0] == math.inf:
@@ -402,4 +449,4 @@ class Solver:
         if not held:
             _d, vc, acc, jerk = best
             self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
-        return best[0], best[1], self.profile()
+        return best[0], best[1], self._kept(keep)

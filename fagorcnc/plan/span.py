@@ -11,6 +11,7 @@ from .geometry import LinePiece, Piece
 from .limits import (
     ARRAY_TERMS,
     AxisLimits,
+    TermArrays,
     Terms,
     axis_terms,
     curve_limits,
@@ -279,16 +280,20 @@ class Group:
         rungs = self._rungs
         if rungs is None:   # _top() inline
             rungs = self._rungs = [(self.vc, self.acc, self.jerk)]
-        i = 0
+        top, length = self.vc, self.length
+        i, made = 0, len(rungs)   # made: len(rungs), counted as they are made
         while True:
-            if i == len(rungs):
-                if i > len(LADDER) or (cap := self.vc * LADDER[i - 1]) < v:
+            if i < made:
+                c, a, j = rungs[i]
+            else:
+                if i > len(LADDER) or (c := top * LADDER[i - 1]) < v:
                     break
-                rungs.append((cap, *self._tangential(cap)))
-            c, a, j = rungs[i]
+                a, j = self._tangential(c)
+                rungs.append((c, a, j))
+                made += 1
             if c < v or a <= 0 or j <= 0:
                 break
-            r = reachable(v, self.length, a, j)
+            r = reachable(v, length, a, j)
             if r >= c:
                 if c > best:
                     best = c
@@ -323,22 +328,28 @@ class Group:
     def _tangential(self, cap: float) -> tuple[float, float]:
         """Tangential acceleration and jerk below ``cap``: the limits of every curved member's
         axes together, and the lines' own."""
-        if self._terms is None:
-            curves = self.curves
-            if len(curves) == 1:   # most groups with a curve: one corner curve alone
-                self._terms = curves[0].terms
-            elif len(curves) >= ARRAY_CURVES and all(m.lim is curves[0].lim for m in curves):
-                pieces = [m.piece for m in curves]
-                self._terms = term_arrays(np.array([p.d1 for p in pieces]), np.array([p.d2 for p in pieces]),
-                                          np.array([p.d3 for p in pieces]), curves[0].lim)
-            else:
-                terms = Terms.joined(m.terms for m in curves)
-                self._terms = terms.arrays() if terms.total() > ARRAY_TERMS else terms
+        terms = self._terms
+        if terms is None:   # the terms and the path limits, made once per group (add resets both)
+            terms = self._make_terms()
         path = self._path
-        if path is None:   # the first member's path limits and the lines' own, made once per group
-            first = self.members[0]
-            path = self._path = (min(first.path_acc or math.inf, self.line_acc),
-                                 min(first.path_jerk or math.inf, self.line_jerk))
-        if isinstance(self._terms, Terms):
-            return tangential(self._terms, cap, path[0], path[1])
-        return tangential_arrays(self._terms, cap, path[0], path[1])
+        if type(terms) is Terms:
+            return tangential(terms, cap, path[0], path[1])
+        return tangential_arrays(terms, cap, path[0], path[1])
+
+    def _make_terms(self) -> Terms | TermArrays:
+        """The curves' terms of :meth:`_tangential` (kept), and the path limits below any cap: the first
+        member's and the lines' own."""
+        curves = self.curves
+        if len(curves) == 1:   # most groups with a curve: one corner curve alone
+            terms = curves[0].terms
+        elif len(curves) >= ARRAY_CURVES and all(m.lim is curves[0].lim for m in curves):
+            pieces = [m.piece for m in curves]
+            terms = term_arrays(np.array([p.d1 for p in pieces]), np.array([p.d2 for p in pieces]),
+                                np.array([p.d3 for p in pieces]), curves[0].lim)
+        else:
+            joined = Terms.joined(m.terms for m in curves)
+            terms = joined.arrays() if joined.total() > ARRAY_TERMS else joined
+        first = self.members[0]
+        self._path = (min(first.path_acc or math.inf, self.line_acc), min(first.path_jerk or math.inf, self.line_jerk))
+        self._terms = terms
+        return terms
