@@ -426,3 +426,40 @@ def test_long_moves_sum_their_squares_as_the_records_do(block, monkeypatch):
     move = r.moves[-1]
     if move.kind == "linear":   # the plain path's time is the record's length at its feed
         assert r.cycle_time == pytest.approx(move.length / 1000.0 * 60.0, rel=1e-12)
+
+
+def test_plain_arc_time_is_the_record_time(monkeypatch):
+    # PlainBlocks._arc works out record_time() of its arc on the way (Arc.sweep is the sweep it made, where
+    # the record's points are its points): the same float as record_time() of the record, in every feed mode,
+    # helices, G18/G19, inches, G265, offsets and signed zeros included (those it does not time: record_time()
+    # itself in the block loop); and it times the commonest arcs
+    from fagorcnc.interp.records import record_time
+
+    timed = []
+    arc = plain.PlainBlocks._arc
+
+    def timing(self, *args):
+        out = arc(self, *args)
+        if out is not plain.NOT_PLAIN:
+            timed.append((self.seconds, out))
+        return out
+
+    monkeypatch.setattr(Interpreter, "plain_blocks", True)
+    monkeypatch.setattr(plain.PlainBlocks, "_arc", timing)
+    programs = [("%A\nG90 G0 X0 Y0 Z0 F800\nG1 F800\n" + text + "M30\n", MACHINE) for text in ARCS.values()]
+    programs += [("%F\nG90 G0 X0 Y0 Z0\n" + FEEDS[name] + "M30\n", FEED_MACHINE) for name in FEEDS if "arcs" in name]
+    programs.append(("G90 G1 X-0 Y-0 Z-0 F1000\nG2 X-0 Y0 I-0 J0\nX1 Y-0\nG3 X-0 Y1 I-1 J0\nG3 X0 Y-1 I0 J-1\n"
+                     "G3 X0.3 Y-0.9 I-0.3 J1.9\nM30\n", None))
+    # the centre X-0 (0.0 in the record) and the end on it (within CIRINERR): the sweeps differ, the lengths not
+    programs.append(("G90 G264 G1 X-0 Y0.005 Z0 F1000\nG2 X-0 Y0 Z1 I-0 J-0.005\nM30\n", None))
+    # helices of 600, 1384.6 and 2571.4 degrees: their length is that of the pitch's sweep, not of their end
+    # points' sweep and turns (1384.6153846153845 and 1384.6153846153843 degrees)
+    programs.append(("G90 G0 X10 Y0 Z0\nG1 F800\nG3 X0 Y10 Z-5 I-10 J0 K3\nG1 X10 Y0\nG3 X0 Y10 Z0 I-10 J0 K1.3\n"
+                     "G1 X10 Y0\nG3 X0 Y10 Z-5 I-10 J0 K0.7\nM30\n", None))
+    for text, machine in programs:
+        fagorcnc.simulate(text, machine)
+    machine = fagorcnc.load_machine(MACHINE)
+    for seconds, rec in timed:
+        if seconds is not None:
+            assert repr(seconds) == repr(record_time(machine, rec)), rec
+    assert sum(seconds is not None for seconds, _ in timed) >= 20

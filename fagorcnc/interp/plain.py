@@ -30,7 +30,6 @@ from ..path import arcs
 from ..syntax.ast import Block, Word
 from . import compat
 from .expressions import InterpError
-from .gvars import arc_data
 from .records import _FEED_MODES, _JOINS, Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
@@ -177,11 +176,11 @@ class PlainBlocks:
             kin = st.kin
             tr = st.transform
             # the simplest state: no transformation, radius compensation, kinematics or per-block planning
-            # context; then _line and _arc are MotionMixin._motion's steps for the block
+            # context; then _move is MotionMixin._motion's steps for the block
             if (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and modes["compensation"] not in (41, 42)
                     and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
                     and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes):
-                rec = self._line(mode, axes, src) if mode < 2 else self._arc(mode, axes, params, src)
+                rec = self._move(mode, axes, params, src)
         if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
             bw = BlockWords()
             bw.g = [(n, col, None) for (n, _group), col in gl]
@@ -194,29 +193,50 @@ class PlainBlocks:
             compat.spindle_lint(interp, rec, 1)
         return rec
 
-    # ------------------------------------------------------------ G00/G01 in the simplest state
-    def _line(self, mode: int, words: dict, src: Source):
-        """``MotionMixin._motion`` of a G00/G01 with axis words in the simplest state (no transformation, radius
-        compensation, kinematics or per-block planning context: :meth:`run`), step by step (the same arithmetic
-        in the same order): the programmed point is the part point (no transformation),
-        the origin chain is worked out again only when the tool length compensation changed it, no
-        rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
-        st = self.state
-        iso = self.iso
+    # ------------------------------------------------------------ G00-G03 in the simplest state
+    def _move(self, mode: int, words: dict, params: dict, src: Source):
+        """``MotionMixin._motion`` of a G00-G03 in the simplest state (no transformation, radius compensation,
+        kinematics or per-block planning context: :meth:`run`), step by step (the same arithmetic in the same
+        order): what a line and an arc share (the plane, the start point, the target), then :meth:`_line` or
+        :meth:`_arc`.  The programmed point is the part point (no transformation).  :data:`NOT_PLAIN` before
+        anything changed for a rotary axis word (``_motion`` itself: unrolled positions, directions,
+        ``IsoExecutor._rotary``) and for an arc this path does not take: another plane than G17-G19, R without
+        an end point in the plane (a polar move), neither centre nor R (the stored radius, a null move), a
+        letter that is not the plane's."""
         if not self._linear.issuperset(words):
-            return NOT_PLAIN   # a rotary axis: _motion itself (unrolled positions, directions: IsoExecutor._rotary)
+            return NOT_PLAIN
+        st = self.state
         modes = st.modes
+        plane = modes["plane"]
+        letters = None
+        if mode >= 2:
+            letters = _CENTRE_LETTERS.get(plane)
+            if letters is None:
+                return NOT_PLAIN   # G20: the general path
         slots = st.channel.slots
-        if modes["plane"] == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
-            a, o = slots[0], slots[1]
+        if plane == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
+            a, o, n = slots[0], slots[1], slots[2]
         else:
-            a, o, _ = st.plane_axes()
+            a, o, n = st.plane_axes()
+        by_centre = False
+        if letters is not None:
+            if a is None or o is None:
+                return NOT_PLAIN   # INT150: the general path says it
+            ci, cj, ck = letters
+            by_centre = ci in params or cj in params
+            in_plane = a in words or o in words
+            for letter in params:
+                if letter != ci and letter != cj and letter != ck and (letter != "R" or by_centre or not in_plane):
+                    return NOT_PLAIN   # R with a centre, a polar R, a letter of another plane
+            if not by_centre and "R" not in params:
+                return NOT_PLAIN   # only the pitch: the stored radius R1=, or none (INT061)
+        # programmed_pos() (no transformation: the part position), move_start()
         pos = st.machine_pos
         off, cur_part = _part_point(st, pos)
         last = st._last_end   # move_start(): the last end point when the tool is still there
         start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
-        incremental = modes["distance"] == 91
         inch = modes["units"] == 70
+        incremental = modes["distance"] == 91
         diameter = modes["diameter"] == 151
         end_part = dict(cur_part)   # target(); transform.apply() under no transformation is the same point
         for axis, (v, _col) in words.items():
@@ -225,6 +245,17 @@ class PlainBlocks:
             if diameter and axis in self._diameter:
                 v /= 2.0
             end_part[axis] = cur_part[axis] + v if incremental else v
+        if letters is None:
+            return self._line(mode, words, src, a, o, off, cur_part, start, end_part)
+        return self._arc(mode, words, params, src, (a, o, n), letters, by_centre, off, cur_part, start, end_part)
+
+    def _line(self, mode: int, words: dict, src: Source, a: str | None, o: str | None, off: dict | None,
+              cur_part: dict, start: dict, end_part: dict):
+        """The rest of :meth:`_move` for a G00/G01 from its plane axes ``a`` ``o``, offsets ``off``
+        (:func:`_part_point`), part and machine start points and target: the origin chain is worked out again
+        only when the tool length compensation changed it."""
+        st = self.state
+        iso = self.iso
         applied = st.length_offset
         if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
             iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
@@ -243,6 +274,7 @@ class PlainBlocks:
             d = math.dist((sa, so), (ea, eo))
             if not d < 1e-12:
                 st.tangent = ((ea - sa) / d, (eo - so) / d)
+        modes = st.modes
         if mode == 0:   # _compensation() is None, _joins(None) the modal pair
             # Line's fields in order: kind, start, end, end_part, feed, feed_mode, src, comp, dyn, frame, joins
             return _line_record("rapid", start, end, end_part, None, "G94", src, None, st.dynamics(), None,
@@ -268,56 +300,20 @@ class PlainBlocks:
                             None, dyn if dyn is not None else st.dynamics(), None,
                             _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins), None, css)
 
-    # ------------------------------------------------------------ G02/G03 in the simplest state
-    def _arc(self, mode: int, words: dict, params: dict, src: Source):
-        """``MotionMixin._motion`` then ``_arc`` of a G02/G03 by its centre (the plane's centre words, from
-        the start point or absolute under G261) or by R (an end point in the plane), helix pitch included,
-        in the simplest state, step by step with the same arithmetic in the same order (seed 002 ch. 8.3-8.5).
-        :data:`NOT_PLAIN` before anything changed for what it does not take: another plane than G17-G19, a
-        rotary axis word, R without an end point in the plane (a polar move), neither centre nor R (the
-        stored radius, a null move), a letter that is not the plane's."""
+    def _arc(self, mode: int, words: dict, params: dict, src: Source, plane: tuple, letters: tuple,
+             by_centre: bool, off: dict | None, cur_part: dict, start: dict, end_part: dict):
+        """The rest of :meth:`_move` for a G02/G03 (then ``MotionMixin._arc``'s steps, seed 002 ch. 8.3-8.5) by
+        its centre (the plane's centre ``letters``, from the start point or absolute under G261) or by R,
+        helix pitch included, from its plane axes, offsets, part and machine start points and target."""
         st = self.state
         iso = self.iso
         modes = st.modes
-        letters = _CENTRE_LETTERS.get(modes["plane"])
-        if letters is None:
-            return NOT_PLAIN   # G20: the general path
+        a, o, _n = plane
         ci, cj, ck = letters
-        if not self._linear.issuperset(words):
-            return NOT_PLAIN   # a rotary axis
-        slots = st.channel.slots
-        if modes["plane"] == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
-            a, o, n = slots[0], slots[1], slots[2]
-        else:
-            a, o, n = st.plane_axes()
-        if a is None or o is None:
-            return NOT_PLAIN   # INT150: the general path says it
-        by_centre = ci in params or cj in params
-        in_plane = a in words or o in words
-        for letter in params:
-            if letter != ci and letter != cj and letter != ck and (letter != "R" or by_centre or not in_plane):
-                return NOT_PLAIN   # R with a centre, a polar R, a letter of another plane
-        if not by_centre and "R" not in params:
-            return NOT_PLAIN   # only the pitch: the stored radius R1=, or none (INT061)
-        # _motion: programmed_pos() (no transformation: the part position), move_start()
-        pos = st.machine_pos
-        off, cur_part = _part_point(st, pos)
-        last = st._last_end   # move_start()
-        start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
-        # _arc
         col = next(iter(words.values()))[1] if words else next(iter(params.values()))[1]
         inch = modes["units"] == 70
         pitch = params[ck][0] if ck in params else None
         sp = (cur_part[a], cur_part[o])
-        end_part = dict(cur_part)   # target()
-        incremental = modes["distance"] == 91
-        diameter = modes["diameter"] == 151
-        for axis, (v, _col) in words.items():
-            if inch:
-                v *= INCH
-            if diameter and axis in self._diameter:
-                v /= 2.0
-            end_part[axis] = cur_part[axis] + v if incremental else v
         ccw = mode == 3
         try:
             if by_centre:
@@ -340,20 +336,26 @@ class PlainBlocks:
         if r0 < 1e-9:
             raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
         programmed = center
-        if by_centre and not abs(math.dist(ep, center) - r0) <= 1e-12:   # else _radius_check() keeps the centre
+        radius = math.dist(ep, center)   # the record's radius while the centre and the end stay
+        if by_centre and not abs(radius - r0) <= 1e-12:   # else _radius_check() keeps the centre
             center = iso._radius_check(sp, ep, center, col)   # CIRINERR, CIRINFACT, G264/G265
-        arc_data(st, sp, programmed, center, ep, (a, o, n))   # V.G.R, I, J, K, CIRERR (L40454)
+            if center is not programmed:
+                radius = math.dist(ep, center)
+        st.arc_data = (sp, programmed, center, ep, plane)   # arc_data(): V.G.R, I, J, K, CIRERR (L40454)
         delta = arcs.sweep(sp, ep, center, ccw)
         turns = 0
         if pitch is not None:
             delta, turns, ep = iso._helix(delta, pitch, cur_part, end_part, center, r0, ccw, col)
             end_part[a], end_part[o] = ep
+            radius = math.dist(ep, center)
         applied = st.length_offset
         if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
             iso._length_compensation(_Words(words))
             if st.length_offset is not applied:
                 off = st.offsets()
-        st.tangent = arcs.end_tangent(sp, ep, center, ccw)
+        # arcs.end_tangent(), inline: math.dist() of two points is math.hypot() of their differences
+        ra, ro = ep[0] - center[0], ep[1] - center[1]
+        st.tangent = None if radius < 1e-12 else (-ro / radius, ra / radius) if ccw else (ro / radius, -ra / radius)
         end = _machine_end(st, end_part, off)
         lower, upper = st.lower_limits, st.upper_limits
         for x, v in end.items():   # check_limits() says more only for a point outside the limits
@@ -367,6 +369,7 @@ class PlainBlocks:
             {a: center[0] + off[a], o: center[1] + off[o]}
         mode_f = modes["feed"]
         feed = st.feed
+        other = None
         if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself at most MAXFEED, whatever the length
             if self._max_feed > 0:
                 feed = min(feed, self._max_feed)
@@ -375,14 +378,24 @@ class PlainBlocks:
             # sum(), as Arc.length sums (compensated from Python 3.12 on: a loop of += would differ)
             other = sum([(v - start[x]) ** 2 for x, v in end.items() if x != a and x != o])
             feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
+        css = iso._css() if mode_f == 95 else None
+        radius *= 1.0   # the scale is 1
+        if css is None and feed is not None and pitch is None and end is end_part and start[a] is sp[0] \
+                and start[o] is sp[1]:
+            # record_time() of the record: Arc.sweep is delta, the sweep of the same points (the centre's + 0.0
+            # turns only a -0.0 into 0.0, which changes the sweep only for an end on the centre, where the radius
+            # 0 makes the planar length 0 whatever the sweep), then Arc.length's arithmetic
+            if other is None:
+                other = sum([(v - start[x]) ** 2 for x, v in end.items() if x != a and x != o])
+            length = math.hypot(abs(math.radians(delta)) * radius, math.sqrt(other))
+            self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
         dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
         # Arc's fields in order: kind, start, end, end_part, center, center_part, direction, plane, radius, turns,
         # feed, feed_mode, src, comp, dyn, frame, joins, css
-        return _arc_record("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw", (a, o, n),
-                           math.dist(ep, center) * 1.0, turns, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f),
-                           src, None, dyn if dyn is not None else st.dynamics(), None,
-                           _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins),
-                           iso._css() if mode_f == 95 else None)
+        return _arc_record("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw", plane, radius,
+                           turns, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f), src, None,
+                           dyn if dyn is not None else st.dynamics(), None,
+                           _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins), css)
 
 
 def record_maker(cls):
