@@ -243,6 +243,32 @@ def test_continuing_lines_take_the_short_way(monkeypatch):
     assert box.machine.hi["Z"] == 30.0 and box.feed_machine.hi["Z"] == 10.0
 
 
+def test_continuing_arcs_at_feed_take_the_short_way(monkeypatch):
+    # an arc at feed that starts at the last end of the feeds' run skips _add too; an arc at rapid (no feed)
+    # and the arc at feed after it do not (its start is not in the feeds' lists)
+    calls = []
+    general = MoveSummary._add
+    monkeypatch.setattr(MoveSummary, "_add", lambda self, rec, kind: calls.append(rec.line) or general(self, rec, kind))
+    stream = _chain(("rapid", {"X": 0.0, "Y": 0.0, "Z": 10.0}), ("linear", {"X": 10.0, "Y": 0.0, "Z": 10.0}))
+    plane, src = ("X", "Y", "Z"), Source("p.nc", 0, "")
+    pos = stream[-1][0].end
+    for line, (end, center, direction, feed) in enumerate([
+            ({"X": 0.0, "Y": 10.0, "Z": 10.0}, {"X": 0.0, "Y": 0.0}, "ccw", 800.0),   # a quarter turn: no point
+            ({"X": 0.0, "Y": -10.0, "Z": 8.0}, {"X": 0.0, "Y": 0.0}, "ccw", 800.0),   # a half helix over -X
+            ({"X": 5.0, "Y": -5.0, "Z": 8.0}, {"X": 5.0, "Y": -10.0}, "ccw", None),
+            ({"X": 5.0, "Y": -15.0, "Z": 8.0}, {"X": 5.0, "Y": -10.0}, "cw", 800.0)], start=3):
+        arc = Arc("arc", pos, end, end, center, dict(center), direction, plane, math.dist(
+            (end["X"], end["Y"]), (center["X"], center["Y"])), 0, feed, "G94", dataclasses.replace(src, line=line))
+        stream.append((arc, "G54"))
+        pos = end
+    summary = _fed(MoveSummary(), stream)
+    assert _outcome(summary) == _outcome(_fed(Reference(), stream))
+    assert calls == [1, 2, 5, 6]
+    box = summary.boxes()[0]
+    assert box.feed_machine.lo["X"] == pytest.approx(-10.0) and box.feed_machine.hi["X"] == pytest.approx(10.0)
+    assert box.machine.hi["X"] == pytest.approx(10.0) and box.feed_machine.lo["Y"] == pytest.approx(-15.0)
+
+
 def test_the_short_way_steps_aside_after_m06():
     # the line after M06 starts at the last end (the same dict), but that point belongs to tool 1's
     # boxes only: tool 2's must get it too

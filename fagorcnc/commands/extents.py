@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from operator import is_, itemgetter
 from typing import Any
 
-from ..interp.records import CurveLine, IndependentMove, Line
+from ..interp.records import Arc, CurveLine, IndependentMove, Line
 
 
 def _round(v: float) -> float:
@@ -111,8 +111,9 @@ class MoveSummary:
     axis at C speed when the tool changes, a list holds :data:`RUN_POINTS` points or the boxes are
     asked for (:func:`_reduce`).  A move's points are its start (unless it starts where the last
     move of its kind ended: already in), its end and an arc's quarter-turn points
-    (:func:`arc_points`); a plain line that continues the last move takes the short way at the top
-    of :meth:`add`.  The boxes get the values widening them point by point gives.
+    (:func:`arc_points`); a plain line that continues the last move, and an arc at feed that continues
+    a run of feeds, take a short way in :meth:`_summarise`.  The boxes get the values widening them
+    point by point gives.
     """
 
     __slots__ = (
@@ -194,7 +195,8 @@ class MoveSummary:
 
     def _summarise(self, records: list, label: str) -> None:
         """``records``, made under the origin ``label``, into the summary: a plain line that continues
-        the last move by its end points alone, any other record by :meth:`_add`."""
+        the last move by its end points alone, an arc at feed that continues the feeds by its end and
+        quarter-turn points, any other record by :meth:`_add`."""
         moves = 0
         for rec in records:
             kind = rec.kind
@@ -210,6 +212,21 @@ class MoveSummary:
                 points.append(end)
                 self._part_points.append(end_part)
                 self._part_here = end_part
+                if len(points) >= RUN_POINTS:
+                    self._flush()
+            elif kind == "arc" and self._line_kind == "linear" and rec.start is self._last_end and type(rec) is Arc \
+                    and rec.feed is not None:   # an arc at feed continuing the run of feeds: _add's steps for it
+                end_part = rec.end_part
+                if end_part is None:
+                    continue
+                if not moves:
+                    self._enter(label, rec)
+                moves += 1
+                points, part = self._machine_points, self._part_points
+                points.append(end := rec.end)
+                part.append(end_part)
+                _arc_points_of(rec, self._part_here, end_part, points, part)
+                self._part_here, self._last_end = end_part, end
                 if len(points) >= RUN_POINTS:
                     self._flush()
             elif self._add(rec, kind):
@@ -355,7 +372,8 @@ def _arc_points_of(rec, start_part: dict, end_part: dict, machine: list, part: l
     the same points when the arc is the same there (no origin shift: equal points)."""
     start, end, center = rec.start, rec.end, rec.center
     center_part = getattr(rec, "center_part", None) or {}
-    same = end_part == end and start_part == start and center_part == center
+    same = (end_part is end or end_part == end) and (start_part is start or start_part == start) \
+        and center_part == center   # (a dict is equal to itself: no need to compare it value by value)
     short = _in_one_quadrant(rec, start, end, center)
     if short and same:
         return
