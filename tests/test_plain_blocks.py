@@ -330,6 +330,14 @@ def test_record_maker_makes_the_same_records():
         y: list = dataclasses.field(default_factory=list)
 
     assert plain.record_maker(Plain) is Plain
+    assert all(plain.record_maker(cls) is not cls for cls in (Line, Arc, Source))   # the records' own makers
+
+    @dataclasses.dataclass(frozen=True, slots=True)
+    class Other:
+        x: int
+
+    Other.__slots__ = ("x", "y")   # slots that are not its layout: no twin of the same layout, the class itself
+    assert plain.record_maker(Other) is Other
 
 
 def test_record_maker_takes_the_fields_in_order():
