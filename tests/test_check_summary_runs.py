@@ -361,6 +361,24 @@ def test_axes_appearing_later_keep_the_order_of_their_first_point():
     assert list(box.feed_machine.lo) == ["X", "Y", "A", "Z"]
 
 
+def test_an_empty_box_takes_the_first_point_then_the_reductions(monkeypatch):
+    # a tool's first points: its empty box of all moves takes the first point that came (a feed's start, its
+    # axes in the order Z X Y), the rest by the lists' reductions (the rapids' points in the order X Y Z), not
+    # point by point; the same boxes, the axes in the same order, as the reference
+    def pointwise(self, box):
+        raise AssertionError("point by point")
+
+    monkeypatch.setattr(MoveSummary, "_pointwise", pointwise)
+    zxy = {"Z": 1.0, "X": 0.0, "Y": 0.0}
+    stream = [(_line("linear", zxy, {"Z": 0.5, "X": 4.0, "Y": -2.0}, 1), "G54")]
+    stream += _chain(("rapid", {"X": -3.0, "Y": 1.0, "Z": 9.0}), ("linear", {"X": 6.0, "Y": 1.0, "Z": 2.0}))
+    summary = _fed(MoveSummary(), stream)
+    assert _outcome(summary) == _outcome(_fed(Reference(), stream))
+    box = summary.boxes()[0]
+    assert list(box.machine.lo) == list(box.part.lo) == ["Z", "X", "Y"]
+    assert box.machine.lo == {"Z": 0.0, "X": -3.0, "Y": -2.0} and box.machine.hi == {"Z": 9.0, "X": 6.0, "Y": 1.0}
+
+
 def test_reduce_steps_aside_for_mixed_axes_and_a_leading_nan():
     assert _reduce([{"X": 1.0, "Y": 2.0}, {"X": -1.0, "Y": 5.0}]) == [("X", -1.0, 1.0), ("Y", 2.0, 5.0)]
     assert _reduce([{"Y": 2.0, "X": 1.0}, {"X": -1.0, "Y": 5.0}]) == [("Y", 2.0, 5.0), ("X", -1.0, 1.0)]

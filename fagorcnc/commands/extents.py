@@ -10,6 +10,7 @@ summary's way any more).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from operator import is_, itemgetter
 from typing import Any
@@ -312,6 +313,8 @@ class MoveSummary:
             return
         (rapid_machine, rapid_part), (feed_machine, feed_part) = self._rapids, self._feeds
         if rapid_machine or feed_machine:
+            if not box.machine or not box.part:
+                self._seed(box)
             rapids, feeds = _reduce(rapid_machine), _reduce(feed_machine)
             rapids_part = rapids if _same(rapid_machine, rapid_part) else _reduce(rapid_part)
             feeds_part = feeds if _same(feed_machine, feed_part) else _reduce(feed_part)
@@ -322,20 +325,36 @@ class MoveSummary:
                 points.clear()
         self._order = [(self._feed, 0, 0)]
 
+    def _seed(self, box: ToolBox) -> None:
+        """An empty box of all moves widened by the run's first point alone, as point by point: its axes then
+        stand in that point's order, and the reductions of the lists (:func:`_widen`) can do the rest (a point
+        again changes nothing, should it go point by point after all)."""
+        for frame, every in ((0, box.machine), (1, box.part)):
+            if not every:
+                first = next((points[0] for _feed, points in self._arrivals(frame) if points), None)
+                if first is not None:
+                    every.add(first)
+
     def _pointwise(self, box: ToolBox) -> None:
         """:meth:`_flush` point by point, in the order the points came (axes appearing later: their order
         in the boxes is that of their first point)."""
         for frame, every, feeds in ((0, box.machine, box.feed_machine), (1, box.part, box.feed_part)):
-            lists = {False: self._rapids[frame], True: self._feeds[frame]}
-            ends = {feed: [entry[1 + frame] for entry in self._order if entry[0] is feed] + [len(lists[feed])]
-                    for feed in (False, True)}
-            taken = {False: 0, True: 0}
-            for feed, *begins in self._order:
-                n = taken[feed] = taken[feed] + 1
-                for point in lists[feed][begins[frame]:ends[feed][n]]:
+            for feed, points in self._arrivals(frame):
+                for point in points:
                     every.add(point)
                     if feed:
                         feeds.add(point)
+
+    def _arrivals(self, frame: int) -> Iterator[tuple[bool, list]]:
+        """The run's points in the machine (``frame`` 0) or the part frame (1) in the order they came: each
+        stretch of one list as ``(feed, points)``."""
+        lists = {False: self._rapids[frame], True: self._feeds[frame]}
+        ends = {feed: [entry[1 + frame] for entry in self._order if entry[0] is feed] + [len(lists[feed])]
+                for feed in (False, True)}
+        taken = {False: 0, True: 0}
+        for feed, *begins in self._order:
+            n = taken[feed] = taken[feed] + 1
+            yield feed, lists[feed][begins[frame]:ends[feed][n]]
 
     def tools(self) -> list[ToolUse]:
         self._take()
