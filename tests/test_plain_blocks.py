@@ -243,6 +243,18 @@ def test_arc_errors_same_both_ways(program, monkeypatch):
     _same("%ERR\nG90 G0 X0 Y0 Z0\nG2 X10 Y0 I5 J0\nM30\n", monkeypatch)   # INT060 no feed on an arc
 
 
+@pytest.mark.parametrize("cirinfact", [0.5, 0.1])
+@pytest.mark.parametrize("correction", ["G264", "G265"])
+def test_arc_radius_tolerances_same_both_ways(cirinfact, correction, monkeypatch):
+    # end radius 5.01 against 5: 0.01 mm over CIRINERR 0.001, 0.2 % within CIRINFACT 0.5 % (the centre kept or
+    # corrected) or over 0.1 % (INT062)
+    machine = {**MACHINE, "cirinerr": 0.001, "cirinfact": cirinfact}
+    program = f"%TOL\nG90 G0 X0 Y0 Z0\n{correction}\nG1 F800\nG2 X10.01 Y0 I5 J0\nG3 X0 Y0 R5.005\nM30\n"
+    assert _run(program, machine, True, monkeypatch)[2] == (cirinfact == 0.5)
+    assert _direct_arcs(program, machine, monkeypatch) == (2 if cirinfact == 0.5 else 0)
+    _same(program, monkeypatch, machine)
+
+
 # Feeds of plain lines: the fast path's G94 feed (F itself, clamped to MAXFEED) and its F words (a
 # positive F in mm/min or mm/rev, inch F) against the general _feed and _active_feed; the others (G93 F,
 # F0, G95, DEFAULTFEED) go through the general functions from the fast path.

@@ -424,13 +424,14 @@ def _in_one_quadrant(rec, start: dict, end: dict, center: dict) -> bool:
         return False
     sa, so, ea, eo = start[a], start[o], end[a], end[o]
     ua, uo, va, vo = sa - ca, so - co, ea - ca, eo - co
-    size_u, size_v = abs(ua) + abs(uo), abs(va) + abs(vo)
+    aua, auo, ava, avo = abs(ua), abs(uo), abs(va), abs(vo)
+    size_u, size_v = aua + auo, ava + avo
     clear = _CLEAR * (size_u + size_v)
-    if not (abs(ua) > clear and abs(uo) > clear and abs(va) > clear and abs(vo) > clear):
-        return False   # an end near an edge of its quadrant (or the centre)
+    if not (aua > clear and auo > clear and ava > clear and avo > clear):
+        return False   # an end near an edge of its quadrant (or the centre), or a coordinate not finite
     if (ua > 0.0) != (va > 0.0) or (uo > 0.0) != (vo > 0.0):
         return False   # the ends in two quadrants
-    if max(abs(ea - sa), abs(eo - so)) <= 1e-6:
+    if abs(ea - sa) <= 1e-6 and abs(eo - so) <= 1e-6:
         return False   # a full circle (the end at the start: within 1e-7, path/arcs.py sweep)
     cross = ua * vo - uo * va
     turn = _CLEAR * size_u * size_v

@@ -67,7 +67,8 @@ def _roles(by_name: dict, configured) -> dict:
 class PlainBlocks:
     """Runs plain blocks for an :class:`~fagorcnc.interp.interpreter.Interpreter` (see the module)."""
 
-    __slots__ = ("_diameter", "_linear", "_max_feed", "_names", "_roles", "interp", "iso", "seconds", "state")
+    __slots__ = ("_cirinerr", "_cirinfact", "_diameter", "_linear", "_max_feed", "_names", "_roles", "interp", "iso",
+                 "seconds", "state")
 
     def __init__(self, interp) -> None:
         self.interp = interp
@@ -79,6 +80,7 @@ class PlainBlocks:
         self._linear = frozenset(a for a, ax in axes.items() if not ax.rotary)
         self._diameter = frozenset(a for a, ax in axes.items() if ax.diameter)
         self._max_feed = interp.machine.max_feed   # MAXFEED (_active_feed's clamp)
+        self._cirinerr, self._cirinfact = interp.machine.cirinerr, interp.machine.cirinfact   # _radius_check's
         #: record_time() of the last record :meth:`run` made, when it worked it out on the way (a G01), else None
         self.seconds: float | None = None
 
@@ -280,8 +282,12 @@ class PlainBlocks:
             return _line_record("rapid", start, end, end_part, None, "G94", src, None, st.dynamics(), None,
                                 shared_tuple((modes["transition"], modes["comp_start"])))
         # sum(), as Line.length sums (a loop of += would differ in the last bit from Python 3.12 on, whose
-        # sum() of floats is compensated); a list: the same sum, in order
-        length = math.sqrt(sum([(v - start[x]) ** 2 for x, v in end.items()]))
+        # sum() of floats is compensated); of a list made by a loop: the same sum, in order, without the
+        # comprehension's function and closure
+        squares = []
+        for x, v in end.items():
+            squares.append((v - start[x]) ** 2)
+        length = math.sqrt(sum(squares))
         mode_f = modes["feed"]
         feed = st.feed
         if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself, at most MAXFEED
@@ -310,7 +316,6 @@ class PlainBlocks:
         modes = st.modes
         a, o, _n = plane
         ci, cj, ck = letters
-        col = next(iter(words.values()))[1] if words else next(iter(params.values()))[1]
         inch = modes["units"] == 70
         pitch = params[ck][0] if ck in params else None
         sp = (cur_part[a], cur_part[o])
@@ -330,22 +335,26 @@ class PlainBlocks:
                     r *= INCH
                 center = arcs.centre_from_radius(sp, (end_part[a], end_part[o]), r, not ccw)
         except arcs.ArcError as exc:
-            raise InterpError("INT064", str(exc), col) from None
+            raise InterpError("INT064", str(exc), _first_col(words, params)) from None
         ep = (end_part[a], end_part[o])
         r0 = math.dist(sp, center)
         if r0 < 1e-9:
-            raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
+            raise InterpError("INT061", "the arc centre is on the start point (radius 0)", _first_col(words, params))
         programmed = center
         radius = math.dist(ep, center)   # the record's radius while the centre and the end stay
-        if by_centre and not abs(radius - r0) <= 1e-12:   # else _radius_check() keeps the centre
-            center = iso._radius_check(sp, ep, center, col)   # CIRINERR, CIRINFACT, G264/G265
-            if center is not programmed:
-                radius = math.dist(ep, center)
+        if by_centre and not (mismatch := abs(radius - r0)) <= 1e-12:   # else _radius_check() keeps the centre
+            # _radius_check() of the radii worked out already: CIRINERR, CIRINFACT (it says INT062), G264/G265
+            if not (mismatch <= self._cirinerr or 100.0 * mismatch / r0 <= self._cirinfact):
+                iso._radius_check(sp, ep, center, _first_col(words, params))
+            if modes["centre_correction"] == 265:
+                center = arcs.corrected_centre(sp, ep, center)
+                if center is not programmed:
+                    radius = math.dist(ep, center)
         st.arc_data = (sp, programmed, center, ep, plane)   # arc_data(): V.G.R, I, J, K, CIRERR (L40454)
         delta = arcs.sweep(sp, ep, center, ccw)
         turns = 0
         if pitch is not None:
-            delta, turns, ep = iso._helix(delta, pitch, cur_part, end_part, center, r0, ccw, col)
+            delta, turns, ep = iso._helix(delta, pitch, cur_part, end_part, center, r0, ccw, _first_col(words, params))
             end_part[a], end_part[o] = ep
             radius = math.dist(ep, center)
         applied = st.length_offset
@@ -360,23 +369,27 @@ class PlainBlocks:
         lower, upper = st.lower_limits, st.upper_limits
         for x, v in end.items():   # check_limits() says more only for a point outside the limits
             if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
-                iso.interp.check_limits(end, col, start)
+                iso.interp.check_limits(end, _first_col(words, params), start)
                 break
         st.machine_pos = dict(end)   # moved_to()
         st._last_end = end
         center_part = {a: center[0], o: center[1]}
         center_m = {a: center[0] + 0.0, o: center[1] + 0.0} if off is None else \
             {a: center[0] + off[a], o: center[1] + off[o]}
+        # the squares of the moves off the plane: sum(), as Arc.length sums (compensated from Python 3.12 on: a
+        # loop of += would differ), of a list made by a loop (the same sum, without a comprehension's function)
+        squares = []
+        for x, v in end.items():
+            if x != a and x != o:
+                squares.append((v - start[x]) ** 2)
+        other = sum(squares)
         mode_f = modes["feed"]
         feed = st.feed
-        other = None
         if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself at most MAXFEED, whatever the length
             if self._max_feed > 0:
                 feed = min(feed, self._max_feed)
         else:
             planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
-            # sum(), as Arc.length sums (compensated from Python 3.12 on: a loop of += would differ)
-            other = sum([(v - start[x]) ** 2 for x, v in end.items() if x != a and x != o])
             feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
         css = iso._css() if mode_f == 95 else None
         radius *= 1.0   # the scale is 1
@@ -385,8 +398,6 @@ class PlainBlocks:
             # record_time() of the record: Arc.sweep is delta, the sweep of the same points (the centre's + 0.0
             # turns only a -0.0 into 0.0, which changes the sweep only for an end on the centre, where the radius
             # 0 makes the planar length 0 whatever the sweep), then Arc.length's arithmetic
-            if other is None:
-                other = sum([(v - start[x]) ** 2 for x, v in end.items() if x != a and x != o])
             length = math.hypot(abs(math.radians(delta)) * radius, math.sqrt(other))
             self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
         dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
@@ -434,6 +445,11 @@ def record_maker(cls):
 _line_record = record_maker(Line)
 _arc_record = record_maker(Arc)
 _source = record_maker(Source)
+
+
+def _first_col(words: dict, params: dict) -> int:
+    """The column an arc's errors point at: that of its first axis word, else of its first centre or radius word."""
+    return next(iter(words.values()))[1] if words else next(iter(params.values()))[1]
 
 
 def _part_point(st, pos: dict) -> tuple:
