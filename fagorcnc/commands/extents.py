@@ -201,22 +201,10 @@ class MoveSummary:
         moves = 0
         for rec in records:
             kind = rec.kind
-            if kind is self._line_kind and rec.start is self._last_end and type(rec) in _LINES:
-                end_part = rec.end_part
-                if end_part is None:
-                    continue
-                if not moves:
-                    self._enter(label, rec)
-                moves += 1
-                self._last_end = end = rec.end
-                points = self._machine_points
-                points.append(end)
-                self._part_points.append(end_part)
-                self._part_here = end_part
-                if len(points) >= RUN_POINTS:
-                    self._flush()
-            elif kind == "arc" and self._line_kind == "linear" and rec.start is self._last_end and type(rec) is Arc \
-                    and rec.feed is not None:   # an arc at feed continuing the run of feeds: _add's steps for it
+            if (kind is self._line_kind and rec.start is self._last_end and type(rec) in _LINES) or (
+                    kind == "arc" and self._line_kind == "linear" and rec.start is self._last_end
+                    and type(rec) is Arc and rec.feed is not None):
+                # a plain line continuing the last move of its kind, or an arc at feed continuing the feeds
                 end_part = rec.end_part
                 if end_part is None:
                     continue
@@ -226,7 +214,8 @@ class MoveSummary:
                 points, part = self._machine_points, self._part_points
                 points.append(end := rec.end)
                 part.append(end_part)
-                _arc_points_of(rec, self._part_here, end_part, points, part)
+                if kind == "arc":
+                    _arc_points_of(rec, self._part_here, end_part, points, part)
                 self._part_here, self._last_end = end_part, end
                 if len(points) >= RUN_POINTS:
                     self._flush()
