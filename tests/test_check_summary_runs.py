@@ -243,6 +243,32 @@ def test_continuing_lines_take_the_short_way(monkeypatch):
     assert box.machine.hi["Z"] == 30.0 and box.feed_machine.hi["Z"] == 10.0
 
 
+def test_continuing_arcs_at_feed_take_the_short_way(monkeypatch):
+    # an arc at feed that starts at the last end of the feeds' run skips _add too; an arc at rapid (no feed)
+    # and the arc at feed after it do not (its start is not in the feeds' lists)
+    calls = []
+    general = MoveSummary._add
+    monkeypatch.setattr(MoveSummary, "_add", lambda self, rec, kind: calls.append(rec.line) or general(self, rec, kind))
+    stream = _chain(("rapid", {"X": 0.0, "Y": 0.0, "Z": 10.0}), ("linear", {"X": 10.0, "Y": 0.0, "Z": 10.0}))
+    plane, src = ("X", "Y", "Z"), Source("p.nc", 0, "")
+    pos = stream[-1][0].end
+    for line, (end, center, direction, feed) in enumerate([
+            ({"X": 0.0, "Y": 10.0, "Z": 10.0}, {"X": 0.0, "Y": 0.0}, "ccw", 800.0),   # a quarter turn: no point
+            ({"X": 0.0, "Y": -10.0, "Z": 8.0}, {"X": 0.0, "Y": 0.0}, "ccw", 800.0),   # a half helix over -X
+            ({"X": 5.0, "Y": -5.0, "Z": 8.0}, {"X": 5.0, "Y": -10.0}, "ccw", None),
+            ({"X": 5.0, "Y": -15.0, "Z": 8.0}, {"X": 5.0, "Y": -10.0}, "cw", 800.0)], start=3):
+        arc = Arc("arc", pos, end, end, center, dict(center), direction, plane, math.dist(
+            (end["X"], end["Y"]), (center["X"], center["Y"])), 0, feed, "G94", dataclasses.replace(src, line=line))
+        stream.append((arc, "G54"))
+        pos = end
+    summary = _fed(MoveSummary(), stream)
+    assert _outcome(summary) == _outcome(_fed(Reference(), stream))
+    assert calls == [1, 2, 5, 6]
+    box = summary.boxes()[0]
+    assert box.feed_machine.lo["X"] == pytest.approx(-10.0) and box.feed_machine.hi["X"] == pytest.approx(10.0)
+    assert box.machine.hi["X"] == pytest.approx(10.0) and box.feed_machine.lo["Y"] == pytest.approx(-15.0)
+
+
 def test_the_short_way_steps_aside_after_m06():
     # the line after M06 starts at the last end (the same dict), but that point belongs to tool 1's
     # boxes only: tool 2's must get it too
@@ -333,6 +359,24 @@ def test_axes_appearing_later_keep_the_order_of_their_first_point():
     box = summary.boxes()[0]
     assert list(box.machine.lo) == ["X", "Y", "A", "Z"]
     assert list(box.feed_machine.lo) == ["X", "Y", "A", "Z"]
+
+
+def test_an_empty_box_takes_the_first_point_then_the_reductions(monkeypatch):
+    # a tool's first points: its empty box of all moves takes the first point that came (a feed's start, its
+    # axes in the order Z X Y), the rest by the lists' reductions (the rapids' points in the order X Y Z), not
+    # point by point; the same boxes, the axes in the same order, as the reference
+    def pointwise(self, box):
+        raise AssertionError("point by point")
+
+    monkeypatch.setattr(MoveSummary, "_pointwise", pointwise)
+    zxy = {"Z": 1.0, "X": 0.0, "Y": 0.0}
+    stream = [(_line("linear", zxy, {"Z": 0.5, "X": 4.0, "Y": -2.0}, 1), "G54")]
+    stream += _chain(("rapid", {"X": -3.0, "Y": 1.0, "Z": 9.0}), ("linear", {"X": 6.0, "Y": 1.0, "Z": 2.0}))
+    summary = _fed(MoveSummary(), stream)
+    assert _outcome(summary) == _outcome(_fed(Reference(), stream))
+    box = summary.boxes()[0]
+    assert list(box.machine.lo) == list(box.part.lo) == ["Z", "X", "Y"]
+    assert box.machine.lo == {"Z": 0.0, "X": -3.0, "Y": -2.0} and box.machine.hi == {"Z": 9.0, "X": 6.0, "Y": 1.0}
 
 
 def test_reduce_steps_aside_for_mixed_axes_and_a_leading_nan():

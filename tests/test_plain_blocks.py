@@ -243,6 +243,18 @@ def test_arc_errors_same_both_ways(program, monkeypatch):
     _same("%ERR\nG90 G0 X0 Y0 Z0\nG2 X10 Y0 I5 J0\nM30\n", monkeypatch)   # INT060 no feed on an arc
 
 
+@pytest.mark.parametrize("cirinfact", [0.5, 0.1])
+@pytest.mark.parametrize("correction", ["G264", "G265"])
+def test_arc_radius_tolerances_same_both_ways(cirinfact, correction, monkeypatch):
+    # end radius 5.01 against 5: 0.01 mm over CIRINERR 0.001, 0.2 % within CIRINFACT 0.5 % (the centre kept or
+    # corrected) or over 0.1 % (INT062)
+    machine = {**MACHINE, "cirinerr": 0.001, "cirinfact": cirinfact}
+    program = f"%TOL\nG90 G0 X0 Y0 Z0\n{correction}\nG1 F800\nG2 X10.01 Y0 I5 J0\nG3 X0 Y0 R5.005\nM30\n"
+    assert _run(program, machine, True, monkeypatch)[2] == (cirinfact == 0.5)
+    assert _direct_arcs(program, machine, monkeypatch) == (2 if cirinfact == 0.5 else 0)
+    _same(program, monkeypatch, machine)
+
+
 # Feeds of plain lines: the fast path's G94 feed (F itself, clamped to MAXFEED) and its F words (a
 # positive F in mm/min or mm/rev, inch F) against the general _feed and _active_feed; the others (G93 F,
 # F0, G95, DEFAULTFEED) go through the general functions from the fast path.
@@ -330,6 +342,14 @@ def test_record_maker_makes_the_same_records():
         y: list = dataclasses.field(default_factory=list)
 
     assert plain.record_maker(Plain) is Plain
+    assert all(plain.record_maker(cls) is not cls for cls in (Line, Arc, Source))   # the records' own makers
+
+    @dataclasses.dataclass(frozen=True, slots=True)
+    class Other:
+        x: int
+
+    Other.__slots__ = ("x", "y")   # slots that are not its layout: no twin of the same layout, the class itself
+    assert plain.record_maker(Other) is Other
 
 
 def test_record_maker_takes_the_fields_in_order():
@@ -426,3 +446,40 @@ def test_long_moves_sum_their_squares_as_the_records_do(block, monkeypatch):
     move = r.moves[-1]
     if move.kind == "linear":   # the plain path's time is the record's length at its feed
         assert r.cycle_time == pytest.approx(move.length / 1000.0 * 60.0, rel=1e-12)
+
+
+def test_plain_arc_time_is_the_record_time(monkeypatch):
+    # PlainBlocks._arc works out record_time() of its arc on the way (Arc.sweep is the sweep it made, where
+    # the record's points are its points): the same float as record_time() of the record, in every feed mode,
+    # helices, G18/G19, inches, G265, offsets and signed zeros included (those it does not time: record_time()
+    # itself in the block loop); and it times the commonest arcs
+    from fagorcnc.interp.records import record_time
+
+    timed = []
+    arc = plain.PlainBlocks._arc
+
+    def timing(self, *args):
+        out = arc(self, *args)
+        if out is not plain.NOT_PLAIN:
+            timed.append((self.seconds, out))
+        return out
+
+    monkeypatch.setattr(Interpreter, "plain_blocks", True)
+    monkeypatch.setattr(plain.PlainBlocks, "_arc", timing)
+    programs = [("%A\nG90 G0 X0 Y0 Z0 F800\nG1 F800\n" + text + "M30\n", MACHINE) for text in ARCS.values()]
+    programs += [("%F\nG90 G0 X0 Y0 Z0\n" + FEEDS[name] + "M30\n", FEED_MACHINE) for name in FEEDS if "arcs" in name]
+    programs.append(("G90 G1 X-0 Y-0 Z-0 F1000\nG2 X-0 Y0 I-0 J0\nX1 Y-0\nG3 X-0 Y1 I-1 J0\nG3 X0 Y-1 I0 J-1\n"
+                     "G3 X0.3 Y-0.9 I-0.3 J1.9\nM30\n", None))
+    # the centre X-0 (0.0 in the record) and the end on it (within CIRINERR): the sweeps differ, the lengths not
+    programs.append(("G90 G264 G1 X-0 Y0.005 Z0 F1000\nG2 X-0 Y0 Z1 I-0 J-0.005\nM30\n", None))
+    # helices of 600, 1384.6 and 2571.4 degrees: their length is that of the pitch's sweep, not of their end
+    # points' sweep and turns (1384.6153846153845 and 1384.6153846153843 degrees)
+    programs.append(("G90 G0 X10 Y0 Z0\nG1 F800\nG3 X0 Y10 Z-5 I-10 J0 K3\nG1 X10 Y0\nG3 X0 Y10 Z0 I-10 J0 K1.3\n"
+                     "G1 X10 Y0\nG3 X0 Y10 Z-5 I-10 J0 K0.7\nM30\n", None))
+    for text, machine in programs:
+        fagorcnc.simulate(text, machine)
+    machine = fagorcnc.load_machine(MACHINE)
+    for seconds, rec in timed:
+        if seconds is not None:
+            assert repr(seconds) == repr(record_time(machine, rec)), rec
+    assert sum(seconds is not None for seconds, _ in timed) >= 20

@@ -10,11 +10,12 @@ summary's way any more).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from operator import is_, itemgetter
 from typing import Any
 
-from ..interp.records import CurveLine, IndependentMove, Line
+from ..interp.records import Arc, CurveLine, IndependentMove, Line
 
 
 def _round(v: float) -> float:
@@ -111,8 +112,9 @@ class MoveSummary:
     axis at C speed when the tool changes, a list holds :data:`RUN_POINTS` points or the boxes are
     asked for (:func:`_reduce`).  A move's points are its start (unless it starts where the last
     move of its kind ended: already in), its end and an arc's quarter-turn points
-    (:func:`arc_points`); a plain line that continues the last move takes the short way at the top
-    of :meth:`add`.  The boxes get the values widening them point by point gives.
+    (:func:`arc_points`); a plain line that continues the last move, and an arc at feed that continues
+    a run of feeds, take a short way in :meth:`_summarise`.  The boxes get the values widening them
+    point by point gives.
     """
 
     __slots__ = (
@@ -194,22 +196,27 @@ class MoveSummary:
 
     def _summarise(self, records: list, label: str) -> None:
         """``records``, made under the origin ``label``, into the summary: a plain line that continues
-        the last move by its end points alone, any other record by :meth:`_add`."""
+        the last move by its end points alone, an arc at feed that continues the feeds by its end and
+        quarter-turn points, any other record by :meth:`_add`."""
         moves = 0
         for rec in records:
             kind = rec.kind
-            if kind is self._line_kind and rec.start is self._last_end and type(rec) in _LINES:
+            if (kind is self._line_kind and rec.start is self._last_end and type(rec) in _LINES) or (
+                    kind == "arc" and self._line_kind == "linear" and rec.start is self._last_end
+                    and type(rec) is Arc and rec.feed is not None):
+                # a plain line continuing the last move of its kind, or an arc at feed continuing the feeds
                 end_part = rec.end_part
                 if end_part is None:
                     continue
                 if not moves:
                     self._enter(label, rec)
                 moves += 1
-                self._last_end = end = rec.end
-                points = self._machine_points
-                points.append(end)
-                self._part_points.append(end_part)
-                self._part_here = end_part
+                points, part = self._machine_points, self._part_points
+                points.append(end := rec.end)
+                part.append(end_part)
+                if kind == "arc":
+                    _arc_points_of(rec, self._part_here, end_part, points, part)
+                self._part_here, self._last_end = end_part, end
                 if len(points) >= RUN_POINTS:
                     self._flush()
             elif self._add(rec, kind):
@@ -295,6 +302,8 @@ class MoveSummary:
             return
         (rapid_machine, rapid_part), (feed_machine, feed_part) = self._rapids, self._feeds
         if rapid_machine or feed_machine:
+            if not box.machine or not box.part:
+                self._seed(box)
             rapids, feeds = _reduce(rapid_machine), _reduce(feed_machine)
             rapids_part = rapids if _same(rapid_machine, rapid_part) else _reduce(rapid_part)
             feeds_part = feeds if _same(feed_machine, feed_part) else _reduce(feed_part)
@@ -305,20 +314,36 @@ class MoveSummary:
                 points.clear()
         self._order = [(self._feed, 0, 0)]
 
+    def _seed(self, box: ToolBox) -> None:
+        """An empty box of all moves widened by the run's first point alone, as point by point: its axes then
+        stand in that point's order, and the reductions of the lists (:func:`_widen`) can do the rest (a point
+        again changes nothing, should it go point by point after all)."""
+        for frame, every in ((0, box.machine), (1, box.part)):
+            if not every:
+                first = next((points[0] for _feed, points in self._arrivals(frame) if points), None)
+                if first is not None:
+                    every.add(first)
+
     def _pointwise(self, box: ToolBox) -> None:
         """:meth:`_flush` point by point, in the order the points came (axes appearing later: their order
         in the boxes is that of their first point)."""
         for frame, every, feeds in ((0, box.machine, box.feed_machine), (1, box.part, box.feed_part)):
-            lists = {False: self._rapids[frame], True: self._feeds[frame]}
-            ends = {feed: [entry[1 + frame] for entry in self._order if entry[0] is feed] + [len(lists[feed])]
-                    for feed in (False, True)}
-            taken = {False: 0, True: 0}
-            for feed, *begins in self._order:
-                n = taken[feed] = taken[feed] + 1
-                for point in lists[feed][begins[frame]:ends[feed][n]]:
+            for feed, points in self._arrivals(frame):
+                for point in points:
                     every.add(point)
                     if feed:
                         feeds.add(point)
+
+    def _arrivals(self, frame: int) -> Iterator[tuple[bool, list]]:
+        """The run's points in the machine (``frame`` 0) or the part frame (1) in the order they came: each
+        stretch of one list as ``(feed, points)``."""
+        lists = {False: self._rapids[frame], True: self._feeds[frame]}
+        ends = {feed: [entry[1 + frame] for entry in self._order if entry[0] is feed] + [len(lists[feed])]
+                for feed in (False, True)}
+        taken = {False: 0, True: 0}
+        for feed, *begins in self._order:
+            n = taken[feed] = taken[feed] + 1
+            yield feed, lists[feed][begins[frame]:ends[feed][n]]
 
     def tools(self) -> list[ToolUse]:
         self._take()
@@ -355,7 +380,8 @@ def _arc_points_of(rec, start_part: dict, end_part: dict, machine: list, part: l
     the same points when the arc is the same there (no origin shift: equal points)."""
     start, end, center = rec.start, rec.end, rec.center
     center_part = getattr(rec, "center_part", None) or {}
-    same = end_part == end and start_part == start and center_part == center
+    same = (end_part is end or end_part == end) and (start_part is start or start_part == start) \
+        and center_part == center   # (a dict is equal to itself: no need to compare it value by value)
     short = _in_one_quadrant(rec, start, end, center)
     if short and same:
         return
@@ -387,13 +413,14 @@ def _in_one_quadrant(rec, start: dict, end: dict, center: dict) -> bool:
         return False
     sa, so, ea, eo = start[a], start[o], end[a], end[o]
     ua, uo, va, vo = sa - ca, so - co, ea - ca, eo - co
-    size_u, size_v = abs(ua) + abs(uo), abs(va) + abs(vo)
+    aua, auo, ava, avo = abs(ua), abs(uo), abs(va), abs(vo)
+    size_u, size_v = aua + auo, ava + avo
     clear = _CLEAR * (size_u + size_v)
-    if not (abs(ua) > clear and abs(uo) > clear and abs(va) > clear and abs(vo) > clear):
-        return False   # an end near an edge of its quadrant (or the centre)
+    if not (aua > clear and auo > clear and ava > clear and avo > clear):
+        return False   # an end near an edge of its quadrant (or the centre), or a coordinate not finite
     if (ua > 0.0) != (va > 0.0) or (uo > 0.0) != (vo > 0.0):
         return False   # the ends in two quadrants
-    if max(abs(ea - sa), abs(eo - so)) <= 1e-6:
+    if abs(ea - sa) <= 1e-6 and abs(eo - so) <= 1e-6:
         return False   # a full circle (the end at the start: within 1e-7, path/arcs.py sweep)
     cross = ua * vo - uo * va
     turn = _CLEAR * size_u * size_v

@@ -30,7 +30,6 @@ from ..path import arcs
 from ..syntax.ast import Block, Word
 from . import compat
 from .expressions import InterpError
-from .gvars import arc_data
 from .records import _FEED_MODES, _JOINS, Arc, Line, Source, feed_mode, shared_tuple
 from .units import INCH
 from .words import BlockWords
@@ -68,7 +67,8 @@ def _roles(by_name: dict, configured) -> dict:
 class PlainBlocks:
     """Runs plain blocks for an :class:`~fagorcnc.interp.interpreter.Interpreter` (see the module)."""
 
-    __slots__ = ("_diameter", "_linear", "_max_feed", "_names", "_roles", "interp", "iso", "seconds", "state")
+    __slots__ = ("_cirinerr", "_cirinfact", "_diameter", "_linear", "_max_feed", "_names", "_roles", "interp", "iso",
+                 "seconds", "state")
 
     def __init__(self, interp) -> None:
         self.interp = interp
@@ -80,6 +80,7 @@ class PlainBlocks:
         self._linear = frozenset(a for a, ax in axes.items() if not ax.rotary)
         self._diameter = frozenset(a for a, ax in axes.items() if ax.diameter)
         self._max_feed = interp.machine.max_feed   # MAXFEED (_active_feed's clamp)
+        self._cirinerr, self._cirinfact = interp.machine.cirinerr, interp.machine.cirinfact   # _radius_check's
         #: record_time() of the last record :meth:`run` made, when it worked it out on the way (a G01), else None
         self.seconds: float | None = None
 
@@ -177,11 +178,11 @@ class PlainBlocks:
             kin = st.kin
             tr = st.transform
             # the simplest state: no transformation, radius compensation, kinematics or per-block planning
-            # context; then _line and _arc are MotionMixin._motion's steps for the block
+            # context; then _move is MotionMixin._motion's steps for the block
             if (tr.scale == 1.0 and not tr.mirror and tr.angle == 0.0 and modes["compensation"] not in (41, 42)
                     and kin.frame is None and not kin.raw and not kin.pending_ori and not kin.angax
                     and not kin.tangential and not kin.c_axes and not kin.as_linear and not st.block_modes):
-                rec = self._line(mode, axes, src) if mode < 2 else self._arc(mode, axes, params, src)
+                rec = self._move(mode, axes, params, src)
         if rec is NOT_PLAIN:   # the words as classify() sorts them, for _motion
             bw = BlockWords()
             bw.g = [(n, col, None) for (n, _group), col in gl]
@@ -194,29 +195,50 @@ class PlainBlocks:
             compat.spindle_lint(interp, rec, 1)
         return rec
 
-    # ------------------------------------------------------------ G00/G01 in the simplest state
-    def _line(self, mode: int, words: dict, src: Source):
-        """``MotionMixin._motion`` of a G00/G01 with axis words in the simplest state (no transformation, radius
-        compensation, kinematics or per-block planning context: :meth:`run`), step by step (the same arithmetic
-        in the same order): the programmed point is the part point (no transformation),
-        the origin chain is worked out again only when the tool length compensation changed it, no
-        rotary axis word (:data:`NOT_PLAIN`: ``_motion`` itself)."""
-        st = self.state
-        iso = self.iso
+    # ------------------------------------------------------------ G00-G03 in the simplest state
+    def _move(self, mode: int, words: dict, params: dict, src: Source):
+        """``MotionMixin._motion`` of a G00-G03 in the simplest state (no transformation, radius compensation,
+        kinematics or per-block planning context: :meth:`run`), step by step (the same arithmetic in the same
+        order): what a line and an arc share (the plane, the start point, the target), then :meth:`_line` or
+        :meth:`_arc`.  The programmed point is the part point (no transformation).  :data:`NOT_PLAIN` before
+        anything changed for a rotary axis word (``_motion`` itself: unrolled positions, directions,
+        ``IsoExecutor._rotary``) and for an arc this path does not take: another plane than G17-G19, R without
+        an end point in the plane (a polar move), neither centre nor R (the stored radius, a null move), a
+        letter that is not the plane's."""
         if not self._linear.issuperset(words):
-            return NOT_PLAIN   # a rotary axis: _motion itself (unrolled positions, directions: IsoExecutor._rotary)
+            return NOT_PLAIN
+        st = self.state
         modes = st.modes
+        plane = modes["plane"]
+        letters = None
+        if mode >= 2:
+            letters = _CENTRE_LETTERS.get(plane)
+            if letters is None:
+                return NOT_PLAIN   # G20: the general path
         slots = st.channel.slots
-        if modes["plane"] == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
-            a, o = slots[0], slots[1]
+        if plane == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
+            a, o, n = slots[0], slots[1], slots[2]
         else:
-            a, o, _ = st.plane_axes()
+            a, o, n = st.plane_axes()
+        by_centre = False
+        if letters is not None:
+            if a is None or o is None:
+                return NOT_PLAIN   # INT150: the general path says it
+            ci, cj, ck = letters
+            by_centre = ci in params or cj in params
+            in_plane = a in words or o in words
+            for letter in params:
+                if letter != ci and letter != cj and letter != ck and (letter != "R" or by_centre or not in_plane):
+                    return NOT_PLAIN   # R with a centre, a polar R, a letter of another plane
+            if not by_centre and "R" not in params:
+                return NOT_PLAIN   # only the pitch: the stored radius R1=, or none (INT061)
+        # programmed_pos() (no transformation: the part position), move_start()
         pos = st.machine_pos
         off, cur_part = _part_point(st, pos)
         last = st._last_end   # move_start(): the last end point when the tool is still there
         start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
-        incremental = modes["distance"] == 91
         inch = modes["units"] == 70
+        incremental = modes["distance"] == 91
         diameter = modes["diameter"] == 151
         end_part = dict(cur_part)   # target(); transform.apply() under no transformation is the same point
         for axis, (v, _col) in words.items():
@@ -225,6 +247,17 @@ class PlainBlocks:
             if diameter and axis in self._diameter:
                 v /= 2.0
             end_part[axis] = cur_part[axis] + v if incremental else v
+        if letters is None:
+            return self._line(mode, words, src, a, o, off, cur_part, start, end_part)
+        return self._arc(mode, words, params, src, (a, o, n), letters, by_centre, off, cur_part, start, end_part)
+
+    def _line(self, mode: int, words: dict, src: Source, a: str | None, o: str | None, off: dict | None,
+              cur_part: dict, start: dict, end_part: dict):
+        """The rest of :meth:`_move` for a G00/G01 from its plane axes ``a`` ``o``, offsets ``off``
+        (:func:`_part_point`), part and machine start points and target: the origin chain is worked out again
+        only when the tool length compensation changed it."""
+        st = self.state
+        iso = self.iso
         applied = st.length_offset
         if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
             iso._length_compensation(_Words(words))   # a move of the tool axis applies the tool length (L10072)
@@ -243,13 +276,18 @@ class PlainBlocks:
             d = math.dist((sa, so), (ea, eo))
             if not d < 1e-12:
                 st.tangent = ((ea - sa) / d, (eo - so) / d)
+        modes = st.modes
         if mode == 0:   # _compensation() is None, _joins(None) the modal pair
             # Line's fields in order: kind, start, end, end_part, feed, feed_mode, src, comp, dyn, frame, joins
             return _line_record("rapid", start, end, end_part, None, "G94", src, None, st.dynamics(), None,
                                 shared_tuple((modes["transition"], modes["comp_start"])))
         # sum(), as Line.length sums (a loop of += would differ in the last bit from Python 3.12 on, whose
-        # sum() of floats is compensated); a list: the same sum, in order
-        length = math.sqrt(sum([(v - start[x]) ** 2 for x, v in end.items()]))
+        # sum() of floats is compensated); of a list made by a loop: the same sum, in order, without the
+        # comprehension's function and closure
+        squares = []
+        for x, v in end.items():
+            squares.append((v - start[x]) ** 2)
+        length = math.sqrt(sum(squares))
         mode_f = modes["feed"]
         feed = st.feed
         if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself, at most MAXFEED
@@ -268,56 +306,19 @@ class PlainBlocks:
                             None, dyn if dyn is not None else st.dynamics(), None,
                             _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins), None, css)
 
-    # ------------------------------------------------------------ G02/G03 in the simplest state
-    def _arc(self, mode: int, words: dict, params: dict, src: Source):
-        """``MotionMixin._motion`` then ``_arc`` of a G02/G03 by its centre (the plane's centre words, from
-        the start point or absolute under G261) or by R (an end point in the plane), helix pitch included,
-        in the simplest state, step by step with the same arithmetic in the same order (seed 002 ch. 8.3-8.5).
-        :data:`NOT_PLAIN` before anything changed for what it does not take: another plane than G17-G19, a
-        rotary axis word, R without an end point in the plane (a polar move), neither centre nor R (the
-        stored radius, a null move), a letter that is not the plane's."""
+    def _arc(self, mode: int, words: dict, params: dict, src: Source, plane: tuple, letters: tuple,
+             by_centre: bool, off: dict | None, cur_part: dict, start: dict, end_part: dict):
+        """The rest of :meth:`_move` for a G02/G03 (then ``MotionMixin._arc``'s steps, seed 002 ch. 8.3-8.5) by
+        its centre (the plane's centre ``letters``, from the start point or absolute under G261) or by R,
+        helix pitch included, from its plane axes, offsets, part and machine start points and target."""
         st = self.state
         iso = self.iso
         modes = st.modes
-        letters = _CENTRE_LETTERS.get(modes["plane"])
-        if letters is None:
-            return NOT_PLAIN   # G20: the general path
+        a, o, _n = plane
         ci, cj, ck = letters
-        if not self._linear.issuperset(words):
-            return NOT_PLAIN   # a rotary axis
-        slots = st.channel.slots
-        if modes["plane"] == 17 and len(slots) >= 3:   # plane_axes() of G17, inline
-            a, o, n = slots[0], slots[1], slots[2]
-        else:
-            a, o, n = st.plane_axes()
-        if a is None or o is None:
-            return NOT_PLAIN   # INT150: the general path says it
-        by_centre = ci in params or cj in params
-        in_plane = a in words or o in words
-        for letter in params:
-            if letter != ci and letter != cj and letter != ck and (letter != "R" or by_centre or not in_plane):
-                return NOT_PLAIN   # R with a centre, a polar R, a letter of another plane
-        if not by_centre and "R" not in params:
-            return NOT_PLAIN   # only the pitch: the stored radius R1=, or none (INT061)
-        # _motion: programmed_pos() (no transformation: the part position), move_start()
-        pos = st.machine_pos
-        off, cur_part = _part_point(st, pos)
-        last = st._last_end   # move_start()
-        start = last if last is not None and last == pos and tuple(last) == tuple(pos) else dict(pos)
-        # _arc
-        col = next(iter(words.values()))[1] if words else next(iter(params.values()))[1]
         inch = modes["units"] == 70
         pitch = params[ck][0] if ck in params else None
         sp = (cur_part[a], cur_part[o])
-        end_part = dict(cur_part)   # target()
-        incremental = modes["distance"] == 91
-        diameter = modes["diameter"] == 151
-        for axis, (v, _col) in words.items():
-            if inch:
-                v *= INCH
-            if diameter and axis in self._diameter:
-                v /= 2.0
-            end_part[axis] = cur_part[axis] + v if incremental else v
         ccw = mode == 3
         try:
             if by_centre:
@@ -334,37 +335,54 @@ class PlainBlocks:
                     r *= INCH
                 center = arcs.centre_from_radius(sp, (end_part[a], end_part[o]), r, not ccw)
         except arcs.ArcError as exc:
-            raise InterpError("INT064", str(exc), col) from None
+            raise InterpError("INT064", str(exc), _first_col(words, params)) from None
         ep = (end_part[a], end_part[o])
         r0 = math.dist(sp, center)
         if r0 < 1e-9:
-            raise InterpError("INT061", "the arc centre is on the start point (radius 0)", col)
+            raise InterpError("INT061", "the arc centre is on the start point (radius 0)", _first_col(words, params))
         programmed = center
-        if by_centre and not abs(math.dist(ep, center) - r0) <= 1e-12:   # else _radius_check() keeps the centre
-            center = iso._radius_check(sp, ep, center, col)   # CIRINERR, CIRINFACT, G264/G265
-        arc_data(st, sp, programmed, center, ep, (a, o, n))   # V.G.R, I, J, K, CIRERR (L40454)
+        radius = math.dist(ep, center)   # the record's radius while the centre and the end stay
+        if by_centre and not (mismatch := abs(radius - r0)) <= 1e-12:   # else _radius_check() keeps the centre
+            # _radius_check() of the radii worked out already: CIRINERR, CIRINFACT (it says INT062), G264/G265
+            if not (mismatch <= self._cirinerr or 100.0 * mismatch / r0 <= self._cirinfact):
+                iso._radius_check(sp, ep, center, _first_col(words, params))
+            if modes["centre_correction"] == 265:
+                center = arcs.corrected_centre(sp, ep, center)
+                if center is not programmed:
+                    radius = math.dist(ep, center)
+        st.arc_data = (sp, programmed, center, ep, plane)   # arc_data(): V.G.R, I, J, K, CIRERR (L40454)
         delta = arcs.sweep(sp, ep, center, ccw)
         turns = 0
         if pitch is not None:
-            delta, turns, ep = iso._helix(delta, pitch, cur_part, end_part, center, r0, ccw, col)
+            delta, turns, ep = iso._helix(delta, pitch, cur_part, end_part, center, r0, ccw, _first_col(words, params))
             end_part[a], end_part[o] = ep
+            radius = math.dist(ep, center)
         applied = st.length_offset
         if applied or (st.offset and st.tool):   # _length_compensation() returns at once otherwise
             iso._length_compensation(_Words(words))
             if st.length_offset is not applied:
                 off = st.offsets()
-        st.tangent = arcs.end_tangent(sp, ep, center, ccw)
+        # arcs.end_tangent(), inline: math.dist() of two points is math.hypot() of their differences
+        ra, ro = ep[0] - center[0], ep[1] - center[1]
+        st.tangent = None if radius < 1e-12 else (-ro / radius, ra / radius) if ccw else (ro / radius, -ra / radius)
         end = _machine_end(st, end_part, off)
         lower, upper = st.lower_limits, st.upper_limits
         for x, v in end.items():   # check_limits() says more only for a point outside the limits
             if not lower[x] - 1e-9 <= v <= upper[x] + 1e-9:
-                iso.interp.check_limits(end, col, start)
+                iso.interp.check_limits(end, _first_col(words, params), start)
                 break
         st.machine_pos = dict(end)   # moved_to()
         st._last_end = end
         center_part = {a: center[0], o: center[1]}
         center_m = {a: center[0] + 0.0, o: center[1] + 0.0} if off is None else \
             {a: center[0] + off[a], o: center[1] + off[o]}
+        # the squares of the moves off the plane: sum(), as Arc.length sums (compensated from Python 3.12 on: a
+        # loop of += would differ), of a list made by a loop (the same sum, without a comprehension's function)
+        squares = []
+        for x, v in end.items():
+            if x != a and x != o:
+                squares.append((v - start[x]) ** 2)
+        other = sum(squares)
         mode_f = modes["feed"]
         feed = st.feed
         if mode_f == 94 and feed:   # _active_feed() of G94 with a feed: F itself at most MAXFEED, whatever the length
@@ -372,42 +390,54 @@ class PlainBlocks:
                 feed = min(feed, self._max_feed)
         else:
             planar = abs(math.radians(delta)) * r0 * 1.0   # the scale is 1
-            # sum(), as Arc.length sums (compensated from Python 3.12 on: a loop of += would differ)
-            other = sum([(v - start[x]) ** 2 for x, v in end.items() if x != a and x != o])
             feed = iso._active_feed(math.hypot(planar, math.sqrt(other)), start)
+        css = iso._css() if mode_f == 95 else None
+        radius *= 1.0   # the scale is 1
+        if css is None and feed is not None and pitch is None and end is end_part and start[a] is sp[0] \
+                and start[o] is sp[1]:
+            # record_time() of the record: Arc.sweep is delta, the sweep of the same points (the centre's + 0.0
+            # turns only a -0.0 into 0.0, which changes the sweep only for an end on the centre, where the radius
+            # 0 makes the planar length 0 whatever the sweep), then Arc.length's arithmetic
+            length = math.hypot(abs(math.radians(delta)) * radius, math.sqrt(other))
+            self.seconds = 0.0 if length == 0.0 else length / feed * 60.0 if feed else 0.0
         dyn = st._dynamics   # st.dynamics(): no per-block modes in the simplest state
         # Arc's fields in order: kind, start, end, end_part, center, center_part, direction, plane, radius, turns,
         # feed, feed_mode, src, comp, dyn, frame, joins, css
-        return _arc_record("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw", (a, o, n),
-                           math.dist(ep, center) * 1.0, turns, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f),
-                           src, None, dyn if dyn is not None else st.dynamics(), None,
-                           _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins),
-                           iso._css() if mode_f == 95 else None)
+        return _arc_record("arc", start, end, end_part, center_m, center_part, "ccw" if ccw else "cw", plane, radius,
+                           turns, feed, _FEED_MODES.get(mode_f) or feed_mode(mode_f), src, None,
+                           dyn if dyn is not None else st.dynamics(), None,
+                           _JOINS.setdefault(joins := (modes["transition"], modes["comp_start"]), joins), css)
 
 
 def record_maker(cls):
-    """A function that makes ``cls(**fields)`` without its ``__init__``: a frozen dataclass with slots sets each
-    field through ``object.__setattr__``, half the cost of a move's record; this sets the slots directly, to
-    an object that compares, hashes and prints the same.  Called with the fields in their order or by
-    keyword (a positional call costs less: the plain blocks' records); the fields left out take their
-    defaults.  ``cls`` itself when it is not such a class (a ``__post_init__``, a default factory, no
-    slots)."""
+    """A function that makes ``cls(**fields)`` without its ``__init__``, to an object that compares, hashes and
+    prints the same: a frozen dataclass with slots sets each field through ``object.__setattr__``, and a
+    slot's descriptor called from Python costs as much; this fills the slots of a twin class (the same bases
+    and slots, without the frozen ``__setattr__``: each field a plain slot store) and then makes the object a
+    ``cls`` (``__class__`` assignment between classes of the same layout), a quarter of the cost.  Called
+    with the fields in their order or by keyword (a positional call costs less: the plain blocks' records);
+    the fields left out take their defaults.  ``cls`` itself when it is not such a class (a
+    ``__post_init__``, a default factory, no slots, another layout)."""
     if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__") or "__slots__" not in cls.__dict__:
         return cls
     fields = dataclasses.fields(cls)
     if any(f.default_factory is not dataclasses.MISSING or not f.init for f in fields):
         return cls
-    space = {"_new": object.__new__, "_cls": cls}
+    twin = type(f"_{cls.__name__}Slots", cls.__bases__, {"__slots__": cls.__slots__})
+    try:
+        object.__new__(twin).__class__ = cls
+    except TypeError:   # not the same layout
+        return cls
+    space = {"_new": object.__new__, "_twin": twin, "_cls": cls}
     params, body = [], []
     for i, f in enumerate(fields):
-        space[f"_set{i}"] = cls.__dict__[f.name].__set__
         if f.default is dataclasses.MISSING:
             params.append(f.name)
         else:
             space[f"_default{i}"] = f.default
             params.append(f"{f.name}=_default{i}")
-        body.append(f"    _set{i}(o, {f.name})\n")
-    code = f"def make({', '.join(params)}):\n    o = _new(_cls)\n{''.join(body)}    return o\n"
+        body.append(f"    o.{f.name} = {f.name}\n")
+    code = f"def make({', '.join(params)}):\n    o = _new(_twin)\n{''.join(body)}    o.__class__ = _cls\n    return o\n"
     exec(code, space)   # the code is made here, from the field names of a class of records
     return space["make"]
 
@@ -415,6 +445,11 @@ def record_maker(cls):
 _line_record = record_maker(Line)
 _arc_record = record_maker(Arc)
 _source = record_maker(Source)
+
+
+def _first_col(words: dict, params: dict) -> int:
+    """The column an arc's errors point at: that of its first axis word, else of its first centre or radius word."""
+    return next(iter(words.values()))[1] if words else next(iter(params.values()))[1]
 
 
 def _part_point(st, pos: dict) -> tuple:
