@@ -122,6 +122,9 @@ class LinePiece(Piece):
     def direction_list(self, s: float) -> tuple[list[float], tuple[float, ...]]:
         return self.ul, (0.0,) * len(self.ul)
 
+    def tangent_list(self, s: float) -> list[float]:
+        return self.ul
+
     def sub(self, s0: float, s1: float, start: np.ndarray | None = None) -> LinePiece:
         # the same direction and derivative bounds: only the ends move (no norm, no division), and
         # an end that stays keeps its point; ``start``: the point at s0 when already computed
@@ -276,16 +279,28 @@ class ArcPiece(Piece):
         t, k = self.direction_list(s)
         return np.array(t), np.array(k)
 
-    def direction_list(self, s: float) -> tuple[list[float], list[float]]:
-        """The unit tangent and curvature vector at ``s`` as lists of floats: every corner at an arc
-        asks for them (smooth? how sharp?)."""
+    def _velocity(self, s: float) -> tuple[list[float], float, float, float]:
+        """``q'`` at ``s`` as a list of floats, with the cosine and sine of the angle and the radius there."""
         th = self.theta0 + self.w * s
         c, sn = math.cos(th), math.sin(th)
         rho = self.r0 + self.dr * s
+        w, dr = self.w, self.dr
+        d1 = list(self._lin[0])   # the floats of ``lin``
+        d1[self.ia] = dr * c - rho * w * sn
+        d1[self.io] = dr * sn + rho * w * c
+        return d1, c, sn, rho
+
+    def tangent_list(self, s: float) -> list[float]:
+        """The unit tangent at ``s`` as a list of floats: :meth:`direction_list`'s, without the
+        curvature (which a corner only asks for when the tangents meet)."""
+        d1 = self._velocity(s)[0]
+        return list(map(math.hypot(*d1).__rtruediv__, d1))   # x / |q'|, as direction_list divides
+
+    def direction_list(self, s: float) -> tuple[list[float], list[float]]:
+        """The unit tangent and curvature vector at ``s`` as lists of floats: a corner at an arc
+        whose tangents meet asks for them (smooth?)."""
+        d1, c, sn, rho = self._velocity(s)
         w, dr, ia, io = self.w, self.dr, self.ia, self.io
-        d1 = self.lin.tolist()
-        d1[ia] = dr * c - rho * w * sn
-        d1[io] = dr * sn + rho * w * c
         da = -2 * dr * w * sn - rho * w * w * c     # q'' has no other component
         do = 2 * dr * w * c - rho * w * w * sn
         speed = math.hypot(*d1)

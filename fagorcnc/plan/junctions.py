@@ -28,7 +28,7 @@ from .corners import (
 from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
-from .shortcuts import batched_line_corner, cut_line, fast_corners, fast_splines
+from .shortcuts import batched_arc_corner, batched_line_corner, cut_line, fast_arc_corners, fast_corners, fast_splines
 from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
@@ -64,6 +64,14 @@ class CornerMixin:
             made = batched_line_corner(prev, nxt, fast)
             if made is not None:
                 return self._blend_span(prev, nxt, *made)
+        if self._arc_blends and (fast := self._arc_blends.get(id(prev))) is not None and fast[0] is nxt:
+            found = batched_arc_corner(prev, nxt, fast)
+            if found is not None:
+                made, feed, limits = found
+                if made is None:
+                    prev.stop_after = True
+                    return None
+                return self._blend_span(prev, nxt, made, feed, limits)
         if (self._candidates and (cached := self._candidates.get(id(nxt))) is not None and cached[7] is not None
                 and cached[7][0] is nxt and cached[0] is prev):
             found = self._batched_spline(prev, nxt, cached)
@@ -88,9 +96,9 @@ class CornerMixin:
         p, q = prev.piece, nxt.piece
         # smooth (tangent and curvature continuous: nothing to round) or how sharp, on lists of floats
         if p.curved or q.curved:
-            pu, k0 = p.direction_list(p.length)
-            qu, k1 = q.direction_list(0.0)
-            if math.dist(pu, qu) <= TANGENT_EPS and math.dist(k0, k1) <= CURVATURE_EPS:
+            pu, qu = p.tangent_list(p.length), q.tangent_list(0.0)
+            if math.dist(pu, qu) <= TANGENT_EPS and math.dist(p.direction_list(p.length)[1],
+                                                              q.direction_list(0.0)[1]) <= CURVATURE_EPS:
                 return None
         else:
             pu, qu = p.ul, q.ul
@@ -274,7 +282,7 @@ class CornerMixin:
                 chain.append(x)
         hsc = dyn.corner == "HSC"
         tolerance = dyn.hsc.tolerance if hsc else None
-        rows, ps, qs, lim_p, lim_q, speeds, feeds, made_with = [], [], [], [], [], [], [], []
+        rows, ps, qs, lim_p, lim_q, speeds, feeds, made_with, splines = [], [], [], [], [], [], [], [], []
         acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
         jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         for i, (a, b) in enumerate(pairwise(chain)):
@@ -302,6 +310,7 @@ class CornerMixin:
             speeds.append(speed)
             feeds.append(feed)
             made_with.append((half_p, half_q, speed, tolerance, acc, jerk, not hsc, feed))
+            splines.append(spline_before)
         if not rows:
             return
         found = make_blends(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
@@ -318,10 +327,17 @@ class CornerMixin:
             for j, row in zip(made, zip(*(x.tolist() for x in rows_of), strict=True), strict=True):
                 limits[j] = row
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
-        self._arc_blends = {
+        blends = self._arc_blends = {
             (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end.tolist(), made_with[j],
                                                lim_p[j], found[j], limits[j])
             for j, i in enumerate(rows)}
+        # and by the first span's id: what _junction asks of a corner known to reach its curve
+        least = max(dyn.hsc.corner, MIN_CORNER_ANGLE) if hsc else MIN_CORNER_ANGLE
+        for j, ok in enumerate(fast_arc_corners(chain, rows, made_with)):
+            if ok:
+                i = rows[j]
+                blends[id(chain[i])] = (chain[i + 1], chain[i], qs[j], ps[j].end, splines[j], lim_p[j], found[j],
+                                        limits[j], feeds[j], least)
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
                     start: np.ndarray | None = None, cut: tuple | None = None) -> Span | None:
