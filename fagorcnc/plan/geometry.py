@@ -151,6 +151,10 @@ def _zeros(dim: int) -> np.ndarray:
     return z
 
 
+#: The axes off an arc's plane, by (axes, plane's first axis, its second): what :meth:`ArcPiece.point` moves.
+_OFF_PLANE: dict[tuple[int, int, int], tuple[int, ...]] = {}
+
+
 def _range_max(theta0: float, theta1: float) -> tuple[float, float]:
     """Max of |sin| and |cos| over the angle interval between theta0 and theta1: 1 where the
     interval holds an odd multiple of pi/2 (|sin|) or a multiple of pi (|cos|), else the larger end."""
@@ -206,8 +210,13 @@ class ArcPiece(Piece):
         lin = [x / length for x in other]
         self.lin = np.array(lin)
         # what every part and trim of the arc (which share its ``lin``) asks of it: its floats, their
-        # magnitudes (the other axes' d1) and the sum of their squares (in speed_factor's order)
-        self._lin = (lin, list(map(abs, lin)), sum(map(operator.mul, lin, lin)))
+        # magnitudes (the other axes' d1), the sum of their squares (in speed_factor's order) and the
+        # axes off the plane with theirs (what point moves)
+        key = (len(lin), ia, io)
+        off = _OFF_PLANE.get(key)
+        if off is None:
+            off = _OFF_PLANE[key] = tuple(i for i in range(len(lin)) if i != ia and i != io)
+        self._lin = (lin, list(map(abs, lin)), sum(map(operator.mul, lin, lin)), off)
         self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
         self._bounded = None
 
@@ -219,7 +228,7 @@ class ArcPiece(Piece):
         """The bounds ``d1, d2, d3`` as lists of floats, made on first use."""
         if self._bounded is not None:
             return self._bounded
-        r0, (r1, sweep), (_, lin_abs, _) = self.r0, self._ends, self._lin
+        r0, (r1, sweep), lin_abs = self.r0, self._ends, self._lin[1]
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
         rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
         ia, io = self.ia, self.io
@@ -267,7 +276,10 @@ class ArcPiece(Piece):
         arc's trims and corner frames ask for single points)."""
         th = self.theta0 + self.w * s
         rho = self.r0 + self.dr * s
-        q = self.start + s * self.lin
+        q = self.start.copy()
+        lin, _, _, off = self._lin
+        for i in off:   # start + s * lin on the axes off the plane, element by element
+            q[i] = q[i] + s * lin[i]
         q[self.ia] = self.center[0] + rho * math.cos(th)
         q[self.io] = self.center[1] + rho * math.sin(th)
         return q
