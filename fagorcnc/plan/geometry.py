@@ -151,6 +151,8 @@ def _zeros(dim: int) -> np.ndarray:
     return z
 
 
+_PI = math.pi
+_HALF_PI = math.pi / 2
 #: The axes off an arc's plane, by (axes, plane's first axis, its second): what :meth:`ArcPiece.point` moves.
 _OFF_PLANE: dict[tuple[int, int, int], tuple[int, ...]] = {}
 
@@ -159,9 +161,19 @@ def _range_max(theta0: float, theta1: float) -> tuple[float, float]:
     """Max of |sin| and |cos| over the angle interval between theta0 and theta1: 1 where the
     interval holds an odd multiple of pi/2 (|sin|) or a multiple of pi (|cos|), else the larger end."""
     lo, hi = (theta0, theta1) if theta0 <= theta1 else (theta1, theta0)
-    half = math.pi / 2
-    ms = 1.0 if half + math.ceil((lo - half) / math.pi) * math.pi <= hi else max(abs(math.sin(lo)), abs(math.sin(hi)))
-    mc = 1.0 if math.ceil(lo / math.pi) * math.pi <= hi else max(abs(math.cos(lo)), abs(math.cos(hi)))
+    # the larger end as max() takes it (the second where it is greater), without the call
+    if _HALF_PI + math.ceil((lo - _HALF_PI) / _PI) * _PI <= hi:
+        ms = 1.0
+    else:
+        ms, other = abs(math.sin(lo)), abs(math.sin(hi))
+        if other > ms:
+            ms = other
+    if math.ceil(lo / _PI) * _PI <= hi:
+        mc = 1.0
+    else:
+        mc, other = abs(math.cos(lo)), abs(math.cos(hi))
+        if other > mc:
+            mc = other
     return ms, mc
 
 
@@ -230,7 +242,7 @@ class ArcPiece(Piece):
             return self._bounded
         r0, (r1, sweep), lin_abs = self.r0, self._ends, self._lin[1]
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
-        rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
+        rmax, dr, w = r1 if r1 > r0 else r0, abs(self.dr), abs(self.w)   # max(r0, r1)
         ia, io = self.ia, self.io
         d1 = list(lin_abs)
         d2 = [0.0] * len(d1)
