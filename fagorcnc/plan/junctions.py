@@ -398,16 +398,14 @@ class CornerMixin:
 
     def _batched_spline(self, prev: Span, nxt: Span, cached: tuple) -> Span | object | None:
         """The HSC corner prev -> nxt from its batched spline candidate whose checks :meth:`_batch` knows to
-        hold (see :func:`~.shortcuts.fast_splines`): what :meth:`_junction` and :meth:`_spline` make of it
-        when it fits as the corner now stands (prev's curvature, the length it may give up) and keeps the
-        tolerance; ``_MISSING``: the corner is decided as any other."""
+        hold (see :func:`~.shortcuts.fast_splines`; its curve valid and within the tolerance): what
+        :meth:`_junction` and :meth:`_spline` make of it when it fits as the corner now stands (prev's
+        curvature, the length it may give up); ``_MISSING``: the corner is decided as any other."""
         d1 = min(prev.orig_length / 2.0, prev.piece.length)
-        _, mid_k, length, blend, d2, k5, dev, (_, piece, start) = cached
+        _, mid_k, length, blend, d2, k5, _, (_, piece, start) = cached
         if mid_k is not prev.mid_k or not _same_length(length, d1):
             return _MISSING
-        hsc = prev.dyn.hsc
-        if not blend.valid or dev > 0.95 * hsc.tolerance:
-            return _MISSING
+        hsc = prev.dyn.hsc   # the curve is valid and keeps the tolerance (_batch tested them as _spline does)
         feed = prev.feed if prev.feed <= nxt.feed else nxt.feed
         if hsc.mode == "FAST":
             feed *= hsc.fast / 100.0
@@ -497,6 +495,10 @@ class CornerMixin:
         self._spline_batch_limits(chain, curves, valid, bounds)
         previous_k = prev.mid_k
         fast = fast_splines(chain, u, angle, MIN_CORNER_ANGLE)
+        if any(fast):   # and the curve valid and within the tolerance, as _spline tests it (the lines taken
+            # have the planning context of the chain's second, see fast_splines)
+            kept = (valid & (devs <= 0.95 * chain[1].dyn.hsc.tolerance)).tolist()
+            fast = [ok and within for ok, within in zip(fast, kept, strict=True)]
         for i, (curve, d_1, d_2, dev, ok, start) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(),
                                                                   fast, list(p5), strict=True)):
             k5 = kmid[i + 1] if curved[i + 1] else None
