@@ -258,7 +258,8 @@ class CornerMixin:
                 p = prev.piece
                 now = inputs[0] if inputs[0] <= p.length else p.length
                 if (fp is prev and fn is nxt and nxt.piece is q and made_with == inputs
-                        and abs(now - lim_p) <= 1e-12 * lim_p and math.dist(p.end.tolist(), end) <= 1e-9):
+                        and abs(now - lim_p) <= 1e-12 * lim_p
+                        and (p.end is end or math.dist(p.end.tolist(), end.tolist()) <= 1e-9)):
                     return made, limits
                 return _MISSING
             if attempt == 0:
@@ -328,7 +329,7 @@ class CornerMixin:
                 limits[j] = row
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
         blends = self._arc_blends = {
-            (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end.tolist(), made_with[j],
+            (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end, made_with[j],
                                                lim_p[j], found[j], limits[j])
             for j, i in enumerate(rows)}
         # and by the first span's id: what _junction asks of a corner known to reach its curve
