@@ -487,6 +487,28 @@ def test_an_arcs_frame_and_trim_on_floats_equal_its_derivatives():
     assert close(part.length, 0.5 * arc.length)
 
 
+def test_an_arcs_point_moves_the_axes_off_its_plane_as_the_array_product():
+    """ArcPiece.point, which moves only the axes off the plane (element by element), gives the floats
+    of ``start + s * lin`` with the plane's two axes set: helices, planar arcs whose start has a -0.0
+    off the plane (0.0 once moved), and arcs in the three planes of four axes."""
+    import math
+
+    for dim, (ia, io) in ((3, (0, 1)), (3, (2, 0)), (3, (1, 2)), (4, (0, 1)), (4, (1, 2))):
+        for rise in (0.0, -0.0, 2.5, -1e-9):
+            start = np.zeros(dim)
+            start[ia], start[io] = 10.0, 0.0
+            start[[i for i in range(dim) if i not in (ia, io)]] = -0.0
+            end = start.copy()
+            end[ia], end[io] = 0.0, 10.05
+            end[[i for i in range(dim) if i not in (ia, io)]] = rise
+            arc = ArcPiece(start, end, ia, io, (0.0, 0.0), np.pi / 2)
+            for s in (0.3 * arc.length, arc.length, 1e-300):
+                want = arc.start + s * arc.lin
+                th, rho = arc.theta0 + arc.w * s, arc.r0 + arc.dr * s
+                want[ia], want[io] = arc.center[0] + rho * math.cos(th), arc.center[1] + rho * math.sin(th)
+                assert arc.point(s).tobytes() == want.tobytes()
+
+
 def test_distances_to_an_arc_and_a_line_worked_by_hand():
     """The distance from a point to the stretch of an arc in XY of radius 5 about the origin from
     0 to 90 degrees: along the radius where the point's angle is within the stretch ((6, 0, 0): 1;

@@ -68,13 +68,14 @@ def test_pieces_share_the_point_at_a_cut_inside_the_arc():
 
 @pytest.mark.parametrize("case", ARCS)
 def test_bounds_and_speed_factor_from_the_shared_data_are_those_of_the_arrays(case):
-    """bound_lists and speed_factor read the floats the arc and its parts share (``_lin``): the
-    numbers the arc's ``lin`` array gives, for the arc, its subs and their subs."""
+    """bound_lists, speed_factor and point read the floats the arc and its parts share (``_lin``): the
+    numbers the arc's ``lin`` array gives and the axes off its plane, for the arc, its subs and theirs."""
     whole = arc(case)
     for piece in (whole, whole.sub(0.25 * whole.length, whole.length),
                   whole.sub(0.1, whole.length - 0.2).sub(0.3, 1.5)):
         lin = piece.lin.tolist()
-        assert piece._lin == (lin, [abs(x) for x in lin], sum(x * x for x in lin))
+        off = tuple(i for i in range(len(lin)) if i not in (piece.ia, piece.io))
+        assert piece._lin == (lin, [abs(x) for x in lin], sum(x * x for x in lin), off)
         d1 = piece.bound_lists()[0]
         assert [d1[i] for i in range(len(lin)) if i not in (piece.ia, piece.io)] == \
             [abs(x) for i, x in enumerate(lin) if i not in (piece.ia, piece.io)]
@@ -245,3 +246,20 @@ def test_a_curve_refused_by_ruckig_goes_on_with_the_lower_end_speeds_in_turn(ref
     assert asked[:refuse + 1] == [v1 * (1.0 - shrink) for shrink in SHRINKS[:refuse + 1]]
     first_part = next(s for s in segments if s.piece.curved)
     assert first_part.v1 == v1 * (1.0 - SHRINKS[refuse]) and first_part.v1 < v1
+
+
+def test_range_max_takes_the_larger_end_as_max_does():
+    """_range_max's ends compared without max(): the same floats as max() of the ends' |sin| and |cos|
+    (or 1 where the interval holds the extremum), over random intervals in either order."""
+    import math
+
+    from fagorcnc.plan.geometry import _range_max
+
+    rng = np.random.default_rng(12)
+    for _ in range(2000):
+        a, b = rng.uniform(-10.0, 10.0), rng.uniform(-10.0, 10.0) * rng.choice([1.0, 1e-3])
+        lo, hi = min(a, a + b), max(a, a + b)
+        ms = 1.0 if any(lo <= math.pi / 2 + k * math.pi <= hi for k in range(-5, 5)) else \
+            max(abs(math.sin(lo)), abs(math.sin(hi)))
+        mc = 1.0 if any(lo <= k * math.pi <= hi for k in range(-5, 5)) else max(abs(math.cos(lo)), abs(math.cos(hi)))
+        assert _range_max(a, a + b) == (ms, mc)

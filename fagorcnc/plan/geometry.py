@@ -122,6 +122,9 @@ class LinePiece(Piece):
     def direction_list(self, s: float) -> tuple[list[float], tuple[float, ...]]:
         return self.ul, (0.0,) * len(self.ul)
 
+    def tangent_list(self, s: float) -> list[float]:
+        return self.ul
+
     def sub(self, s0: float, s1: float, start: np.ndarray | None = None) -> LinePiece:
         # the same direction and derivative bounds: only the ends move (no norm, no division), and
         # an end that stays keeps its point; ``start``: the point at s0 when already computed
@@ -148,13 +151,29 @@ def _zeros(dim: int) -> np.ndarray:
     return z
 
 
+_PI = math.pi
+_HALF_PI = math.pi / 2
+#: The axes off an arc's plane, by (axes, plane's first axis, its second): what :meth:`ArcPiece.point` moves.
+_OFF_PLANE: dict[tuple[int, int, int], tuple[int, ...]] = {}
+
+
 def _range_max(theta0: float, theta1: float) -> tuple[float, float]:
     """Max of |sin| and |cos| over the angle interval between theta0 and theta1: 1 where the
     interval holds an odd multiple of pi/2 (|sin|) or a multiple of pi (|cos|), else the larger end."""
     lo, hi = (theta0, theta1) if theta0 <= theta1 else (theta1, theta0)
-    half = math.pi / 2
-    ms = 1.0 if half + math.ceil((lo - half) / math.pi) * math.pi <= hi else max(abs(math.sin(lo)), abs(math.sin(hi)))
-    mc = 1.0 if math.ceil(lo / math.pi) * math.pi <= hi else max(abs(math.cos(lo)), abs(math.cos(hi)))
+    # the larger end as max() takes it (the second where it is greater), without the call
+    if _HALF_PI + math.ceil((lo - _HALF_PI) / _PI) * _PI <= hi:
+        ms = 1.0
+    else:
+        ms, other = abs(math.sin(lo)), abs(math.sin(hi))
+        if other > ms:
+            ms = other
+    if math.ceil(lo / _PI) * _PI <= hi:
+        mc = 1.0
+    else:
+        mc, other = abs(math.cos(lo)), abs(math.cos(hi))
+        if other > mc:
+            mc = other
     return ms, mc
 
 
@@ -203,8 +222,13 @@ class ArcPiece(Piece):
         lin = [x / length for x in other]
         self.lin = np.array(lin)
         # what every part and trim of the arc (which share its ``lin``) asks of it: its floats, their
-        # magnitudes (the other axes' d1) and the sum of their squares (in speed_factor's order)
-        self._lin = (lin, list(map(abs, lin)), sum(map(operator.mul, lin, lin)))
+        # magnitudes (the other axes' d1), the sum of their squares (in speed_factor's order) and the
+        # axes off the plane with theirs (what point moves)
+        key = (len(lin), ia, io)
+        off = _OFF_PLANE.get(key)
+        if off is None:
+            off = _OFF_PLANE[key] = tuple(i for i in range(len(lin)) if i != ia and i != io)
+        self._lin = (lin, list(map(abs, lin)), sum(map(operator.mul, lin, lin)), off)
         self._ends = (r1, sweep)   # the end radius and sweep the bounds are made from
         self._bounded = None
 
@@ -216,9 +240,9 @@ class ArcPiece(Piece):
         """The bounds ``d1, d2, d3`` as lists of floats, made on first use."""
         if self._bounded is not None:
             return self._bounded
-        r0, (r1, sweep), (_, lin_abs, _) = self.r0, self._ends, self._lin
+        r0, (r1, sweep), lin_abs = self.r0, self._ends, self._lin[1]
         ms, mc = _range_max(self.theta0, self.theta0 + sweep)
-        rmax, dr, w = max(r0, r1), abs(self.dr), abs(self.w)
+        rmax, dr, w = r1 if r1 > r0 else r0, abs(self.dr), abs(self.w)   # max(r0, r1)
         ia, io = self.ia, self.io
         d1 = list(lin_abs)
         d2 = [0.0] * len(d1)
@@ -264,7 +288,10 @@ class ArcPiece(Piece):
         arc's trims and corner frames ask for single points)."""
         th = self.theta0 + self.w * s
         rho = self.r0 + self.dr * s
-        q = self.start + s * self.lin
+        q = self.start.copy()
+        lin, _, _, off = self._lin
+        for i in off:   # start + s * lin on the axes off the plane, element by element
+            q[i] = q[i] + s * lin[i]
         q[self.ia] = self.center[0] + rho * math.cos(th)
         q[self.io] = self.center[1] + rho * math.sin(th)
         return q
@@ -276,16 +303,28 @@ class ArcPiece(Piece):
         t, k = self.direction_list(s)
         return np.array(t), np.array(k)
 
-    def direction_list(self, s: float) -> tuple[list[float], list[float]]:
-        """The unit tangent and curvature vector at ``s`` as lists of floats: every corner at an arc
-        asks for them (smooth? how sharp?)."""
+    def _velocity(self, s: float) -> tuple[list[float], float, float, float]:
+        """``q'`` at ``s`` as a list of floats, with the cosine and sine of the angle and the radius there."""
         th = self.theta0 + self.w * s
         c, sn = math.cos(th), math.sin(th)
         rho = self.r0 + self.dr * s
+        w, dr = self.w, self.dr
+        d1 = list(self._lin[0])   # the floats of ``lin``
+        d1[self.ia] = dr * c - rho * w * sn
+        d1[self.io] = dr * sn + rho * w * c
+        return d1, c, sn, rho
+
+    def tangent_list(self, s: float) -> list[float]:
+        """The unit tangent at ``s`` as a list of floats: :meth:`direction_list`'s, without the
+        curvature (which a corner only asks for when the tangents meet)."""
+        d1 = self._velocity(s)[0]
+        return list(map(math.hypot(*d1).__rtruediv__, d1))   # x / |q'|, as direction_list divides
+
+    def direction_list(self, s: float) -> tuple[list[float], list[float]]:
+        """The unit tangent and curvature vector at ``s`` as lists of floats: a corner at an arc
+        whose tangents meet asks for them (smooth?)."""
+        d1, c, sn, rho = self._velocity(s)
         w, dr, ia, io = self.w, self.dr, self.ia, self.io
-        d1 = self.lin.tolist()
-        d1[ia] = dr * c - rho * w * sn
-        d1[io] = dr * sn + rho * w * c
         da = -2 * dr * w * sn - rho * w * w * c     # q'' has no other component
         do = 2 * dr * w * c - rho * w * w * sn
         speed = math.hypot(*d1)

@@ -28,7 +28,7 @@ from .corners import (
 from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
-from .shortcuts import batched_line_corner, cut_line, fast_corners, fast_splines
+from .shortcuts import batched_arc_corner, batched_line_corner, cut_line, fast_arc_corners, fast_corners, fast_splines
 from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
@@ -64,6 +64,14 @@ class CornerMixin:
             made = batched_line_corner(prev, nxt, fast)
             if made is not None:
                 return self._blend_span(prev, nxt, *made)
+        if self._arc_blends and (fast := self._arc_blends.get(id(prev))) is not None and fast[0] is nxt:
+            found = batched_arc_corner(prev, nxt, fast)
+            if found is not None:
+                made, feed, limits = found
+                if made is None:
+                    prev.stop_after = True
+                    return None
+                return self._blend_span(prev, nxt, made, feed, limits)
         if (self._candidates and (cached := self._candidates.get(id(nxt))) is not None and cached[7] is not None
                 and cached[7][0] is nxt and cached[0] is prev):
             found = self._batched_spline(prev, nxt, cached)
@@ -88,9 +96,9 @@ class CornerMixin:
         p, q = prev.piece, nxt.piece
         # smooth (tangent and curvature continuous: nothing to round) or how sharp, on lists of floats
         if p.curved or q.curved:
-            pu, k0 = p.direction_list(p.length)
-            qu, k1 = q.direction_list(0.0)
-            if math.dist(pu, qu) <= TANGENT_EPS and math.dist(k0, k1) <= CURVATURE_EPS:
+            pu, qu = p.tangent_list(p.length), q.tangent_list(0.0)
+            if math.dist(pu, qu) <= TANGENT_EPS and math.dist(p.direction_list(p.length)[1],
+                                                              q.direction_list(0.0)[1]) <= CURVATURE_EPS:
                 return None
         else:
             pu, qu = p.ul, q.ul
@@ -250,7 +258,8 @@ class CornerMixin:
                 p = prev.piece
                 now = inputs[0] if inputs[0] <= p.length else p.length
                 if (fp is prev and fn is nxt and nxt.piece is q and made_with == inputs
-                        and abs(now - lim_p) <= 1e-12 * lim_p and math.dist(p.end.tolist(), end) <= 1e-9):
+                        and abs(now - lim_p) <= 1e-12 * lim_p
+                        and (p.end is end or math.dist(p.end.tolist(), end.tolist()) <= 1e-9)):
                     return made, limits
                 return _MISSING
             if attempt == 0:
@@ -274,7 +283,7 @@ class CornerMixin:
                 chain.append(x)
         hsc = dyn.corner == "HSC"
         tolerance = dyn.hsc.tolerance if hsc else None
-        rows, ps, qs, lim_p, lim_q, speeds, feeds, made_with = [], [], [], [], [], [], [], []
+        rows, ps, qs, lim_p, lim_q, speeds, feeds, made_with, splines = [], [], [], [], [], [], [], [], []
         acc = min(prev.lim.least_acceleration, nxt.lim.least_acceleration)
         jerk = min(prev.lim.least_jerk, nxt.lim.least_jerk)
         for i, (a, b) in enumerate(pairwise(chain)):
@@ -302,6 +311,7 @@ class CornerMixin:
             speeds.append(speed)
             feeds.append(feed)
             made_with.append((half_p, half_q, speed, tolerance, acc, jerk, not hsc, feed))
+            splines.append(spline_before)
         if not rows:
             return
         found = make_blends(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
@@ -318,10 +328,17 @@ class CornerMixin:
             for j, row in zip(made, zip(*(x.tolist() for x in rows_of), strict=True), strict=True):
                 limits[j] = row
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
-        self._arc_blends = {
-            (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end.tolist(), made_with[j],
+        blends = self._arc_blends = {
+            (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end, made_with[j],
                                                lim_p[j], found[j], limits[j])
             for j, i in enumerate(rows)}
+        # and by the first span's id: what _junction asks of a corner known to reach its curve
+        least = max(dyn.hsc.corner, MIN_CORNER_ANGLE) if hsc else MIN_CORNER_ANGLE
+        for j, ok in enumerate(fast_arc_corners(chain, rows, made_with)):
+            if ok:
+                i = rows[j]
+                blends[id(chain[i])] = (chain[i + 1], chain[i], qs[j], ps[j].end, splines[j], lim_p[j], found[j],
+                                        limits[j], feeds[j], least)
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
                     start: np.ndarray | None = None, cut: tuple | None = None) -> Span | None:
@@ -382,16 +399,14 @@ class CornerMixin:
 
     def _batched_spline(self, prev: Span, nxt: Span, cached: tuple) -> Span | object | None:
         """The HSC corner prev -> nxt from its batched spline candidate whose checks :meth:`_batch` knows to
-        hold (see :func:`~.shortcuts.fast_splines`): what :meth:`_junction` and :meth:`_spline` make of it
-        when it fits as the corner now stands (prev's curvature, the length it may give up) and keeps the
-        tolerance; ``_MISSING``: the corner is decided as any other."""
+        hold (see :func:`~.shortcuts.fast_splines`; its curve valid and within the tolerance): what
+        :meth:`_junction` and :meth:`_spline` make of it when it fits as the corner now stands (prev's
+        curvature, the length it may give up); ``_MISSING``: the corner is decided as any other."""
         d1 = min(prev.orig_length / 2.0, prev.piece.length)
-        _, mid_k, length, blend, d2, k5, dev, (_, piece, start) = cached
+        _, mid_k, length, blend, d2, k5, _, (_, piece, start) = cached
         if mid_k is not prev.mid_k or not _same_length(length, d1):
             return _MISSING
-        hsc = prev.dyn.hsc
-        if not blend.valid or dev > 0.95 * hsc.tolerance:
-            return _MISSING
+        hsc = prev.dyn.hsc   # the curve is valid and keeps the tolerance (_batch tested them as _spline does)
         feed = prev.feed if prev.feed <= nxt.feed else nxt.feed
         if hsc.mode == "FAST":
             feed *= hsc.fast / 100.0
@@ -481,6 +496,10 @@ class CornerMixin:
         self._spline_batch_limits(chain, curves, valid, bounds)
         previous_k = prev.mid_k
         fast = fast_splines(chain, u, angle, MIN_CORNER_ANGLE)
+        if any(fast):   # and the curve valid and within the tolerance, as _spline tests it (the lines taken
+            # have the planning context of the chain's second, see fast_splines)
+            kept = (valid & (devs <= 0.95 * chain[1].dyn.hsc.tolerance)).tolist()
+            fast = [ok and within for ok, within in zip(fast, kept, strict=True)]
         for i, (curve, d_1, d_2, dev, ok, start) in enumerate(zip(curves, d1.tolist(), d2.tolist(), devs.tolist(),
                                                                   fast, list(p5), strict=True)):
             k5 = kmid[i + 1] if curved[i + 1] else None

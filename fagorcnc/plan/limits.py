@@ -62,21 +62,28 @@ def piece_cap(d1, d2, d3, lim: AxisLimits, feed: float) -> float:
     its budget to the curvature; every axis keeps at least ``CENTRIPETAL`` of it (``reserve d1_i <=
     (1 - CENTRIPETAL) A_i``), so the cap is never below ``sqrt(CENTRIPETAL A_i / d2_i)``.
     """
-    # plain comparisons over zipped tuples, no min() calls: this runs for every piece planned
+    # plain comparisons over zipped tuples, no min() calls, constants bound once: this runs for every
+    # piece planned
     vc = feed
-    base = math.inf
+    base = _INF
     for g, a in zip(d1, lim.acceleration):  # noqa: B905 (_AXES)
         if g > 0 and (x := a / g) < base:
             base = x
-    reserve = (1.0 - CENTRIPETAL) * base if base != math.inf else 0.0
+    reserve = _RESERVE * base if base != _INF else 0.0
+    sqrt = math.sqrt
     for g, k, k3, v, a, j in zip(d1, d2, d3, lim.velocity, lim.acceleration, lim.jerk):  # noqa: B905 (_AXES)
         if g > 0 and (x := v / g) < vc:
             vc = x
-        if k > 0 and (x := math.sqrt((a - reserve * g) / k)) < vc:
+        if k > 0 and (x := sqrt((a - reserve * g) / k)) < vc:
             vc = x
-        if k3 > 0 and j != math.inf and (x := (CURVE_JERK * j / k3) ** (1.0 / 3.0)) < vc:
+        if k3 > 0 and j != _INF and (x := (CURVE_JERK * j / k3) ** (1.0 / 3.0)) < vc:
             vc = x
     return vc
+
+
+_INF = math.inf
+#: The share of the acceleration a curve's cap keeps for speed changes (``1 - CENTRIPETAL``, made once).
+_RESERVE = 1.0 - CENTRIPETAL
 
 
 class Terms(NamedTuple):
@@ -255,15 +262,16 @@ def curve_limits(d1, d2, d3, lim: AxisLimits, feed: float, path_acc: float = 0.0
     vc = piece_cap(d1, d2, d3, lim, feed)
     vc2, vc3 = vc * vc, vc ** 3
     rows = list(zip(d1, d2, d3, lim.acceleration, lim.jerk))  # noqa: B905 (_AXES)
-    acc = path_acc if path_acc > 0 else math.inf
+    acc = path_acc if path_acc > 0 else _INF
+    turning = vc > 0
     for g, k, k3, a, j in rows:
         if g > 0 and (x := (a - vc2 * k) / g) < acc:
             acc = x
-        if vc > 0 and k > 0 and j != math.inf and (x := 0.5 * (j - vc3 * k3) / (3.0 * vc * k)) < acc:
+        if turning and k > 0 and j != _INF and (x := 0.5 * (j - vc3 * k3) / (3.0 * vc * k)) < acc:
             acc = x
-    jerk = path_jerk if path_jerk > 0 else math.inf
+    jerk = path_jerk if path_jerk > 0 else _INF
     for g, k, k3, _a, j in rows:
-        if g > 0 and j != math.inf and (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
+        if g > 0 and j != _INF and (x := (j - 3.0 * vc * acc * k - vc3 * k3) / g) < jerk:
             jerk = x
     return vc, acc, jerk
 

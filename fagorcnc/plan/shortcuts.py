@@ -6,10 +6,14 @@ gives the very floats of the general path (tests/test_plan_batches.py)."""
 
 from __future__ import annotations
 
+import math
+import operator
+
 import numpy as np
 
-from ..interp.records import Line
-from .geometry import BlendPiece, LinePiece
+from ..interp.records import Arc, Line
+from .corners import TANGENT_EPS
+from .geometry import ArcPiece, BlendPiece, LinePiece
 from .span import Span
 
 
@@ -54,6 +58,48 @@ def fast_splines(chain: list[Span], u: np.ndarray, angle: np.ndarray, least_angl
              for s, r in zip(chain, records, strict=True)]
     return [i > 0 and ok and a and b and ra is not rb for i, (ok, a, b, ra, rb) in enumerate(zip(
         clear, plain, plain[1:], records, records[1:], strict=False))]
+
+
+def fast_arc_corners(chain: list[Span], rows: list[int], made_with: list[tuple]) -> list[bool]:
+    """Which corners at arcs of a batch (:meth:`~.junctions.CornerMixin._arc_batch`; corner ``j``:
+    chain[rows[j]] -> chain[rows[j] + 1], made with ``made_with[j]``) may be taken at the top of
+    :meth:`~.junctions.CornerMixin._junction` (:func:`batched_arc_corner`): not the first (being
+    decided), blocks of their own (plain lines and arcs, no thread, no transformation, not rapid) on
+    lines and arcs, and what the corner was made with comparable to what _arc_blend asks (no NaN:
+    the feed positive and finite, the halves of the blocks numbers).  The rest of _junction's checks
+    are the spans' own: the batch's chain has one planning context and one set of axis limits."""
+    plain = [((type(r) is Line and r.thread is None) or type(r) is Arc) and r.frame is None and not s.rapid
+             and type(s.piece) in _TANGENTS for s, r in zip(chain, [s.record for s in chain], strict=True)]
+    return [i > 0 and plain[i] and plain[i + 1] and half_p == half_p and half_q == half_q and 0.0 < feed < math.inf
+            for i, (half_p, half_q, *_, feed) in zip(rows, made_with, strict=True)]
+
+
+#: The pieces a corner taken by :func:`batched_arc_corner` may join (the ones with ``tangent_list``).
+_TANGENTS = frozenset({LinePiece, ArcPiece})
+
+
+def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
+    """``(curve, d1, d2) or None, feed, limits`` of the corner at an arc prev -> nxt from its entry of
+    a batch (see :func:`fast_arc_corners`) when the spans still stand as the batch took them (the same
+    next piece and end of prev, the curvature kept before prev: an HSC spline or not, and the same
+    most prev may give up, as :meth:`~.junctions.CornerMixin._arc_blend` asks) and the corner passes
+    _junction's tests of a smooth junction, a reversal and a sharp HSC edge (``least``: the least
+    included angle rounded) on the same floats; None: the corner is decided as any other."""
+    _, _, q, end, spline_before, lim_p, made, limits, feed, least = fast
+    p = prev.piece
+    if nxt.piece is not q or p.end is not end or (prev.mid_k is not None) is not spline_before:
+        return None
+    half_p = prev.orig_length / (4.0 if spline_before else 2.0)
+    now = half_p if half_p <= p.length else p.length
+    if not abs(now - lim_p) <= 1e-12 * lim_p:
+        return None
+    pu, qu = p.tangent_list(p.length), q.tangent_list(0.0)
+    if not math.dist(pu, qu) > TANGENT_EPS:
+        return None   # the curvatures decide (most likely a smooth junction)
+    c = sum(map(operator.mul, pu, qu))
+    if not 180.0 - math.degrees(math.acos(-1.0 if c < -1.0 else 1.0 if c > 1.0 else c)) >= least:
+        return None   # a stop
+    return made, feed, limits
 
 
 def batched_line_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
