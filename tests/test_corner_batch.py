@@ -355,3 +355,21 @@ def test_corners_of_a_flat_contour_are_the_curves_worked_on_every_axis(monkeypat
             assert np.array_equal(x, y)
         assert b.d2[2] == 0.0 and b.length == c.length
     assert made >= 50
+
+
+def test_a_batch_gives_its_curves_bounds_as_arrays():
+    """blend_batch's bound arrays: row i the bounds of the i-th corner that has a curve, the same
+    floats as the curve's own (a batch's limits are made from them), on corners in 3D and on a flat
+    contour (worked on X and Y alone)."""
+    from fagorcnc.plan.corner_batch import blend_batch
+
+    for ps, qs in (_corners(5, 40), _flat_corners(6, 40, 1.5)):
+        lim_p = np.array([p.length / 2.0 for p in ps])
+        lim_q = np.array([q.length / 2.0 for q in qs])
+        lim_p[3] = 0.0                                   # a corner without a curve among them
+        found, bounds = blend_batch(ps, qs, lim_p, lim_q, tolerance=0.01, speed=np.full(len(ps), 50.0),
+                                    acc=1000.0, jerk=20000.0)
+        curves = [f[0] for f in found if f is not None]
+        assert found[3] is None and len(curves) == len(bounds[0]) >= 30
+        for k, name in enumerate(("d1", "d2", "d3")):
+            assert np.array_equal(bounds[k], np.array([getattr(c, name) for c in curves]))

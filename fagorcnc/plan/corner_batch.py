@@ -26,6 +26,16 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
     ``ps[i] -> qs[i]`` (rows), with ``lim_p``/``lim_q`` the most each side may give up (already
     the smaller of half its block and its length) and ``speed`` one per corner (or None): the
     same steps on every row at once, so the same curves up to rounding.  None where no curve fits."""
+    return blend_batch(ps, qs, lim_p, lim_q, tolerance=tolerance, speed=speed, acc=acc, jerk=jerk,
+                       corner=corner)[0]
+
+
+def blend_batch(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray, *,
+                tolerance: float | None, speed: np.ndarray | None, acc: float, jerk: float,
+                corner: bool = False) -> tuple[list[tuple[BlendPiece, float, float] | None], tuple[np.ndarray, ...]]:
+    """:func:`make_blends`' curves and their derivative bounds as arrays: ``(d1, d2, d3)``, each
+    (k, D), row i that of the i-th corner that has a curve (the rows of each curve's own bounds,
+    for a batch's limits: no array made again from the curves)."""
     n = len(ps)
     # each piece once (a chain's outgoing piece is the next corner's incoming one): the rows of
     # each corner's incoming piece and of its outgoing one
@@ -129,7 +139,10 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
                 rows.tolist(), controls, controls[:, 0], controls[:, -1], b1, b2, b3, tables, tables[:, -1].tolist(),
                 d1.tolist(), d2.tolist(), strict=True):
             out[row] = (BlendPiece.made(c, first, last, e1, e2, e3, table, length), g1, g2)
-    return out
+        order = np.argsort(rows)   # the corners' order
+        return out, (b1[order], b2[order], b3[order])
+    dim = len(ps[0].start) if n else 0
+    return out, (np.empty((0, dim)),) * 3
 
 
 def _all_axes(keep: list[int], vertex: np.ndarray, controls: np.ndarray, *bounds: np.ndarray) -> tuple[np.ndarray, ...]:

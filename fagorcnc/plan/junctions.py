@@ -14,7 +14,7 @@ from itertools import islice, pairwise
 import numpy as np
 
 from . import links
-from .corner_batch import make_blends
+from .corner_batch import blend_batch
 from .corners import (
     BLEND_PARTS,
     CURVATURE_EPS,
@@ -268,7 +268,7 @@ class CornerMixin:
 
     def _arc_batch(self, prev: Span, nxt: Span) -> None:
         """The corner curves at arcs from prev -> nxt on through the look-ahead (spans of the same
-        dynamics and axis limits), all at once (:func:`~fagorcnc.plan.corner_batch.make_blends`),
+        dynamics and axis limits), all at once (:func:`~fagorcnc.plan.corner_batch.blend_batch`),
         each with what :meth:`_junction` will ask of its corner: a block's half as it will stand
         (a quarter after an HSC spline between two lines), the lower feed of its two blocks.  A
         block after this corner still has its full length: the corner before it takes at most
@@ -314,17 +314,15 @@ class CornerMixin:
             splines.append(spline_before)
         if not rows:
             return
-        found = make_blends(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
-                            speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
-                            corner=not hsc)
+        found, bounds = blend_batch(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
+                                    speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
+                                    corner=not hsc)
         # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits)
         limits: list[tuple | None] = [None] * len(found)
         made = [j for j, m in enumerate(found) if m is not None]
         if made:
-            curves = [found[j][0] for j in made]
-            rows_of = curve_limits_rows(np.array([c.d1 for c in curves]), np.array([c.d2 for c in curves]),
-                                        np.array([c.d3 for c in curves]), lim, np.array([feeds[j] for j in made]),
-                                        prev.path_acc, prev.path_jerk)
+            rows_of = curve_limits_rows(*bounds, lim, np.array([feeds[j] for j in made]), prev.path_acc,
+                                        prev.path_jerk)
             for j, row in zip(made, zip(*(x.tolist() for x in rows_of), strict=True), strict=True):
                 limits[j] = row
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
