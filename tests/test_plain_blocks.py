@@ -517,3 +517,23 @@ def test_plain_lines_hold_literal_words(line):
     from fagorcnc.syntax.builder import split_plain
     if PLAIN_LINE(line):
         assert plain._literal_words(split_plain(line))
+
+
+@pytest.mark.parametrize("name", ["mixed", "aids"])
+def test_cycle_time_is_the_time_of_the_records_handed_on(name):
+    # Interpreter.run adds the time the block loop kept for a record it hands on unchanged, else record_time():
+    # the sum of record_time() of every record handed on, in order, whatever the stages replaced (radius
+    # compensation, corner aids) or made at the address of a record freed before
+    from fagorcnc.interp.records import record_time
+    from fagorcnc.machine import load_machine
+    from fagorcnc.syntax import parse_text
+    program = {"mixed": MIXED, "aids": "%A\nT2 D1 M6\nG90 G0 X5 Y-10 Z0\nG42 G1 X5 Y0 F1000\n"
+               + "X10 Y0\nG36 I1\nX10 Y10\nG39 I1\nX0 Y10\nG36 I1\nX0 Y0\nX5 Y0\n" * 40
+               + "G40 G1 X5 Y-10\nM30\n"}[name]
+    machine = load_machine(MACHINE)
+    interp = Interpreter(parse_text(program), machine)
+    total = 0.0
+    for rec in interp.run():
+        total += record_time(machine, rec)
+    assert not [d for d in interp.diagnostics if d.is_error]
+    assert interp.cycle_time == total

@@ -140,9 +140,10 @@ class Interpreter(FlowMixin):
             # to read twice per record
             limited = clock.seconds > 0 and not self.consumer_excluded
             for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
-                known = timed.pop(id(record), None)   # the time _loop worked out for the same record
-                self.cycle_time += known[1] if known is not None and known[0] is record else \
-                    record_time(machine, record)
+                # the time _loop worked out for the same record: the entry holds its record, so no other object
+                # alive has its id (the record itself, not one made later at the address of one freed)
+                known = timed.pop(id(record), None)
+                self.cycle_time += record_time(machine, record) if known is None else known[1]
                 if limited:
                     handed = cpu_time()
                     yield record
