@@ -15,7 +15,7 @@ import codecs
 import gc
 import re
 from collections.abc import Iterable, Iterator
-from itertools import count, islice, repeat
+from itertools import chain, count, islice, repeat
 from pathlib import Path
 from typing import Protocol, Union
 
@@ -124,7 +124,13 @@ def universal_lines(file, size: int = READ_SIZE) -> Iterator[str]:
     """:func:`bounded_lines` of a text file read with universal newlines (a :class:`ProgramFile`'s: its
     line ends are ``"\n"`` alone), read ``size`` characters at a time and split at its line ends: the
     same lines, an :class:`_Overlong` for a line longer than :data:`MAX_LINE_LENGTH` (with at most
-    ``MAX_LINE_LENGTH + size`` characters of it in memory)."""
+    ``MAX_LINE_LENGTH + size`` characters of it in memory).  The lines of each piece in a list, handed on
+    by ``chain`` (no generator step a line)."""
+    return chain.from_iterable(_universal_pieces(file, size))
+
+
+def _universal_pieces(file, size: int) -> Iterator[list]:
+    """The lines of :func:`universal_lines`, in a list for each piece read."""
     limit = MAX_LINE_LENGTH
     read = file.read
     rest = ""   # the start of a line whose end is still to be read
@@ -133,25 +139,22 @@ def universal_lines(file, size: int = READ_SIZE) -> Iterator[str]:
         lines = (rest + chunk).split("\n")
         rest = lines.pop()
         if lines:
-            if max(map(len, lines)) <= limit:
-                yield from lines
-            else:
-                for line in lines:
-                    yield _overlong(line, len(line)) if len(line) > limit else line
+            yield lines if max(map(len, lines)) <= limit else \
+                [_overlong(line, len(line)) if len(line) > limit else line for line in lines]
         if len(rest) > limit:   # an overlong line: the rest of it is only counted, up to its end
             start, length = rest, len(rest)
             while (chunk := read(size)) and (end := chunk.find("\n")) < 0:
                 length += len(chunk)
             if not chunk:   # the file ends in that line
-                yield _overlong(start, length)
+                yield [_overlong(start, length)]
                 return
-            yield _overlong(start, length + end)
+            yield [_overlong(start, length + end)]
             rest, chunk = "", chunk[end + 1:]   # the lines after it, then more
             if chunk:
                 continue
         chunk = read(size)
     if rest:
-        yield rest
+        yield [rest]
 
 
 def _capped(lines: Iterable[str]) -> Iterator[str]:
