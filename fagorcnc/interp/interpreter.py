@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from itertools import islice
+from itertools import chain, islice
 from pathlib import Path
 from time import process_time as cpu_time
 
@@ -627,12 +627,18 @@ def handed_in_runs(interp: Interpreter, records: Iterator, size: int = 1024) -> 
     each run is interpreted, then handed on with the interpretation clock stopped until the consumer asks
     for more, so that limits.max_seconds still counts interpretation alone (:class:`_Clock`) with two
     clock reads per run instead of two per record (a system call each).  What runs while a run is being
-    taken (a watcher of the records) counts as interpretation.  Sets ``interp.consumer_excluded``."""
+    taken (a watcher of the records) counts as interpretation.  Sets ``interp.consumer_excluded``.  The
+    records of each run are handed on by ``chain`` (no generator step a record): it asks for the next run,
+    and so stops excluding the consumer's time, when the consumer asks for the record after the run's last."""
     interp.consumer_excluded = True
-    clock = interp.clock
+    return chain.from_iterable(_runs(interp.clock, records, size))
+
+
+def _runs(clock: _Clock, records: Iterator, size: int) -> Iterator[list]:
+    """The runs of :func:`handed_in_runs`, each handed with the clock stopped until the next is asked for."""
     while run := list(islice(records, size)):
         handed = cpu_time()
-        yield from run
+        yield run
         clock.exclude(handed)
 
 
