@@ -28,6 +28,7 @@ from .runtime import fewer_collections
 from .summary import NOT_MOVES, Ending, RunSummary, is_move, not_started, program_ending, stopping_error
 from .syntax import parse_file, parse_text, source_encoding
 from .syntax.ast import Block, Program
+from .syntax.reader import ProgramFile
 
 if TYPE_CHECKING:   # imported where used: dry_run (fagorcnc check) needs neither
     from .interp.movestore import Moves
@@ -407,7 +408,7 @@ class _Watched:
 def _lines_of(source: Source, encoding: str):
     """The program's lines: an open file (read lazily), or the text itself (split as parse_text does)."""
     if _is_file(source):
-        return open(source, encoding=encoding)   # closed by the caller
+        return ProgramFile(source, encoding)   # closed by the caller; read in large pieces
     return str(source)
 
 

@@ -213,3 +213,20 @@ def test_a_negative_max_seconds_is_a_usage_error(tmp_path, capsys, command):
     f.write_text("G1 X1 F100\nM30\n")
     assert main([command, "--max-seconds", "-1", str(f)]) == 2
     assert "--max-seconds" in capsys.readouterr().err
+
+
+def test_handed_in_runs_stop_the_clock_while_the_consumer_holds_a_run(monkeypatch):
+    # each run of records is taken with the clock running, then the clock is stopped until the consumer asks for
+    # the record after the run's last: the consumer's 10 s a record move the deadline on once a run, after it
+    from types import SimpleNamespace
+    now = [0.0]
+    monkeypatch.setattr(interpreter, "cpu_time", lambda: now[0])
+    interp = SimpleNamespace(clock=interpreter._Clock(100.0), consumer_excluded=False)
+    interp.clock.start()
+    seen = []
+    for rec in interpreter.handed_in_runs(interp, iter(range(5)), 2):
+        assert interp.consumer_excluded
+        seen.append((rec, interp.clock.deadline))
+        now[0] += 10.0
+    assert seen == [(0, 100.0), (1, 100.0), (2, 120.0), (3, 120.0), (4, 140.0)]
+    assert interp.clock.deadline == 150.0

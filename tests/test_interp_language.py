@@ -772,6 +772,18 @@ def test_mcall_runs_after_every_motion_block_not_after_other_blocks_l10529_l1053
     assert r.state.param(4) - r.state.param(3) == 0    # P9=2, M5, F200: no move, no run
 
 
+@pytest.mark.parametrize("where", ["main", "modal"])
+def test_an_error_ends_the_run_once_whatever_the_loop_it_is_in(where):
+    # the run's block loop reports an error and ends; a modal subroutine's loop (after a move) hands it to the
+    # run's: one error, the moves before it handed on (the last one was held by the corner aids), nothing after
+    error = "G1 Y[P1/0]\n"
+    sub = error if where == "modal" else "P100=1\n"
+    r = run(f"%L SUB\n{sub}M17\n%MAIN\nG90 G1 X0 Y0 Z0 F1000\nG1 X5\n#MCALL SUB\nG1 X10\n"
+            f"{error if where == 'main' else ''}G1 X20\nM30\n")
+    assert [c for c, _ in errors(r)] == ["INT040"]
+    assert [m.end_part["X"] for m in motions(r)] == ([0.0, 5.0] if where == "modal" else [0.0, 5.0, 10.0])
+
+
 def test_mcall_nr0_moves_without_the_subroutine_l10592():
     r = ok(run("%L CNT\nP100=P100+1\nM17\n%MAIN\nP100=0\nG01 F100\n#MCALL CNT\nP1=P100\n"
                "X20 NR0\nP2=P100\nM30\n"))

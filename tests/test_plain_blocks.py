@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 import fagorcnc
 from fagorcnc.interp import plain
 from fagorcnc.interp.interpreter import Interpreter
+from fagorcnc.syntax.parser import PLAIN_LINE
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
 
@@ -483,3 +484,56 @@ def test_plain_arc_time_is_the_record_time(monkeypatch):
         if seconds is not None:
             assert repr(seconds) == repr(record_time(machine, rec)), rec
     assert sum(seconds is not None for seconds, _ in timed) >= 20
+
+
+def _as_tuples(split):
+    """``split`` (a splitter of plain lines) giving plain tuples: blocks whose words :meth:`PlainBlocks.run`
+    checks one by one."""
+    def splitting(lines):
+        return [tuple(items) for items in split(lines)]
+    return splitting
+
+
+@pytest.mark.parametrize("name", ["mixed", "arcs", "errors"])
+def test_plain_words_run_as_checked_words(name, monkeypatch):
+    # the items of a plain line are PlainWords, whose words run() does not check: the same run as the same
+    # words in a plain tuple, each checked (lines, arcs, G90/G91, N, feeds, words run() refuses, errors)
+    from fagorcnc.syntax import builder, reader
+    from fagorcnc.syntax.ast import PlainWords
+    program = {"mixed": MIXED, "arcs": "%A\nG90 G0 X0 Y0 Z0 F800\nG1 F800\n" + "".join(ARCS.values()) + "M30\n",
+               "errors": "%E\nG90 G1 X0 Y0 F800\nN1 G1 X1 X2\nG2 X1 Y1 R0\nM30\n"}[name]
+    lines = [line for line in program.splitlines() if PLAIN_LINE(line)]
+    assert lines and all(type(items) is PlainWords for items in builder.split_plain_lines(lines))
+    marked = _run(program, MACHINE, True, monkeypatch)
+    monkeypatch.setattr(reader, "split_plain_lines", _as_tuples(builder.split_plain_lines))
+    monkeypatch.setattr(reader, "split_plain", lambda text: tuple(builder.split_plain(text)))
+    assert type(reader.parse_text(program).main.blocks[1].items) is tuple
+    assert _run(program, MACHINE, True, monkeypatch) == marked
+
+
+@given(line=_block)
+def test_plain_lines_hold_literal_words(line):
+    # what run() takes on trust from a PlainWords tuple, _literal_words() finds in it
+    from fagorcnc.syntax.builder import split_plain
+    if PLAIN_LINE(line):
+        assert plain._literal_words(split_plain(line))
+
+
+@pytest.mark.parametrize("name", ["mixed", "aids"])
+def test_cycle_time_is_the_time_of_the_records_handed_on(name):
+    # Interpreter.run adds the time the block loop kept for a record it hands on unchanged, else record_time():
+    # the sum of record_time() of every record handed on, in order, whatever the stages replaced (radius
+    # compensation, corner aids) or made at the address of a record freed before
+    from fagorcnc.interp.records import record_time
+    from fagorcnc.machine import load_machine
+    from fagorcnc.syntax import parse_text
+    program = {"mixed": MIXED, "aids": "%A\nT2 D1 M6\nG90 G0 X5 Y-10 Z0\nG42 G1 X5 Y0 F1000\n"
+               + "X10 Y0\nG36 I1\nX10 Y10\nG39 I1\nX0 Y10\nG36 I1\nX0 Y0\nX5 Y0\n" * 40
+               + "G40 G1 X5 Y-10\nM30\n"}[name]
+    machine = load_machine(MACHINE)
+    interp = Interpreter(parse_text(program), machine)
+    total = 0.0
+    for rec in interp.run():
+        total += record_time(machine, rec)
+    assert not [d for d in interp.diagnostics if d.is_error]
+    assert interp.cycle_time == total

@@ -14,7 +14,7 @@ import re
 from unittest import mock
 
 import pytest
-from hypothesis import example, given
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from fagorcnc.interp.source import stream_program
@@ -183,3 +183,36 @@ def test_possessive_plain_pattern_is_the_same_language(text: str) -> None:
     assert (PLAIN_LINE(text) is None) == (_LINE_BEFORE(text) is None)
     for pos in range(len(text) + 1):
         assert PLAIN_RUN(text, pos).end() == _RUN_BEFORE(text, pos).end()
+
+
+_LONG = reader.MAX_LINE_LENGTH
+_PIECES = ["", "\n", "X\r\nY", "Z\r", "\r", "X1", "X1\n", "G1 X2 Y3\n", "\n\n", "A" * _LONG, "B" * (_LONG + 1),
+           "C" * (_LONG - 1), "D" * (3 * _LONG + 5)]
+
+
+@settings(max_examples=150, deadline=None)
+@given(parts=st.lists(st.sampled_from(_PIECES), max_size=7),
+       size=st.sampled_from([1, 2, 7, 64, reader.MAX_LINE_LENGTH - 1, reader.MAX_LINE_LENGTH,
+                             reader.MAX_LINE_LENGTH + 1, reader.READ_SIZE]))
+def test_universal_lines_are_the_bounded_lines(parts: list, size: int) -> None:
+    """A file with universal newlines read in pieces of ``size`` characters: the lines readline() gives, the
+    overlong ones (one longer than a piece, or than several) as the same _Overlong start and length."""
+    text = "".join(parts)
+
+    def shown(lines) -> list:
+        return [(type(x).__name__, str(x), getattr(x, "length", None)) for x in lines]
+
+    assert shown(reader.universal_lines(io.StringIO(text, newline=None), size)) == \
+        shown(reader.bounded_lines(io.StringIO(text, newline=None)))
+
+
+def test_program_files_read_as_open_files(tmp_path) -> None:
+    """A ProgramFile's lines (what simulate(), dry_run(), parse_file() and check read) are those of the
+    same file opened by open(): CR LF, a lone CR, an overlong line, no line end at the end."""
+    path = tmp_path / "p.nc"
+    path.write_bytes(b"%P\r\nG1 X1 F100\rG1 X2\n" + b"X" * (reader.MAX_LINE_LENGTH + 10) + b"\nG1 X3\nM30")
+    with open(path, encoding="utf-8") as f:
+        expected = [(type(x).__name__, str(x)) for x in reader.bounded_lines(f)]
+    with reader.ProgramFile(path, "utf-8") as f:
+        assert [(type(x).__name__, str(x)) for x in reader._lines(f)] == expected
+    assert len(expected) == 6 and expected[3][0] == "_Overlong"

@@ -40,7 +40,7 @@ from pathlib import Path
 from typing import Any
 
 from ..diagnostics import CODES, Diagnostic
-from ..syntax.reader import bounded_lines
+from ..syntax.reader import ProgramFile, universal_lines
 
 #: The keys of ``[tool.fagorcnc]``.
 KEYS = ("machine", "compat", "fail-on", "select", "ignore", "max-cycle-time", "paths")
@@ -227,8 +227,8 @@ def suppressions(path: str | Path) -> dict[int, list[str]]:
     """Line -> the codes its ``; fagorcnc: ignore[...]`` comment names (the file read line by line)."""
     found: dict[int, list[str]] = {}
     try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            for number, line in enumerate(bounded_lines(f), start=1):   # no line of unbounded length in memory
+        with ProgramFile(path, "utf-8", "replace") as f:
+            for number, line in enumerate(universal_lines(f.file), start=1):   # no line of unbounded length in memory
                 if "fagorcnc" not in line:
                     continue
                 match = _SUPPRESS.search(line)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from itertools import islice
+from itertools import chain, islice
 from pathlib import Path
 from time import process_time as cpu_time
 
@@ -132,7 +132,7 @@ class Interpreter(FlowMixin):
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
             # (#SPLINE: the spline's chords first, interp/curves.py)
-            moves = follow(splines(self._guarded(), self), self)
+            moves = follow(splines(self._loop(0), self), self)
             records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
             # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
             timed = self._timed
@@ -140,9 +140,10 @@ class Interpreter(FlowMixin):
             # to read twice per record
             limited = clock.seconds > 0 and not self.consumer_excluded
             for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
-                known = timed.pop(id(record), None)   # the time _loop worked out for the same record
-                self.cycle_time += known[1] if known is not None and known[0] is record else \
-                    record_time(machine, record)
+                # the time _loop worked out for the same record: the entry holds its record, so no other object
+                # alive has its id (the record itself, not one made later at the address of one freed)
+                known = timed.pop(id(record), None)
+                self.cycle_time += record_time(machine, record) if known is None else known[1]
                 if limited:
                     handed = cpu_time()
                     yield record
@@ -162,17 +163,6 @@ class Interpreter(FlowMixin):
         finally:
             self.files.close()
 
-    def _guarded(self) -> Iterator:
-        """The block loop; an error or the end of the program ends it normally so that
-        the stages after it can hand on the moves they still hold."""
-        try:
-            yield from self._loop(0)
-        except InterpError as exc:
-            self._error(exc)
-            self.failed = True
-        except _Stop:
-            pass
-
     failed = False
     #: True when the consumer of :meth:`run` takes the records in runs and stops the interpretation clock
     #: while it has them (:func:`handed_in_runs`), so that run() does not read the clock around each record.
@@ -189,75 +179,86 @@ class Interpreter(FlowMixin):
         raise _Stop
 
     def _loop(self, depth: int) -> Iterator:
-        """Execute blocks until the call stack is back to ``depth`` frames."""
-        frames = self.frames
-        state = self.state
-        stream = self.stream
-        plain_blocks = PlainBlocks(self)
-        plain = plain_blocks.run if self.plain_blocks else None
-        max_blocks = self.machine.limits.max_blocks
-        machine = self.machine
-        timed = self._timed
-        while len(frames) > depth:
-            frame = frames[-1]
-            if frame.repeat is not None and frame.pc > frame.repeat[1]:
-                self._repeat_next(frame)
-                continue
-            source = frame.source
-            if type(source) is StreamSource:   # the main program, or a large subroutine file, read lazily
-                blocks = source._builder.blocks   # source.get(frame.pc) of a block read already, without the call
-                i = frame.pc - source._base
-                block = blocks[i] if 0 <= i < len(blocks) else source.get(frame.pc)
-                seen = source._seen   # has_error() has something to look at only when diagnostics came
-                if source is stream and not self.recover and (
-                        seen[2] or seen[0] is not source.diagnostics or len(seen[0]) != seen[1]) and stream.has_error():
-                    raise _Stop  # a syntax error ahead: nothing more is executed
-                if frame.pc & 1023 == 0:
-                    keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
-                    frame.source.release(frame.pc, min(keep) if keep else None)
-            else:
-                block = source.get(frame.pc)
-            if block is None:
-                self._end_of_routine(frame)
-                continue
-            frame.pc += 1
-            self._current_block = block
-            executed = state.executed_blocks + 1   # count_block(1), its checks only when they can fail
-            if executed > max_blocks or not executed & 1023:
-                self.count_block(1)
-            else:
-                state.executed_blocks = executed
-            if block.skip and state.block_skip:
-                continue
-            if block.number is not None:
-                state.last_n = block.number
-            if self.recover:
-                yield from self._skipping_errors(block)
-                continue
-            if plain is not None:   # the commonest CAM block, without the general executor (interp/plain.py)
-                record = plain(block)
-                if record is not NOT_PLAIN:
-                    if record is not None:
-                        if state.sync:
-                            yield self._sync(block, record.start)
-                        t = plain_blocks.seconds   # self._time(record, seconds), inline
-                        if t is None:
-                            t = record_time(machine, record)
-                        if len(timed) >= 256:
-                            timed.clear()
-                        timed[id(record)] = (record, t)
-                        state.elapsed += t
-                        yield record
-                    if state.sync:
-                        yield self._sync(block, None)
+        """Execute blocks until the call stack is back to ``depth`` frames.  The run's own loop (``depth`` 0)
+        ends normally on an error or at the end of the program, so that the stages after it can hand on the
+        moves they still hold (the loop itself, not a generator around it: one step less per record)."""
+        try:
+            frames = self.frames
+            state = self.state
+            stream = self.stream
+            plain_blocks = PlainBlocks(self)
+            plain = plain_blocks.run if self.plain_blocks else None
+            max_blocks = self.machine.limits.max_blocks
+            machine = self.machine
+            timed = self._timed
+            while len(frames) > depth:
+                frame = frames[-1]
+                if frame.repeat is not None and frame.pc > frame.repeat[1]:
+                    self._repeat_next(frame)
                     continue
-            for record in self._block(block):
-                if state.sync:   # the block read an execution value: the motion before it ends first
-                    yield self._sync(block, getattr(record, "start", None))
-                state.elapsed += self._time(record)   # V.G.CYTIME while running
-                yield record
-            if state.sync:
-                yield self._sync(block, None)
+                source = frame.source
+                if type(source) is StreamSource:   # the main program, or a large subroutine file, read lazily
+                    blocks = source._builder.blocks   # source.get(frame.pc) of a block read already, without the call
+                    i = frame.pc - source._base
+                    block = blocks[i] if 0 <= i < len(blocks) else source.get(frame.pc)
+                    seen = source._seen   # has_error() has something to look at only when diagnostics came
+                    if source is stream and not self.recover and (seen[2] or seen[0] is not source.diagnostics
+                                                                  or len(seen[0]) != seen[1]) and stream.has_error():
+                        raise _Stop  # a syntax error ahead: nothing more is executed
+                    if frame.pc & 1023 == 0:
+                        keep = [*frame.loops, *(r[0] for r in (frame.repeat, *frame.outer_repeats) if r)]
+                        frame.source.release(frame.pc, min(keep) if keep else None)
+                else:
+                    block = source.get(frame.pc)
+                if block is None:
+                    self._end_of_routine(frame)
+                    continue
+                frame.pc += 1
+                self._current_block = block
+                executed = state.executed_blocks + 1   # count_block(1), its checks only when they can fail
+                if executed > max_blocks or not executed & 1023:
+                    self.count_block(1)
+                else:
+                    state.executed_blocks = executed
+                if block.skip and state.block_skip:
+                    continue
+                if block.number is not None:
+                    state.last_n = block.number
+                if self.recover:
+                    yield from self._skipping_errors(block)
+                    continue
+                if plain is not None:   # the commonest CAM block, without the general executor (interp/plain.py)
+                    record = plain(block)
+                    if record is not NOT_PLAIN:
+                        if record is not None:
+                            if state.sync:
+                                yield self._sync(block, record.start)
+                            t = plain_blocks.seconds   # self._time(record, seconds), inline
+                            if t is None:
+                                t = record_time(machine, record)
+                            if len(timed) >= 256:
+                                timed.clear()
+                            timed[id(record)] = (record, t)
+                            state.elapsed += t
+                            yield record
+                        if state.sync:
+                            yield self._sync(block, None)
+                        continue
+                for record in self._block(block):
+                    if state.sync:   # the block read an execution value: the motion before it ends first
+                        yield self._sync(block, getattr(record, "start", None))
+                    state.elapsed += self._time(record)   # V.G.CYTIME while running
+                    yield record
+                if state.sync:
+                    yield self._sync(block, None)
+        except InterpError as exc:
+            if depth:   # a modal subroutine's loop (after_motion): the run's own loop reports it
+                raise
+            self._error(exc)
+            self.failed = True
+        except _Stop:
+            if depth:
+                raise
 
     def _time(self, record, seconds: float | None = None) -> float:
         """:func:`record_time` of a record made by the block loop (``seconds`` when it is known already), kept
@@ -626,12 +627,18 @@ def handed_in_runs(interp: Interpreter, records: Iterator, size: int = 1024) -> 
     each run is interpreted, then handed on with the interpretation clock stopped until the consumer asks
     for more, so that limits.max_seconds still counts interpretation alone (:class:`_Clock`) with two
     clock reads per run instead of two per record (a system call each).  What runs while a run is being
-    taken (a watcher of the records) counts as interpretation.  Sets ``interp.consumer_excluded``."""
+    taken (a watcher of the records) counts as interpretation.  Sets ``interp.consumer_excluded``.  The
+    records of each run are handed on by ``chain`` (no generator step a record): it asks for the next run,
+    and so stops excluding the consumer's time, when the consumer asks for the record after the run's last."""
     interp.consumer_excluded = True
-    clock = interp.clock
+    return chain.from_iterable(_runs(interp.clock, records, size))
+
+
+def _runs(clock: _Clock, records: Iterator, size: int) -> Iterator[list]:
+    """The runs of :func:`handed_in_runs`, each handed with the clock stopped until the next is asked for."""
     while run := list(islice(records, size)):
         handed = cpu_time()
-        yield from run
+        yield run
         clock.exclude(handed)
 
 

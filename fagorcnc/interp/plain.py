@@ -27,7 +27,7 @@ import dataclasses
 import math
 
 from ..path import arcs
-from ..syntax.ast import Block, Word
+from ..syntax.ast import Block, PlainWords, Word
 from . import compat
 from .expressions import InterpError
 from .records import _FEED_MODES, _JOINS, Arc, Line, Source, feed_mode, shared_tuple
@@ -107,12 +107,10 @@ class PlainBlocks:
         motion = None
         feed = None
         number = None
-        for w in block.items:
-            if type(w) is not Word:
-                return NOT_PLAIN
-            addr, value, col, eq = w
-            if type(value) is not float or eq is not None:
-                return NOT_PLAIN   # an expression, a parameter, a word without a value, G159=n
+        items = block.items
+        if type(items) is not PlainWords and not _literal_words(items):
+            return NOT_PLAIN
+        for addr, value, col, _eq in items:
             role = roles.get(addr)
             if type(role) is str:   # an axis of the channel: its machine axis
                 if role in axes:
@@ -445,6 +443,12 @@ def record_maker(cls):
 _line_record = record_maker(Line)
 _arc_record = record_maker(Arc)
 _source = record_maker(Source)
+
+
+def _literal_words(items: tuple) -> bool:
+    """Whether each of a block's ``items`` is a :class:`Word` of a literal value (not an expression, a
+    parameter, a word without a value or G159=n), as the words of :class:`PlainWords` are."""
+    return all(type(w) is Word and type(w.value) is float and w.eq is None for w in items)
 
 
 def _first_col(words: dict, params: dict) -> int:

@@ -245,4 +245,5 @@ def joint_space(records: Iterable, interp) -> Iterator:
             interp.diagnostics.append(Diagnostic(rec.src.file, rec.src.line, 1, "KIN022", "info", text,
                                                  rec.src.text))
 
-    yield from JointStage(interp.machine.kinematics_tolerance, limits, note).run(records)
+    # the stage's own generator, not one that hands its records on (one generator step less per record)
+    return JointStage(interp.machine.kinematics_tolerance, limits, note).run(records)

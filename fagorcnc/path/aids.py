@@ -320,8 +320,9 @@ def apply_aids(records: Iterable, on_error) -> Iterator:
             if aid is None:
                 if held is not None:
                     yield held
-                    yield from after
-                    after.clear()
+                    if after:   # (most moves follow a move: no list to go through)
+                        yield from after
+                        after.clear()
                 held = rec
                 continue
             try:

@@ -245,6 +245,15 @@ class Assignment(NamedTuple):
     col: int
 
 
+class PlainWords(tuple):
+    """The items of a block read from a plain line (``parser.PLAIN_LINE``'s): :class:`Word` nodes only, each
+    of a letter other than M and P, a literal float and no ``eq``.  A tuple like any other (it compares,
+    hashes and prints as one); its type tells :meth:`~fagorcnc.interp.plain.PlainBlocks.run` that no word
+    needs checking."""
+
+    __slots__ = ()
+
+
 class Block(NamedTuple):
     """One block (one line) of a program.
 

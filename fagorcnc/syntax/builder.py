@@ -28,6 +28,7 @@ from .ast import (
     Name,
     Num,
     Param,
+    PlainWords,
     Repeat,
     RepeatRef,
     Sentence,
@@ -83,14 +84,14 @@ def split_words(text: str, col: int, _new=tuple.__new__, _finditer=_WORD.findite
             for m in _finditer(text)]
 
 
-def split_plain(text: str) -> tuple:
-    """:func:`split_words` (as a tuple: a block's items) of a run from column 1 whose words are each a
-    letter, a sign right after it and a number, one blank apart (``parser.PLAIN_LINE``'s lines): the
-    same :class:`Word` nodes, split at the blanks (no regular expression)."""
+def split_plain(text: str) -> PlainWords:
+    """:func:`split_words` (as a :class:`PlainWords` tuple: a block's items) of a run from column 1 whose
+    words are each a letter, a sign right after it and a number, one blank apart (``parser.PLAIN_LINE``'s
+    lines): the same :class:`Word` nodes, split at the blanks (no regular expression)."""
     return split_plain_lines((text,))[0]
 
 
-def split_plain_lines(lines: Iterable[str], _new=tuple.__new__, _word=Word) -> list:
+def split_plain_lines(lines: Iterable[str], _new=tuple.__new__, _word=Word, _plain=PlainWords) -> list:
     """:func:`split_plain` of each of ``lines``, in one call (a run of plain lines).
 
     Hot path (some six words a plain CAM block): a new float per word, not one from :data:`_NUMBERS` (a
@@ -103,7 +104,7 @@ def split_plain_lines(lines: Iterable[str], _new=tuple.__new__, _word=Word) -> l
         for w in text.split():   # PLAIN_LINE's blanks are single spaces, and perhaps one at the end
             words.append(_new(_word, (w[0], float(w[1:]), col, None)))
             col += len(w) + 1
-        out.append(tuple(words))
+        out.append(_new(_plain, words))
     return out
 
 

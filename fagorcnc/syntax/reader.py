@@ -15,7 +15,7 @@ import codecs
 import gc
 import re
 from collections.abc import Iterable, Iterator
-from itertools import count, islice, repeat
+from itertools import chain, count, islice, repeat
 from pathlib import Path
 from typing import Protocol, Union
 
@@ -95,6 +95,68 @@ def bounded_lines(file) -> Iterator[str]:
         yield line.rstrip("\r\n")
 
 
+#: Characters :func:`universal_lines` reads at a time.
+READ_SIZE = 1 << 16
+
+
+class ProgramFile:
+    """A program file fagorcnc opens itself as :func:`open` opens a text file, with universal newlines (its
+    text holds no ``"\r"``: every line end is read as ``"\n"``), so that its lines can be read in large
+    pieces (:func:`universal_lines`) rather than one :meth:`readline` each: the lines the reader takes
+    from it are :func:`bounded_lines`' of the same open file.  A context manager; :meth:`close` closes it."""
+
+    __slots__ = ("file",)
+
+    def __init__(self, path: Union[str, Path], encoding: str, errors: str = "strict") -> None:
+        self.file = open(path, encoding=encoding, errors=errors)  # noqa: SIM115 - closed by close(): newline=None, universal
+
+    def close(self) -> None:
+        self.file.close()
+
+    def __enter__(self) -> ProgramFile:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.file.close()
+
+
+def universal_lines(file, size: int = READ_SIZE) -> Iterator[str]:
+    """:func:`bounded_lines` of a text file read with universal newlines (a :class:`ProgramFile`'s: its
+    line ends are ``"\n"`` alone), read ``size`` characters at a time and split at its line ends: the
+    same lines, an :class:`_Overlong` for a line longer than :data:`MAX_LINE_LENGTH` (with at most
+    ``MAX_LINE_LENGTH + size`` characters of it in memory).  The lines of each piece in a list, handed on
+    by ``chain`` (no generator step a line)."""
+    return chain.from_iterable(_universal_pieces(file, size))
+
+
+def _universal_pieces(file, size: int) -> Iterator[list]:
+    """The lines of :func:`universal_lines`, in a list for each piece read."""
+    limit = MAX_LINE_LENGTH
+    read = file.read
+    rest = ""   # the start of a line whose end is still to be read
+    chunk = read(size)
+    while chunk:
+        lines = (rest + chunk).split("\n")
+        rest = lines.pop()
+        if lines:
+            yield lines if max(map(len, lines)) <= limit else \
+                [_overlong(line, len(line)) if len(line) > limit else line for line in lines]
+        if len(rest) > limit:   # an overlong line: the rest of it is only counted, up to its end
+            start, length = rest, len(rest)
+            while (chunk := read(size)) and (end := chunk.find("\n")) < 0:
+                length += len(chunk)
+            if not chunk:   # the file ends in that line
+                yield [_overlong(start, length)]
+                return
+            yield [_overlong(start, length + end)]
+            rest, chunk = "", chunk[end + 1:]   # the lines after it, then more
+            if chunk:
+                continue
+        chunk = read(size)
+    if rest:
+        yield [rest]
+
+
 def _capped(lines: Iterable[str]) -> Iterator[str]:
     for line in lines:
         yield line if len(line) <= MAX_LINE_LENGTH else _overlong(line, len(line))
@@ -114,6 +176,8 @@ def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
         elif not source:
             return iter(())
         return _capped(source.split("\n"))
+    if type(source) is ProgramFile:
+        return universal_lines(source.file)
     if hasattr(source, "readline"):   # an open file: never a whole line of unbounded length in memory
         return bounded_lines(source)
     return _capped(s.rstrip("\r\n") for s in source)
@@ -311,13 +375,13 @@ def source_encoding(path: Union[str, Path]) -> str:
 
 
 def parse_file(path: Union[str, Path], compat: Compat | None = None) -> Program:
-    """Parse a program file into a :class:`Program`, read line by line (:func:`bounded_lines`:
+    """Parse a program file into a :class:`Program`, read line by line (:func:`universal_lines`:
     the text is never held whole, and a line longer than :data:`MAX_LINE_LENGTH` is SYN041);
     ``compat`` as for :func:`iter_lines`."""
     enabled = gc.isenabled()
     gc.disable()   # as in parse_text
     try:
-        with open(path, encoding=source_encoding(path), errors="replace") as f:
+        with ProgramFile(path, source_encoding(path), "replace") as f:
             return assemble(iter_lines(f, str(path), compat), str(path))
     finally:
         if enabled:
