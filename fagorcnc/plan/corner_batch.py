@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from .corner_memo import MISSING, CornerMemo
 from .corners import SHAPE
 from .geometry import BlendPiece, Piece, _controls, arc_tables, curve_bounds, curve_samples
 from .limits import CENTRIPETAL, CURVE_JERK
@@ -32,10 +33,64 @@ def make_blends(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
 
 def blend_batch(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray, *,
                 tolerance: float | None, speed: np.ndarray | None, acc: float, jerk: float,
-                corner: bool = False) -> tuple[list[tuple[BlendPiece, float, float] | None], tuple[np.ndarray, ...]]:
+                corner: bool = False, memo: CornerMemo | None = None
+                ) -> tuple[list[tuple[BlendPiece, float, float] | None], tuple[np.ndarray, ...]]:
     """:func:`make_blends`' curves and their derivative bounds as arrays: ``(d1, d2, d3)``, each
     (k, D), row i that of the i-th corner that has a curve (the rows of each curve's own bounds,
-    for a batch's limits: no array made again from the curves)."""
+    for a batch's limits: no array made again from the curves).  With a ``memo``, the corners it
+    holds are taken back from it and the others made (and kept in it): the same floats."""
+    if memo is None:
+        return _made(ps, qs, lim_p, lim_q, tolerance=tolerance, speed=speed, acc=acc, jerk=jerk, corner=corner)
+    return _remembered(memo, ps, qs, lim_p, lim_q, tolerance=tolerance, speed=speed, acc=acc, jerk=jerk,
+                       corner=corner)
+
+
+def _remembered(memo: CornerMemo, ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray, *,
+                tolerance: float | None, speed: np.ndarray | None, acc: float, jerk: float, corner: bool
+                ) -> tuple[list[tuple[BlendPiece, float, float] | None], tuple[np.ndarray, ...]]:
+    """:func:`blend_batch` through ``memo``: the corners it does not hold made in one batch."""
+    n = len(ps)
+    dim = len(ps[0].start) if n else 0
+    lim_p, lim_q = np.asarray(lim_p, dtype=float), np.asarray(lim_q, dtype=float)
+    keys = memo.keys(ps, qs, lim_p.tolist(), lim_q.tolist(), None if speed is None else speed.tolist(),
+                     (tolerance, acc, jerk, corner), dim)
+    found = [memo.find(k) for k in keys]
+    out: list[tuple[BlendPiece, float, float] | None] = [None] * n
+    rows: list[np.ndarray | None] = [None] * n   # each curve's bound rows (d1, d2, d3)
+    new = [i for i, f in enumerate(found) if f is MISSING]
+    if new:
+        made, bounds = _made([ps[i] for i in new], [qs[i] for i in new], lim_p[new], lim_q[new],
+                             tolerance=tolerance, speed=None if speed is None else speed[new], acc=acc,
+                             jerk=jerk, corner=corner)
+        k = 0
+        for i, curve in zip(new, made, strict=True):
+            out[i] = curve
+            if curve is None:
+                memo.keep(keys[i], None, None)
+                continue
+            rows[i] = row = (bounds[0][k], bounds[1][k], bounds[2][k])
+            memo.keep(keys[i], curve, row)
+            k += 1
+    back = [i for i, f in enumerate(found) if f is not MISSING and f is not None]
+    for axes in {keys[i][0] for i in back}:   # the curves taken back, by the axes they are kept on
+        group = [i for i in back if keys[i][0] == axes]
+        entries = [found[i] for i in group]
+        controls, b1, b2, b3 = (np.array([e[j] for e in entries]) for j in range(4))
+        vertex = np.array([ps[i].end for i in group])
+        controls, b1, b2, b3 = _all_axes(list(axes), vertex, controls, b1, b2, b3)
+        for i, e, c, e1, e2, e3 in zip(group, entries, controls, b1, b2, b3, strict=True):
+            out[i] = (BlendPiece.made(c, c[0], c[-1], e1, e2, e3, e[4], e[5]), e[6], e[7])
+            rows[i] = (e1, e2, e3)
+    kept = [r for r in rows if r is not None]
+    if not kept:
+        return out, (np.empty((0, dim)),) * 3
+    return out, tuple(np.array(b) for b in zip(*kept, strict=True))
+
+
+def _made(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray, *,
+          tolerance: float | None, speed: np.ndarray | None, acc: float, jerk: float,
+          corner: bool = False) -> tuple[list[tuple[BlendPiece, float, float] | None], tuple[np.ndarray, ...]]:
+    """:func:`blend_batch` without a memo: every corner's curve made."""
     n = len(ps)
     # each piece once (a chain's outgoing piece is the next corner's incoming one): the rows of
     # each corner's incoming piece and of its outgoing one
@@ -131,7 +186,7 @@ def blend_batch(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
         d1, d2, controls = (np.concatenate(x) for x in zip(*done, strict=True))
         # the bounds of the curves kept, all at once (the same products row by row as in the loop)
         b1, b2, b3, _ = curve_bounds(controls)
-        tables = arc_tables(controls)
+        tables = arc_tables(controls, alone=True)   # the same floats in any batch: see corner_memo
         if sides.keep is not None:
             controls, b1, b2, b3 = _all_axes(sides.keep, whole[rows], controls, b1, b2, b3)
         # row by row on lists and iterated rows (views, as indexing gives them): no index per array

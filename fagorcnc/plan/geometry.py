@@ -545,7 +545,17 @@ def _apply(basis: np.ndarray, controls: np.ndarray) -> np.ndarray:
 
 
 def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Dot products of the vectors along axis 1 of ``x`` and ``y``, that axis kept (length 1)."""
+    """Dot products of the vectors along axis 1 of ``x`` and ``y``, that axis kept (length 1).  The
+    products are added axis after axis, so that a curve's numbers are the same floats however many
+    curves are worked with it (see :mod:`~fagorcnc.plan.corner_memo`): einsum adds them in that
+    order over a batch of curves (n >= 2, laid along axis 2), but a single curve's three axes or
+    more in another, so those are added here."""
+    if x.ndim == 3 and x.shape[2] == 1 and x.shape[1] > 2:
+        products = x * y
+        out = products[:, 0] + products[:, 1]
+        for d in range(2, x.shape[1]):
+            out += products[:, d]
+        return out[:, None]
     return np.einsum("id...,id...->i...", x, y)[:, None]
 
 
@@ -648,21 +658,28 @@ def curve_samples(controls: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return q, sig.min(axis=0)[0] <= 1e-6 * sig.max(axis=0)[0]
 
 
-def arc_tables(controls: np.ndarray) -> np.ndarray:
+def arc_tables(controls: np.ndarray, alone: bool = False) -> np.ndarray:
     """Arc length at the 33 table parameters (8-point Gauss-Legendre on 32 intervals) of each curve
     (control points (n, 6, D)) -> (n, 33).  The same integral gives the length and the parameter of
     every point: a single coarser rule for the length was off by 3e-5 on sharp asymmetric curves,
-    which sampling at 1 ms sees."""
+    which sampling at 1 ms sees.  ``alone``: see :func:`speed_tables`."""
     b1 = _apply(_TABLE_B1, controls)
-    return speed_tables(np.sqrt(_dot(b1, b1))[:, 0])
+    return speed_tables(np.sqrt(_dot(b1, b1))[:, 0], alone)
 
 
-def speed_tables(speed: np.ndarray) -> np.ndarray:
-    """Arc-length tables (n, 33) from the speeds ``|B'|`` of n curves at :data:`TABLE_GAUSS` (256, n)."""
-    seg = _GL_W32 @ speed.reshape(32, len(_GL_X), -1)                 # (32, n): each interval's length
-    out = np.empty((seg.shape[1], 33))                                  # rows: one curve each, contiguous
+def speed_tables(speed: np.ndarray, alone: bool = False) -> np.ndarray:
+    """Arc-length tables (n, 33) from the speeds ``|B'|`` of n curves at :data:`TABLE_GAUSS` (256, n).
+    With ``alone``, each curve's table is the same floats however many curves are worked with it
+    (what :mod:`~fagorcnc.plan.corner_memo` needs): one small product per curve, on a copy laid
+    out curve by curve, where the weights times (8, n) columns round by the batch's width."""
+    n = speed.shape[1]
+    if alone:
+        seg = np.ascontiguousarray(speed.T).reshape(n, 32, len(_GL_X)) @ _GL_W32   # (n, 32)
+    else:
+        seg = (_GL_W32 @ speed.reshape(32, len(_GL_X), -1)).T               # each interval's length
+    out = np.empty((n, 33))                                              # rows: one curve each, contiguous
     out[:, 0] = 0.0
-    np.cumsum(seg.T, axis=1, out=out[:, 1:])
+    np.cumsum(seg, axis=1, out=out[:, 1:])
     return out
 
 

@@ -316,7 +316,7 @@ class CornerMixin:
             return
         found, bounds = blend_batch(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
                                     speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
-                                    corner=not hsc)
+                                    corner=not hsc, memo=self._corner_memo)
         # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits)
         limits: list[tuple | None] = [None] * len(found)
         made = [j for j, m in enumerate(found) if m is not None]

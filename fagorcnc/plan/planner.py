@@ -20,6 +20,7 @@ import numpy as np
 
 from ..config.machine import Machine, load_machine
 from ..interp.records import css_feed
+from .corner_memo import CornerMemo
 from .geometry import ArcPiece, LinePiece, Piece
 from .independent import IndependentAxes
 from .junctions import MIN_LENGTH, CornerMixin
@@ -83,6 +84,7 @@ class Planner(CornerMixin):
         self._spline_limits: dict[int, tuple] = {}  # their limits by the curve's id (see CornerMixin._batch)
         self._line_blends: dict[tuple[int, int], tuple] = {}  # batched G05 line corners by their directions' ids
         self._arc_blends: dict[tuple[int, int], tuple] = {}   # batched corners at arcs by their spans' ids
+        self._corner_memo = CornerMemo()        # the corner curves at arcs already made (plan/corner_memo.py)
         self._spline_used = False
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
         self._last_end: tuple = (None, None)    # the last record's end and its vector
