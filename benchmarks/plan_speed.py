@@ -35,14 +35,15 @@ def raster(n: int, mode: str):
     yield "M30"
 
 
-def contour_pass(per: int = 120):
+def contour_pass(per: int = 120, grow: float = 0.0):
     """One closed pass of a freeform finishing contour as CAM arc fitting writes it, from X40 Y0:
     arcs through three points of the curve r = 40 + 4 sin(5 t), ``per`` pieces round (2 mm long
     at 120, meeting at small kinks), every fourth piece a line (and a line where the curve is
-    nearly straight).  The planner's tests use it too."""
+    nearly straight).  ``grow``: that much wider (r = 40 + grow + ...).  The planner's tests use
+    it too."""
 
     def at(t: float) -> tuple[float, float]:
-        r = 40.0 + 4.0 * math.sin(5.0 * t)
+        r = 40.0 + grow + 4.0 * math.sin(5.0 * t)
         return r * math.cos(t), r * math.sin(t)
 
     for i in range(per):
@@ -59,17 +60,25 @@ def contour_pass(per: int = 120):
             yield f"{'G3' if cross > 0 else 'G2'} X{x1:.4f} Y{y1:.4f} I{cx - x0:.4f} J{cy - y0:.4f}"
 
 
-def contour(n: int, mode: str):
-    """At least ``n`` blocks of :func:`contour_pass` passes of 120 pieces, 0.2 mm apart in Z."""
+def contour(n: int, mode: str, draft: float = 0.0):
+    """At least ``n`` blocks of :func:`contour_pass` passes of 120 pieces, 0.2 mm apart in Z: the
+    same XY blocks at every depth (as CAM posts write a profile's passes), or with ``draft`` each
+    pass that much wider than the one above (a drafted wall: no corner of one pass is another's)."""
     yield "G90 G1 X40 Y0 Z0 F3000"
     yield {"G50": "G50", "G05": "G05", "HSC": "#HSC ON [CONTERROR 0.01]"}[mode]
-    k, z = 0, 0.0
+    k, z, grow = 0, 0.0, 0.0
     while k < n:
-        yield from contour_pass()
+        yield from contour_pass(grow=grow)
         k += 120
         z -= 0.2
-        yield f"G1 Z{z:.4f}"
+        grow += draft
+        yield f"G1 X{40.0 + grow:.4f} Z{z:.4f}" if draft else f"G1 Z{z:.4f}"
     yield "M30"
+
+
+def tapered(n: int, mode: str):
+    """:func:`contour` with every pass 0.02 mm wider than the one above (a 5.7 degree draft)."""
+    return contour(n, mode, draft=0.02)
 
 
 def measure(n: int, mode: str) -> dict:

@@ -16,7 +16,9 @@ time.  Programs (generated, deterministic):
   ``--iso`` blocks; gcodeparser (``bench`` extra) parses the same file, parse only
   (``list(parse_gcode_lines(text))`` after reading it);
 * ``raster G50`` / ``G05`` / ``HSC``: the 3D finishing raster of ``plan_speed.py``;
-* ``contour HSC`` / ``G05``: the freeform contour of arcs of ``plan_speed.py``.
+* ``contour HSC`` / ``G05``: the freeform contour of arcs of ``plan_speed.py``, its passes the same
+  XY blocks at every depth (the planner takes their corners back from its memo after the first);
+* ``tapered HSC``: the same contour with every pass 0.02 mm wider (no corner repeats).
 
 ``--tree OLD`` measures the same programs with the ``fagorcnc`` package of another checkout in
 the same run (e.g. ``git archive REV | tar -x -C /tmp/old``) and prints the ratio old ÷ new
@@ -49,7 +51,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from parse_speed import program_lines
-from plan_speed import contour, raster
+from plan_speed import contour, raster, tapered
 
 ROOT = Path(__file__).resolve().parents[1]   # the checkout whose fagorcnc "this tree" measures
 
@@ -202,6 +204,7 @@ def main() -> None:
             programs.append((f"raster {mode}", Path(folder) / f"raster{mode}.nc", raster(args.blocks, mode)))
         for mode in ("HSC", "G05"):
             programs.append((f"contour {mode}", Path(folder) / f"contour{mode}.nc", contour(args.blocks, mode)))
+        programs.append(("tapered HSC", Path(folder) / "taperedHSC.nc", tapered(args.blocks, "HSC")))
         if args.only_simulate:
             programs = []
         sizes = {name: write(path, lines) for name, path, lines in programs}

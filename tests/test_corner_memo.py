@@ -12,7 +12,7 @@ import pytest
 from test_corner_batch import _corners, _flat_corners
 
 from fagorcnc.plan.corner_batch import blend_batch
-from fagorcnc.plan.corner_memo import CornerMemo, piece_key
+from fagorcnc.plan.corner_memo import CornerMemo
 from fagorcnc.plan.geometry import ArcPiece, LinePiece
 
 KW = dict(acc=1000.0, jerk=20000.0)
@@ -101,27 +101,48 @@ def test_a_pass_at_another_depth_takes_its_curves_back(tolerance, speed, corner)
 
 
 def test_the_key_holds_every_number_bit_for_bit():
-    """A line's key changes with any of its numbers on the axes it moves along, the sign of a zero
-    included, and not with where it stands on the axes it does not move along."""
-    line = LinePiece(np.array([1.0, 0.0, 5.0]), np.array([3.0, 2.0, 5.0]))
-    axes, bits = piece_key(line)
-    assert axes == (0, 1)
-    assert piece_key(LinePiece(np.array([1.0, 0.0, -7.0]), np.array([3.0, 2.0, -7.0]))) == (axes, bits)
-    assert piece_key(LinePiece(np.array([1.0, -0.0, 5.0]), np.array([3.0, 2.0, 5.0])))[1] != bits
-    assert piece_key(LinePiece(np.array([1.0, 0.0, 5.0]), np.array([3.0, 2.0 + 1e-15, 5.0])))[1] != bits
-    arc = ArcPiece(np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.5]), 0, 1, (0.0, 0.0), math.pi / 2)
-    assert piece_key(arc)[0] == (0, 1, 2)   # a helix moves along Z too
+    """A corner's key changes with any of its numbers on the axes its pieces move along, the sign of
+    a zero included, and not with where it stands on the axes they do not move along; a helix's
+    corner also holds its batch's axes."""
+    def key(start, end, helix=None):
+        q = helix or ArcPiece(np.array(end), np.array([end[0] - 1.0, end[1] + 1.0, end[2]]), 0, 1,
+                              (end[0] - 1.0, end[1]), math.pi / 2)
+        return CornerMemo().keys([LinePiece(np.array(start), np.array(end))], [q], np.array([0.5]),
+                                 np.array([0.5]), np.array([50.0]), (0.01, 1000.0, 20000.0, False))[0][0]
+
+    base = key([1.0, 0.0, 5.0], [3.0, 2.0, 5.0])
+    assert base[0] == (0, 1) and base[2] is None
+    assert key([1.0, 0.0, -7.0], [3.0, 2.0, -7.0]) == base
+    assert key([1.0, -0.0, 5.0], [3.0, 2.0, 5.0]) != base
+    assert key([1.0, 0.0, 5.0], [3.0, 2.0 + 1e-15, 5.0]) != base
+    helix = key([1.0, 0.0, 5.0], [3.0, 2.0, 5.0], ArcPiece(np.array([3.0, 2.0, 5.0]), np.array([2.0, 3.0, 5.5]), 0, 1,
+                                                           (2.0, 2.0), math.pi / 2))
+    assert helix[0] == (0, 1, 2) and helix[2] == (0, 1, 2)
 
 
-def test_the_memo_is_bounded_and_its_curves_read_only():
-    """Past its size the memo lets its oldest corners go; what it keeps cannot be written into."""
+def test_the_memo_is_bounded():
+    """Past its size the memo lets its oldest corners go."""
     ps, qs = _flat_corners(5, 30, 0.0)
     lim_p, lim_q = _limits(ps, qs)
-    memo = CornerMemo(size=7)
+    memo = CornerMemo(size=7, patience=100)
     blend_batch(ps, qs, lim_p, lim_q, tolerance=0.01, speed=np.full(len(ps), 50.0), memo=memo, **KW)
     assert len(memo._made) == 7
-    kept = [e for e in memo._made.values() if e is not None]
-    assert kept and not any(a.flags.writeable for e in kept for a in e[:5])
+    blend_batch(ps, qs, lim_p, lim_q, tolerance=0.01, speed=np.full(len(ps), 50.0), memo=memo, **KW)
+    assert memo.hits == 7 and not memo.asleep
+
+
+def test_the_memo_sleeps_on_corners_that_do_not_repeat():
+    """After its size of corners in a row made and none taken back, the memo looks none up (and
+    keeps none): the batch is made as without it, the same floats."""
+    ps, qs = _flat_corners(6, 30, 0.0)
+    lim_p, lim_q = _limits(ps, qs)
+    kw = dict(tolerance=0.01, speed=np.full(len(ps), 50.0), **KW)
+    memo = CornerMemo(patience=20)
+    blend_batch(ps, qs, lim_p, lim_q, memo=memo, **kw)
+    assert memo.asleep and not memo._made
+    again, _ = blend_batch(ps, qs, lim_p, lim_q, memo=memo, **kw)
+    assert memo.hits == 0 and not memo._made
+    assert all(_same(a, b) for a, b in zip(again, blend_batch(ps, qs, lim_p, lim_q, **kw)[0], strict=True))
 
 
 def _passes(mode: str, depths: int) -> list[str]:

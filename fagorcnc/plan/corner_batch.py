@@ -39,7 +39,7 @@ def blend_batch(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.n
     (k, D), row i that of the i-th corner that has a curve (the rows of each curve's own bounds,
     for a batch's limits: no array made again from the curves).  With a ``memo``, the corners it
     holds are taken back from it and the others made (and kept in it): the same floats."""
-    if memo is None:
+    if memo is None or memo.asleep:
         return _made(ps, qs, lim_p, lim_q, tolerance=tolerance, speed=speed, acc=acc, jerk=jerk, corner=corner)
     return _remembered(memo, ps, qs, lim_p, lim_q, tolerance=tolerance, speed=speed, acc=acc, jerk=jerk,
                        corner=corner)
@@ -52,8 +52,7 @@ def _remembered(memo: CornerMemo, ps: list[Piece], qs: list[Piece], lim_p: np.nd
     n = len(ps)
     dim = len(ps[0].start) if n else 0
     lim_p, lim_q = np.asarray(lim_p, dtype=float), np.asarray(lim_q, dtype=float)
-    keys = memo.keys(ps, qs, lim_p.tolist(), lim_q.tolist(), None if speed is None else speed.tolist(),
-                     (tolerance, acc, jerk, corner), dim)
+    keys, layout = memo.keys(ps, qs, lim_p, lim_q, speed, (tolerance, acc, jerk, corner))
     found = [memo.find(k) for k in keys]
     out: list[tuple[BlendPiece, float, float] | None] = [None] * n
     rows: list[np.ndarray | None] = [None] * n   # each curve's bound rows (d1, d2, d3)
@@ -61,7 +60,7 @@ def _remembered(memo: CornerMemo, ps: list[Piece], qs: list[Piece], lim_p: np.nd
     if new:
         made, bounds = _made([ps[i] for i in new], [qs[i] for i in new], lim_p[new], lim_q[new],
                              tolerance=tolerance, speed=None if speed is None else speed[new], acc=acc,
-                             jerk=jerk, corner=corner)
+                             jerk=jerk, corner=corner, layout=layout)
         k = 0
         for i, curve in zip(new, made, strict=True):
             out[i] = curve
@@ -71,13 +70,17 @@ def _remembered(memo: CornerMemo, ps: list[Piece], qs: list[Piece], lim_p: np.nd
             rows[i] = row = (bounds[0][k], bounds[1][k], bounds[2][k])
             memo.keep(keys[i], curve, row)
             k += 1
+        if len(new) == n:   # nothing taken back: the batch's arrays as made
+            return made, bounds
     back = [i for i, f in enumerate(found) if f is not MISSING and f is not None]
     for axes in {keys[i][0] for i in back}:   # the curves taken back, by the axes they are kept on
         group = [i for i in back if keys[i][0] == axes]
         entries = [found[i] for i in group]
-        controls, b1, b2, b3 = (np.array([e[j] for e in entries]) for j in range(4))
+        keep = list(axes)
+        controls = np.array([e[0] for e in entries])[:, :, keep]
+        b1, b2, b3 = (np.array([e[j] for e in entries])[:, keep] for j in (1, 2, 3))
         vertex = np.array([ps[i].end for i in group])
-        controls, b1, b2, b3 = _all_axes(list(axes), vertex, controls, b1, b2, b3)
+        controls, b1, b2, b3 = _all_axes(keep, vertex, controls, b1, b2, b3)
         for i, e, c, e1, e2, e3 in zip(group, entries, controls, b1, b2, b3, strict=True):
             out[i] = (BlendPiece.made(c, c[0], c[-1], e1, e2, e3, e[4], e[5]), e[6], e[7])
             rows[i] = (e1, e2, e3)
@@ -89,8 +92,11 @@ def _remembered(memo: CornerMemo, ps: list[Piece], qs: list[Piece], lim_p: np.nd
 
 def _made(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray, *,
           tolerance: float | None, speed: np.ndarray | None, acc: float, jerk: float,
-          corner: bool = False) -> tuple[list[tuple[BlendPiece, float, float] | None], tuple[np.ndarray, ...]]:
-    """:func:`blend_batch` without a memo: every corner's curve made."""
+          corner: bool = False, layout: tuple[int, ...] | bool = True
+          ) -> tuple[list[tuple[BlendPiece, float, float] | None], tuple[np.ndarray, ...]]:
+    """:func:`blend_batch` without a memo: every corner's curve made, on the axes ``layout`` (True:
+    those some piece moves along; a memo gives its whole batch's, so that a corner is worked on
+    the axes it would be without the memo)."""
     n = len(ps)
     # each piece once (a chain's outgoing piece is the next corner's incoming one): the rows of
     # each corner's incoming piece and of its outgoing one
@@ -101,7 +107,7 @@ def _made(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray
             at[id(p)] = len(pieces)
             pieces.append(p)
     # on the axes some piece moves along (the others' numbers are each corner's vertex's)
-    sides = PieceRows(pieces, still=True)
+    sides = PieceRows(pieces, still=layout)
     incoming = np.array([at[id(p)] for p in ps], dtype=np.intp)
     outgoing = np.array([at[id(q)] for q in qs], dtype=np.intp)
     p_len = np.array([p.length for p in ps])

@@ -16,89 +16,107 @@ bounded on a program of any length.
 
 from __future__ import annotations
 
-import struct
-
 import numpy as np
 
 from .geometry import ArcPiece, LinePiece, Piece
 
-#: The most corners remembered (about 0.6 KiB each)
+#: The most corners remembered (each holds views of its batch's arrays: a few MiB at most)
 SIZE = 4096
+#: Corners made in a row, none taken back, after which the memo sleeps (a pass of a profile
+#: within that many corners of the same pass above is taken back)
+PATIENCE = 1024
 
 #: What a corner not remembered gets from :meth:`CornerMemo.find`
 MISSING = object()
 
-
-def _bits(values: list[float]) -> bytes:
-    """Floats as their bits: equal keys mean the same floats, signs of zero included."""
-    return struct.pack(f"{len(values)}d", *values)
+#: The axes of each mask of moving axes (bit i: axis i), made once
+_AXES: dict[int, tuple[int, ...]] = {}
 
 
-def piece_key(p: Piece) -> tuple[tuple[int, ...], bytes] | None:
-    """The axes the piece moves along and the bits of every number a corner's construction reads
-    of it on those axes (None: not a line or an arc, not remembered).  A line's: its start, end,
-    direction and length; an arc's: those of its start and end, its centre, angles, radii, length,
-    plane and the rate of its other axes (what :class:`~fagorcnc.plan.stretch.PieceRows` reads)."""
-    kind = type(p)
-    if kind is LinePiece:
-        u = p.ul
-        moving = tuple(i for i, x in enumerate(u) if x != 0.0)
-        start, end = p.start.tolist(), p.end.tolist()
-        return moving, _bits([*(start[i] for i in moving), *(end[i] for i in moving), *(u[i] for i in moving),
-                              p.length])
-    if kind is ArcPiece:
-        lin = p.lin.tolist()
-        moving = tuple(sorted({p.ia, p.io, *(i for i, x in enumerate(lin) if x != 0.0)}))
-        start, end = p.start.tolist(), p.end.tolist()
-        return moving, _bits([*(start[i] for i in moving), *(end[i] for i in moving), *(lin[i] for i in moving),
-                              *p.center, p.theta0, p.w, p.r0, p.dr, p.length, p.ia, p.io])
-    return None
+def _axes(code: int) -> tuple[int, ...]:
+    axes = _AXES.get(code)
+    if axes is None:
+        axes = _AXES[code] = tuple(i for i in range(code.bit_length()) if code >> i & 1)
+    return axes
+
+
+def piece_rows(pieces: list[Piece]) -> tuple[np.ndarray, np.ndarray] | None:
+    """For lines and arcs (None if any is neither): which axes each moves along (k, D) and a row of
+    every number a corner's construction reads of it, those on the axes it does not move along
+    set to 0 (they are the corner's own): its start, end and direction (an arc's rate on its other
+    axes), then its length, centre, angles, radii and plane (what
+    :class:`~fagorcnc.plan.stretch.PieceRows` reads), then its moving axes as 0/1."""
+    kinds = [type(p) for p in pieces]
+    if any(k is not LinePiece and k is not ArcPiece for k in kinds):
+        return None
+    arc = [k is ArcPiece for k in kinds]
+    start = np.array([p.start for p in pieces])
+    end = np.array([p.end for p in pieces])
+    direction = np.array([p.lin if a else p.u for p, a in zip(pieces, arc, strict=True)])
+    moving = direction != 0.0
+    shape = np.zeros((len(pieces), 9))
+    shape[:, 0] = [p.length for p in pieces]
+    if any(arc):
+        at = np.flatnonzero(arc)
+        rows = np.array([(*p.center, p.theta0, p.w, p.r0, p.dr, p.ia, p.io) for p, a in zip(pieces, arc, strict=True)
+                         if a])
+        shape[at, 1:] = rows
+        plane = rows[:, 6:].astype(np.intp)
+        moving[at, plane[:, 0]] = moving[at, plane[:, 1]] = True
+    return moving, np.concatenate([np.where(moving, start, 0.0), np.where(moving, end, 0.0),
+                                   np.where(moving, direction, 0.0), shape, moving], axis=1)
 
 
 class CornerMemo:
-    """The corner curves a planner has made at arcs, by :func:`piece_key` of both pieces, what each
-    side may give up, the speed and the batch's ``shared`` numbers.  Each entry: None (no curve
-    fits) or the curve on its axes (the ones its pieces move along): control points (6, k), its
-    three derivative bounds (k,), its arc-length table, its length and what each side gives up."""
+    """The corner curves a planner has made at arcs, by the bits of both pieces' rows
+    (:func:`piece_rows`), what each side may give up and the speed, and the batch's ``shared``
+    numbers.  Each entry: None (no curve fits) or the curve as its batch made it (views of the
+    batch's arrays: control points (6, D), its three derivative bounds (D,), its arc-length table,
+    its length and what each side gives up); the axes no piece of the corner moves along are
+    taken from the corner taking it back."""
 
-    __slots__ = ("_made", "hits", "size")
+    __slots__ = ("_made", "_since", "asleep", "hits", "patience", "size")
 
-    def __init__(self, size: int = SIZE) -> None:
+    def __init__(self, size: int = SIZE, patience: int = PATIENCE) -> None:
         self._made: dict[tuple, tuple | None] = {}
         self.size = size
+        self.patience = patience
         #: the corners taken back so far
         self.hits = 0
+        #: no corner looked up any more: :attr:`patience` corners in a row were made, none taken
+        #: back (a program that does not repeat its corners pays for the keys no further)
+        self.asleep = size <= 0 or patience <= 0
+        self._since = 0
 
-    def keys(self, ps: list[Piece], qs: list[Piece], lim_p: list[float], lim_q: list[float],
-             speed: list[float] | None, shared: tuple, dim: int) -> list[tuple | None]:
-        """The key of each corner ``ps[i] -> qs[i]`` (None: not remembered).  Its first item is the
-        axes the curve is worked on; a corner moving along three axes or more also holds the axes
-        its batch works on (sums of three numbers or more may round by their order)."""
-        pieces: dict[int, tuple | None] = {}
+    def keys(self, ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray,
+             speed: np.ndarray | None, shared: tuple) -> tuple[list[tuple | None], tuple[int, ...] | bool]:
+        """The key of each corner ``ps[i] -> qs[i]`` (None: not remembered): the axes its curve is
+        worked on, then the bits of its numbers; a corner moving along three axes or more also
+        holds the axes its batch works on (sums of three numbers or more may round by their order).
+        And those axes (what PieceRows(still=True) keeps of the whole batch; True: not known), on
+        which the corners not held are then made."""
+        pieces: list[Piece] = []
+        at: dict[int, int] = {}
         for p in (*ps, *qs):
-            if id(p) not in pieces:
-                pieces[id(p)] = piece_key(p)
-        known = [k for k in pieces.values() if k is not None]
-        layout = None   # the axes the batch works on (PieceRows(still=True)'s), when the memo knows them
-        if len(known) == len(pieces):
-            moving = sorted({i for axes, _ in known for i in axes})
-            layout = tuple(moving) if moving[:2] == [0, 1] else tuple(range(dim))
-        out: list[tuple | None] = []
-        for i, (p, q) in enumerate(zip(ps, qs, strict=True)):
-            kp, kq = pieces[id(p)], pieces[id(q)]
-            if kp is None or kq is None:
-                out.append(None)
-                continue
-            axes = tuple(sorted({*kp[0], *kq[0]}))
-            wide = None
-            if len(axes) >= 3:
-                if layout is None:
-                    out.append(None)
-                    continue
-                wide = layout
-            out.append((axes, kp, kq, _bits([lim_p[i], lim_q[i], speed[i] if speed is not None else 0.0]),
-                        speed is None, wide, shared))
-        return out
+            if id(p) not in at:
+                at[id(p)] = len(pieces)
+                pieces.append(p)
+        made = piece_rows(pieces)
+        if made is None:
+            return [None] * len(ps), True
+        moving, rows = made
+        n, dim = len(ps), moving.shape[1]
+        ip = np.array([at[id(p)] for p in ps], dtype=np.intp)
+        iq = np.array([at[id(q)] for q in qs], dtype=np.intp)
+        axes = moving[ip] | moving[iq]
+        codes = (axes @ (1 << np.arange(dim))).tolist()
+        every = moving.any(axis=0)   # the batch's axes (PieceRows(still=True)'s)
+        layout = tuple(np.flatnonzero(every).tolist()) if every[:2].all() else tuple(range(dim))
+        numbers = np.concatenate([rows[ip], rows[iq], lim_p[:, None], lim_q[:, None],
+                                  (np.zeros(n) if speed is None else speed)[:, None]], axis=1)
+        wide = (axes.sum(axis=1) >= 3).tolist()
+        return [(_axes(code), row.tobytes(), layout if w else None, speed is None, shared)
+                for code, row, w in zip(codes, numbers, wide, strict=True)], layout
 
     def find(self, key: tuple | None) -> tuple | object | None:
         """The entry of the corner ``key`` (:data:`MISSING`: not remembered)."""
@@ -107,12 +125,18 @@ class CornerMemo:
         found = self._made.get(key, MISSING)
         if found is not MISSING:
             self.hits += 1
+            self._since = 0
+            return found
+        self._since += 1
+        if self._since >= self.patience:
+            self.asleep = True
+            self._made.clear()
         return found
 
     def keep(self, key: tuple | None, curve: tuple | None, bounds: tuple[np.ndarray, ...] | None) -> None:
         """Remember the corner ``key``'s ``curve`` = (piece, d1, d2) or None, with its derivative
-        bounds' rows ``bounds`` (on every axis), on the key's axes."""
-        if key is None or self.size <= 0:
+        bounds' rows ``bounds``.  Nothing writes into a made curve's arrays: they are kept as they are."""
+        if key is None or self.asleep:
             return
         made = self._made
         if len(made) >= self.size:
@@ -120,9 +144,5 @@ class CornerMemo:
         if curve is None:
             made[key] = None
             return
-        axes = list(key[0])
         piece, g1, g2 = curve
-        arrays = (piece.controls[:, axes], *(b[axes] for b in bounds), piece.table_s.copy())
-        for a in arrays:   # shared by every curve taken back: nothing may write into them
-            a.flags.writeable = False
-        made[key] = (*arrays, piece.length, g1, g2)
+        made[key] = (piece.controls, *bounds, piece.table_s, piece.length, g1, g2)

@@ -34,9 +34,10 @@ class PieceRows:
     axis the program leaves where it is) are left out of the rows when the first two axes are
     kept: every point of such a piece, and of a corner curve between two of them, has the piece's
     start there, so the rows' numbers on the axes kept are the same floats and the work on them
-    is a fraction of it.  :attr:`keep` then lists the axes kept (None: all of them)."""
+    is a fraction of it.  :attr:`keep` then lists the axes kept (None: all of them); ``still`` may
+    also give those axes (another batch's, see :mod:`~fagorcnc.plan.corner_memo`)."""
 
-    def __init__(self, pieces: list[Piece], still: bool = False) -> None:
+    def __init__(self, pieces: list[Piece], still: bool | tuple[int, ...] = False) -> None:
         n = len(pieces)
         arc = [isinstance(p, ArcPiece) for p in pieces]
         start = np.array([p.start for p in pieces])
@@ -53,9 +54,13 @@ class PieceRows:
         #: the axes the rows hold (None: every axis)
         self.keep: list[int] | None = None
         if still:
-            moving = (direction != 0.0).any(axis=0)
-            if arcs.any():
-                moving[axes[arcs].ravel()] = True   # an arc's plane axes, whatever its radius
+            if still is True:
+                moving = (direction != 0.0).any(axis=0)
+                if arcs.any():
+                    moving[axes[arcs].ravel()] = True   # an arc's plane axes, whatever its radius
+            else:   # the axes to keep, given (a superset of those the pieces move along)
+                moving = np.zeros(start.shape[1], dtype=bool)
+                moving[list(still)] = True
             if moving[:2].all() and not moving.all():
                 keep = np.flatnonzero(moving)
                 start, direction = start[:, keep], direction[:, keep]
