@@ -53,7 +53,7 @@ def _remembered(memo: CornerMemo, ps: list[Piece], qs: list[Piece], lim_p: np.nd
     dim = len(ps[0].start) if n else 0
     lim_p, lim_q = np.asarray(lim_p, dtype=float), np.asarray(lim_q, dtype=float)
     keys, layout = memo.keys(ps, qs, lim_p, lim_q, speed, (tolerance, acc, jerk, corner))
-    found = [memo.find(k) for k in keys]
+    found = memo.find(keys)
     out: list[tuple[BlendPiece, float, float] | None] = [None] * n
     rows: list[np.ndarray | None] = [None] * n   # each curve's bound rows (d1, d2, d3)
     new = [i for i, f in enumerate(found) if f is MISSING]

@@ -115,19 +115,21 @@ class CornerMemo:
         numbers = np.concatenate([rows[ip], rows[iq], lim_p[:, None], lim_q[:, None],
                                   (np.zeros(n) if speed is None else speed)[:, None]], axis=1)
         wide = (axes.sum(axis=1) >= 3).tolist()
-        return [(_axes(code), row.tobytes(), layout if w else None, speed is None, shared)
-                for code, row, w in zip(codes, numbers, wide, strict=True)], layout
+        raw, width = numbers.tobytes(), numbers.shape[1] * 8   # each corner's row: a slice of the bytes
+        alone = speed is None
+        return [(_axes(code), raw[i:i + width], layout if w else None, alone, shared)
+                for code, i, w in zip(codes, range(0, n * width, width), wide, strict=True)], layout
 
-    def find(self, key: tuple | None) -> tuple | object | None:
-        """The entry of the corner ``key`` (:data:`MISSING`: not remembered)."""
-        if key is None:
-            return MISSING
-        found = self._made.get(key, MISSING)
-        if found is not MISSING:
-            self.hits += 1
-            self._since = 0
-            return found
-        self._since += 1
+    def find(self, keys: list[tuple | None]) -> list[tuple | object | None]:
+        """The entry of each corner of ``keys`` (:data:`MISSING`: not remembered)."""
+        get = self._made.get
+        found = [MISSING if key is None else get(key, MISSING) for key in keys]
+        for entry in found:
+            if entry is MISSING:
+                self._since += 1
+            else:
+                self.hits += 1
+                self._since = 0
         if self._since >= self.patience:
             self.asleep = True
             self._made.clear()
