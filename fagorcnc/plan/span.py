@@ -237,18 +237,6 @@ class Group:
                 rungs.append((cap, *self._tangential(cap)))
         return rungs
 
-    def caps(self, v: float) -> list[float]:
-        """The caps of :meth:`rungs` ``(v)`` that are at least ``v``, without their limits (made by
-        :meth:`rung` when asked: the solver tries the highest caps first and often stops there)."""
-        vc = self.vc
-        out = [vc] if vc >= v else []
-        if self.curves:
-            for f in LADDER:
-                if (cap := vc * f) < v:
-                    break
-                out.append(cap)
-        return out
-
     def rung(self, i: int) -> tuple[float, float, float]:
         """The ``i``-th rung of :meth:`rungs`, the ones above it made first (the same list)."""
         rungs = self._rungs
