@@ -73,45 +73,45 @@ def _crossings(starts: list[float], jerks: list[float], accs: list[float], speed
                duration: float, positions: list[float]) -> tuple[list[float], list[float]]:
     """Times at which a motion of the phases (their start times, jerks, and acceleration, speed and
     position at each start) reaches the increasing ``positions`` and its speeds there.  Per
-    constant-jerk phase the position is a cubic in time, increasing (the speed stays >= 0): Newton
-    kept inside the phase by bisection, to full precision."""
+    constant-jerk phase the position is a cubic in time, increasing (the speed stays >= 0): its root
+    in the phase, ``p0 + v0 t + a0 t²/2 + j t³/6 = 0`` from ``p0 <= 0``, by Newton from the linear
+    guess, kept inside the bracket by bisection, to full precision (inline: a root per member of a
+    group planned)."""
     ends = [*starts[1:], duration]
     times, at_speed = [], []
     k = 0
+    last = len(places) - 1
     for b in positions:
-        while k + 1 < len(places) and places[k + 1] <= b:
+        while k < last and places[k + 1] <= b:
             k += 1
-        tau = _cubic_root(places[k] - b, speeds[k], accs[k], jerks[k], ends[k] - starts[k])
-        times.append(starts[k] + tau)
-        at_speed.append(speeds[k] + accs[k] * tau + jerks[k] * tau * tau / 2.0)
+        p0, v0, a0, j, t0 = places[k] - b, speeds[k], accs[k], jerks[k], starts[k]
+        span = ends[k] - t0
+        lo, hi = 0.0, span
+        half = a0 / 2.0   # the loop's invariants made once (the same numbers)
+        close = 4e-16 * span
+        rise = span * (v0 + span * (half + span * j / 6.0))
+        # span * min(1.0, -p0 / rise) by a comparison (no call), or the middle
+        tau = span * (x if (x := -p0 / rise) < 1.0 else 1.0) if rise > 0.0 else span / 2.0
+        for _ in range(100):
+            tj = tau * j   # ``tau * j / 6.0`` is ``(tau * j) / 6.0``: the product both expressions begin with
+            f = p0 + tau * (v0 + tau * (half + tj / 6.0))
+            if f == 0.0:
+                break
+            if f > 0.0:
+                hi = tau
+            else:
+                lo = tau
+            slope = v0 + tau * (a0 + tj / 2.0)
+            nxt = tau - f / slope if slope > 0.0 else (lo + hi) / 2.0
+            if not lo <= nxt <= hi:
+                nxt = (lo + hi) / 2.0
+            if -close <= nxt - tau <= close:   # abs(nxt - tau) <= close, without a call
+                tau = nxt
+                break
+            tau = nxt
+        times.append(t0 + tau)
+        at_speed.append(v0 + a0 * tau + j * tau * tau / 2.0)
     return times, at_speed
-
-
-def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float:
-    """The root in ``[0, span]`` of ``p0 + v0 t + a0 t²/2 + j t³/6``, non-decreasing there from
-    ``p0 <= 0`` (Newton from the linear guess, kept inside the bracket by bisection)."""
-    lo, hi = 0.0, span
-    half = a0 / 2.0   # the loop's invariants made once (the same numbers)
-    close = 4e-16 * span
-    rise = span * (v0 + span * (half + span * j / 6.0))
-    tau = span * min(1.0, -p0 / rise) if rise > 0.0 else span / 2.0
-    for _ in range(100):
-        tj = tau * j   # ``tau * j / 6.0`` is ``(tau * j) / 6.0``: the product both expressions begin with
-        f = p0 + tau * (v0 + tau * (half + tj / 6.0))
-        if f == 0.0:
-            return tau
-        if f > 0.0:
-            hi = tau
-        else:
-            lo = tau
-        slope = v0 + tau * (a0 + tj / 2.0)
-        nxt = tau - f / slope if slope > 0.0 else (lo + hi) / 2.0
-        if not lo <= nxt <= hi:
-            nxt = (lo + hi) / 2.0
-        if -close <= nxt - tau <= close:   # abs(nxt - tau) <= close, without a call
-            return nxt
-        tau = nxt
-    return tau
 
 
 #: Spans shorter than this (mm) get exact closed-form profiles: ruckig's end position is only
