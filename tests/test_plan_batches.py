@@ -194,17 +194,25 @@ def test_curve_limits_are_the_cap_and_tangential_limits_of_the_axis_terms():
                     vc, *tangential(axis_terms(d1, d2, d3, lim), vc, *path))
 
 
+def _concatenated(parts: list[Terms]) -> Terms:
+    """The terms of ``parts`` one after the other, every one kept (Terms.joined leaves out bounded cross terms)."""
+    return Terms(*([t for p in parts for t in getattr(p, name)] for name in ("acc", "cross", "jerk")))
+
+
 def test_tangential_over_arrays_gives_the_same_numbers():
     # a group of many short curves: the joined terms of 40 pieces, below several caps
     rng = np.random.default_rng(7)
     lim = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), (20000.0, 15000.0, 9000.0))
     parts = [axis_terms(rng.uniform(0.0, 1.0, 3).tolist(), rng.uniform(0.0, 5.0, 3).tolist(),
                         rng.uniform(0.0, 500.0, 3).tolist(), lim) for _ in range(40)]
-    terms = Terms.joined(parts)
+    terms = _concatenated(parts)
     assert terms.total() == 40 * 9
+    joined = Terms.joined(parts)   # the cross terms another bounds left out
+    assert joined.total() < terms.total()
     for vc in (0.0, 0.5, 3.0, 12.0, 40.0):
         for path in ((0.0, 0.0), (500.0, 9000.0)):
-            assert tangential_arrays(terms.arrays(), vc, *path) == tangential(terms, vc, *path)
+            for some in (terms, joined):
+                assert tangential_arrays(some.arrays(), vc, *path) == tangential(some, vc, *path)
     empty = Terms([], [], [])
     assert tangential_arrays(empty.arrays(), 5.0, 300.0, 0.0) == tangential(empty, 5.0, 300.0, 0.0)
 
@@ -324,7 +332,7 @@ def test_term_arrays_give_the_limits_of_the_joined_terms():
         lim = AxisLimits((100.0, 80.0, 50.0), (1000.0, 800.0, 600.0), jerk)
         d1, d2, d3 = (rng.uniform(0.0, 1.0, (30, 3)) * rng.integers(0, 2, (30, 3)) for _ in range(3))
         d2, d3 = d2 * 5.0, d3 * 500.0
-        terms = Terms.joined(axis_terms(d1[i].tolist(), d2[i].tolist(), d3[i].tolist(), lim) for i in range(30))
+        terms = _concatenated([axis_terms(d1[i].tolist(), d2[i].tolist(), d3[i].tolist(), lim) for i in range(30)])
         arrays = term_arrays(d1, d2, d3, lim)
         assert sum(len(col[0]) for col in arrays) == terms.total()
         for vc in (0.0, 0.5, 3.0, 12.0, 40.0):

@@ -205,8 +205,8 @@ def test_the_planner_line_groups_plan_what_the_general_steps_plan(monkeypatch, k
 @pytest.mark.parametrize("keep", [False, True])
 def test_curved_groups_make_only_the_rungs_they_try(monkeypatch, keep):
     """Solver.time tries a curved group's caps from the highest down, each rung's limits made when
-    tried (Group.rung): the same plan as with every rung made first (Group.caps disabled, the
-    general steps), on arcs under G50 and G05 corner curves; and fewer rungs made."""
+    tried (Group.rung): the same plan as with every rung made first (Solver._curved taking the
+    general steps, Solver._ladder), on arcs under G50 and G05 corner curves; and fewer rungs made."""
     machine = fagorcnc.load_machine(None)
     rows = []
     for r in range(2):
@@ -233,7 +233,7 @@ def test_curved_groups_make_only_the_rungs_they_try(monkeypatch, keep):
     lazy = plan()
     lazy_made = len(made)
     made.clear()
-    monkeypatch.setattr(Group, "caps", lambda self, v: [])
+    monkeypatch.setattr(Solver, "_curved", lambda self, span, v0, v1, top, keep: self._ladder(span, v0, v1, top, keep))
     general = plan()
     assert len(lazy) == len(general) > 100
     assert lazy == general

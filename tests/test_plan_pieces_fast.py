@@ -146,7 +146,7 @@ def test_bound_lists_are_the_formulas_to_the_last_bit(case):
 
 
 def test_the_solver_sets_again_only_what_ruckig_does_not_hold():
-    """Solver._hold leaves a speed or length ruckig already holds: a solver asked many requests in turn
+    """Solver.duration leaves a speed or length ruckig already holds: a solver asked many requests in turn
     (repeats, the same value as another float object, 0.0 after -0.0) answers each as a fresh solver."""
     from fagorcnc.plan.profile import Solver
 

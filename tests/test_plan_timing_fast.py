@@ -15,9 +15,10 @@ import pytest
 
 import fagorcnc
 from fagorcnc.plan import Planner
+from fagorcnc.plan.limits import Terms, tangential
 from fagorcnc.plan.lookahead import reachable
 from fagorcnc.plan.profile import PHASES, Phases, Profile, ProfileError, Solver
-from fagorcnc.plan.span import Group
+from fagorcnc.plan.span import LADDER, Group
 from fagorcnc.simulate import Run
 
 _BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
@@ -38,17 +39,11 @@ class _Recording(Solver):
         return super().time(span, v0, v1, keep)
 
 
-class _Ladder:
-    """A group whose caps are not offered: Solver.time takes its general ladder (span.rungs)."""
+class _Ladder(Solver):
+    """A solver that takes the general ladder (span.rungs, Solver._ladder) for groups of curves too."""
 
-    def __init__(self, group) -> None:
-        self.group = group
-
-    def __getattr__(self, name):
-        return getattr(self.group, name)
-
-    def caps(self, v: float) -> list[float]:
-        return []
+    def _curved(self, span, v0: float, v1: float, top: float, keep: bool):
+        return self._ladder(span, v0, v1, top, keep)
 
 
 def _asked(mode: str) -> list[tuple]:
@@ -61,10 +56,10 @@ def _asked(mode: str) -> list[tuple]:
     return solver.asked
 
 
-def _timed(group, v0: float, v1: float, keep: bool) -> tuple | None:
+def _timed(group, v0: float, v1: float, keep: bool, solver: type[Solver] = Solver) -> tuple | None:
     """A fresh solver's (duration, cap, profile) of the request, None when it finds no profile."""
     try:
-        return Solver().time(group, v0, v1, keep)
+        return solver().time(group, v0, v1, keep)
     except ProfileError:
         return None
 
@@ -92,7 +87,7 @@ def test_the_rungs_of_a_group_of_curves_as_its_general_ladder(mode, keep):
         for w0, w1 in ((v0, v1), (v1, v0), (0.0, v1), (v0, 0.0), (0.5 * v0, v1)):
             fast = _timed(group, w0, w1, keep)
             lower += fast is not None and fast[1] < group.vc
-            _same(fast, _timed(_Ladder(group), w0, w1, keep))
+            _same(fast, _timed(group, w0, w1, keep, _Ladder))
     assert lower > 0   # some below the top cap: the lower rungs were compared too
 
 
@@ -147,3 +142,48 @@ def test_the_reach_of_a_group_of_curves_as_its_rungs_give_it(mode):
             assert got == _reach(group, v)
             below += got < group.vc
     assert below > 0
+
+
+def _tangential_both(terms: Terms, full: Terms, cap: float) -> None:
+    """tangential() over ``terms`` (cross terms bounded by others left out) is tangential() over ``full``
+    wherever its acceleration is positive, and at most 0 where that is not (no rung is tried there)."""
+    got, want = tangential(terms, cap, 0.0, 0.0), tangential(full, cap, 0.0, 0.0)
+    if want[0] > 0:
+        assert got == want
+    else:
+        assert got[0] <= 0
+
+
+@pytest.mark.parametrize("mode", ["G05", "HSC"])
+def test_joined_terms_without_bounded_cross_terms_give_the_same_limits(mode):
+    groups = [g for g, _v0, _v1 in _asked(mode) if len(g.curves) > 1]
+    assert len(groups) > 10
+    fewer = 0
+    for group in groups:
+        parts = [m.terms for m in group.curves]
+        joined = Terms.joined(parts)
+        full = Terms([t for p in parts for t in p.acc], [t for p in parts for t in p.cross],
+                     [t for p in parts for t in p.jerk])
+        assert joined.acc == full.acc and joined.jerk == full.jerk
+        assert set(joined.cross) <= set(full.cross)
+        fewer += len(joined.cross) < len(full.cross)
+        for f in (1.0, *LADDER, 1.3, 0.5 * 1e-3, 1e-9):
+            _tangential_both(joined, full, group.vc * f)
+    assert fewer > 10   # bounded cross terms were left out
+
+
+def test_cross_terms_left_out_are_bounded_by_one_kept():
+    """On random terms with few distinct values (ties, equal bounds, duplicates, near-zero and negative
+    numerators): the same limits at every cap, and every term left out bounded by a kept one."""
+    rng = np.random.default_rng(11)
+    for _ in range(400):
+        n = int(rng.integers(1, 12))
+        pick = lambda values: float(rng.choice(values))  # noqa: E731
+        cross = [(pick([2e4, 5e4]), pick([0.0, 1e2, 3e2, 1e3, 5e5]), pick([0.01, 0.05, 0.2, 1.0])) for _ in range(n)]
+        acc = [(pick([800.0, 1000.0]), pick([0.0, 0.05, 0.2]), pick([0.3, 0.7, 1.0])) for _ in range(n)]
+        jerk = [(j, k, k3, pick([0.3, 1.0])) for j, k3, k in cross]
+        joined = Terms.joined([Terms(acc, cross, jerk)])
+        for t in cross:
+            assert any(u[0] == t[0] and u[1] >= t[1] and u[2] >= t[2] for u in joined.cross)
+        for cap in (*rng.uniform(0.0, 200.0, 8).tolist(), 1e-6, 1.0, 40.0):
+            _tangential_both(joined, Terms(acc, cross, jerk), cap)

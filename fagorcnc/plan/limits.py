@@ -98,7 +98,8 @@ class Terms(NamedTuple):
 
     @staticmethod
     def joined(parts: Iterable[Terms]) -> Terms:
-        """The terms of several pieces as one."""
+        """The terms of several pieces as one, without the cross terms another bounds (see
+        :func:`_cross_kept`: what :func:`tangential` gives of them is the same)."""
         acc: list = []
         cross: list = []
         jerk: list = []
@@ -106,7 +107,7 @@ class Terms(NamedTuple):
             acc += part.acc
             cross += part.cross
             jerk += part.jerk
-        return Terms(acc, cross, jerk)
+        return Terms(acc, _cross_kept(cross), jerk)
 
     def total(self) -> int:
         """How many terms in all."""
@@ -118,6 +119,29 @@ class Terms(NamedTuple):
             table = np.array(rows, dtype=float).reshape(-1, width)
             return tuple(table[:, i] for i in range(width))
         return TermArrays(cols(self.acc, 3), cols(self.cross, 3), cols(self.jerk, 4))
+
+
+def _cross_kept(cross: list[tuple[float, float, float]]) -> list[tuple[float, float, float]]:
+    """The cross terms ``(J, d3, d2)`` of :func:`tangential` that no other bounds: a term with the same
+    ``J`` and both bounds at least this one's gives, at every cap ``vc > 0``, at most what this one gives
+    when that is positive (``vc³ d3`` and ``3 vc d2`` round monotonically, so its numerator is at most this
+    one's and its denominator at least) and at most 0 when this one is: the least term, and with it the
+    tangential acceleration, is the same wherever it is positive, and at most 0 where it is not (where
+    the planner tries no rung: the jerk made from it is never used).  The terms sorted from the highest:
+    a term is bounded when one before it with its ``J`` has a ``d2`` at least its own (the ones before
+    have a ``d3`` at least its own); the ones kept in that order (:func:`tangential` takes the least,
+    which the order does not change but for the sign of a zero, where no rung is tried either)."""
+    kept = []
+    limit, top = None, 0.0
+    for term in sorted(cross, reverse=True):
+        j, _k3, k = term
+        if j != limit:
+            limit, top = j, k
+            kept.append(term)
+        elif k > top:
+            top = k
+            kept.append(term)
+    return kept
 
 
 class TermArrays(NamedTuple):

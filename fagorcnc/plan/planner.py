@@ -339,9 +339,11 @@ class Planner(CornerMixin):
         del queue[:k]
         return v
 
-    def _split(self, group: Group, profile: Profile, v1: float, clock: list, after: dict) -> Iterator[Segment]:
-        """The members' segments of a group: the times where the group profile crosses each
-        member's start."""
+    def _split(self, group: Group, profile: Profile, v1: float, clock: list, after: dict) -> list[Segment]:
+        """The members' segments of a group, each followed by the events after it: the times where the
+        group profile crosses each member's start.  A list (at most :data:`GROUP_MEMBERS` segments and
+        their events), handed on by the caller's ``yield from``: no generator of its own to resume for
+        every segment."""
         members = group.members
         bounds = list(accumulate(map(_LENGTH, members[:-1]), initial=0.0))
         times, speeds = profile.crossings(bounds[1:])
@@ -350,15 +352,17 @@ class Planner(CornerMixin):
         bounds.append(group.length)
         start = clock[0]
         keep = self.keep
+        out = []
         for i, m in enumerate(members):
             duration = t[i + 1] - t[i]
             # the member's window of the group profile only when profiles are kept (no object per member else)
             window = ProfileWindow(profile, t[i], bounds[i], duration) if keep else None
-            yield Segment("motion", start + t[i], duration, m.line, m.record, m.piece, speeds[i], speeds[i + 1],
-                          window, m.blend)
+            out.append(Segment("motion", start + t[i], duration, m.line, m.record, m.piece, speeds[i], speeds[i + 1],
+                               window, m.blend))
             clock[0] = start + t[i + 1]
             if after:
-                yield from self._after(m, after, clock)
+                out += self._after(m, after, clock)
+        return out
 
     @staticmethod
     def _after(span: Span, after: dict, clock: list) -> Iterator[Segment]:

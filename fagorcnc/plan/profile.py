@@ -16,6 +16,8 @@ from itertools import accumulate
 import numpy as np
 from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
 
+from .span import LADDER
+
 
 class ProfileError(RuntimeError):
     """ruckig found no profile for a request the look-ahead considered feasible."""
@@ -71,45 +73,45 @@ def _crossings(starts: list[float], jerks: list[float], accs: list[float], speed
                duration: float, positions: list[float]) -> tuple[list[float], list[float]]:
     """Times at which a motion of the phases (their start times, jerks, and acceleration, speed and
     position at each start) reaches the increasing ``positions`` and its speeds there.  Per
-    constant-jerk phase the position is a cubic in time, increasing (the speed stays >= 0): Newton
-    kept inside the phase by bisection, to full precision."""
+    constant-jerk phase the position is a cubic in time, increasing (the speed stays >= 0): its root
+    in the phase, ``p0 + v0 t + a0 t²/2 + j t³/6 = 0`` from ``p0 <= 0``, by Newton from the linear
+    guess, kept inside the bracket by bisection, to full precision (inline: a root per member of a
+    group planned)."""
     ends = [*starts[1:], duration]
     times, at_speed = [], []
     k = 0
+    last = len(places) - 1
     for b in positions:
-        while k + 1 < len(places) and places[k + 1] <= b:
+        while k < last and places[k + 1] <= b:
             k += 1
-        tau = _cubic_root(places[k] - b, speeds[k], accs[k], jerks[k], ends[k] - starts[k])
-        times.append(starts[k] + tau)
-        at_speed.append(speeds[k] + accs[k] * tau + jerks[k] * tau * tau / 2.0)
+        p0, v0, a0, j, t0 = places[k] - b, speeds[k], accs[k], jerks[k], starts[k]
+        span = ends[k] - t0
+        lo, hi = 0.0, span
+        half = a0 / 2.0   # the loop's invariants made once (the same numbers)
+        close = 4e-16 * span
+        rise = span * (v0 + span * (half + span * j / 6.0))
+        # span * min(1.0, -p0 / rise) by a comparison (no call), or the middle
+        tau = span * (x if (x := -p0 / rise) < 1.0 else 1.0) if rise > 0.0 else span / 2.0
+        for _ in range(100):
+            tj = tau * j   # ``tau * j / 6.0`` is ``(tau * j) / 6.0``: the product both expressions begin with
+            f = p0 + tau * (v0 + tau * (half + tj / 6.0))
+            if f == 0.0:
+                break
+            if f > 0.0:
+                hi = tau
+            else:
+                lo = tau
+            slope = v0 + tau * (a0 + tj / 2.0)
+            nxt = tau - f / slope if slope > 0.0 else (lo + hi) / 2.0
+            if not lo <= nxt <= hi:
+                nxt = (lo + hi) / 2.0
+            if -close <= nxt - tau <= close:   # abs(nxt - tau) <= close, without a call
+                tau = nxt
+                break
+            tau = nxt
+        times.append(t0 + tau)
+        at_speed.append(v0 + a0 * tau + j * tau * tau / 2.0)
     return times, at_speed
-
-
-def _cubic_root(p0: float, v0: float, a0: float, j: float, span: float) -> float:
-    """The root in ``[0, span]`` of ``p0 + v0 t + a0 t²/2 + j t³/6``, non-decreasing there from
-    ``p0 <= 0`` (Newton from the linear guess, kept inside the bracket by bisection)."""
-    lo, hi = 0.0, span
-    half = a0 / 2.0   # the loop's invariants made once (the same numbers)
-    close = 4e-16 * span
-    rise = span * (v0 + span * (half + span * j / 6.0))
-    tau = span * min(1.0, -p0 / rise) if rise > 0.0 else span / 2.0
-    for _ in range(100):
-        tj = tau * j   # ``tau * j / 6.0`` is ``(tau * j) / 6.0``: the product both expressions begin with
-        f = p0 + tau * (v0 + tau * (half + tj / 6.0))
-        if f == 0.0:
-            return tau
-        if f > 0.0:
-            hi = tau
-        else:
-            lo = tau
-        slope = v0 + tau * (a0 + tj / 2.0)
-        nxt = tau - f / slope if slope > 0.0 else (lo + hi) / 2.0
-        if not lo <= nxt <= hi:
-            nxt = (lo + hi) / 2.0
-        if -close <= nxt - tau <= close:   # abs(nxt - tau) <= close, without a call
-            return nxt
-        tau = nxt
-    return tau
 
 
 #: Spans shorter than this (mm) get exact closed-form profiles: ruckig's end position is only
@@ -219,7 +221,7 @@ RUNG_MARGIN = 1.0 + 1e-9
 
 #: ``keep`` of a request whose profile is wanted as :class:`Phases` (lists), not as arrays.
 PHASES = "phases"
-#: The speed at rest (one object: see Solver._hold).
+#: The speed at rest (one object: see Solver.duration).
 _REST = 0.0
 #: ruckig's results of a request it solved.
 _SOLVED = (Result.Working, Result.Finished)
@@ -236,23 +238,8 @@ class Solver:
         self.inp.current_acceleration = [0.0]
         self.inp.target_acceleration = [0.0]
         self.inp.min_velocity = [0.0]
-        self._held = (None, None, None)   # the start speed, length and end speed ruckig holds (see _hold)
-
-    def _hold(self, v0: float, length: float, v1: float) -> None:
-        """Give ruckig the start speed, length and end speed of a request: each only when it differs
-        from the one it holds (a setter converts a list; the rungs of a span and the G50 blocks from
-        rest to rest ask the same ones again).  A float equal to the one held and not zero is the
-        same number; a zero is set again unless it is the very object held (0.0 and -0.0 are equal).
-        The setters take one-element tuples: a tuple converts with fewer instructions than a list."""
-        h0, h1, h2 = self._held
-        inp = self.inp
-        if not (v0 is h0 or (v0 == h0 and v0 != 0.0)):
-            inp.current_velocity = (v0,)
-        if not (length is h1 or (length == h1 and length != 0.0)):
-            inp.target_position = (length,)
-        if not (v1 is h2 or (v1 == h2 and v1 != 0.0)):
-            inp.target_velocity = (v1,)
-        self._held = (v0, length, v1)
+        # the start speed, length and end speed ruckig holds (see duration)
+        self._v0 = self._length = self._v1 = None
 
     def duration(self, length: float, v0: float, v1: float, vc: float, acc: float, jerk: float) -> float:
         """Duration of the time-optimal profile, or ``inf`` when ruckig finds none.
@@ -279,8 +266,21 @@ class Solver:
                 stop += (0.0 + v1) / 2.0 * t
                 if length < stop * _SHORT_KEPT - SHORT_MARGIN_MM:
                     return math.inf
-        self._hold(v0, length, v1)
+        # ruckig is given the start speed, length and end speed each only when it differs from the one
+        # it holds (a setter converts its argument; the rungs of a span and the G50 blocks from rest to
+        # rest ask the same ones again).  A float equal to the one held and not zero is the same number;
+        # a zero is set again unless it is the very object held (0.0 and -0.0 are equal).  The setters
+        # take one-element tuples: a tuple converts with fewer instructions than a list.
         inp = self.inp
+        if not (v0 is (held := self._v0) or (v0 == held and v0 != 0.0)):
+            inp.current_velocity = (v0,)
+            self._v0 = v0
+        if not (length is (held := self._length) or (length == held and length != 0.0)):
+            inp.target_position = (length,)
+            self._length = length
+        if not (v1 is (held := self._v1) or (v1 == held and v1 != 0.0)):
+            inp.target_velocity = (v1,)
+            self._v1 = v1
         inp.max_velocity = (vc,)
         inp.max_acceleration = (acc,)
         inp.max_jerk = (jerk,)
@@ -337,21 +337,12 @@ class Solver:
             if isinstance(prof, Profile):
                 return prof.duration, prof
             return prof, None
-        self._hold(_REST, length, _REST)
-        inp = self.inp
-        inp.max_velocity = (vc,)
-        for scale in (1.0, EDGE_SCALE):   # as time(): the limits a billionth lower on a second try
-            acc, jerk = span.acc, span.jerk
-            if acc <= 0 or jerk <= 0:
-                continue
-            inp.max_acceleration = (acc * scale,)
-            inp.max_jerk = (jerk * scale,)
-            try:
-                result = self.otg.calculate(inp, self.traj)
-            except (RuckigError, RuntimeError):
-                continue
-            if result in _SOLVED:
-                return self.traj.duration, self._kept(keep)
+        acc, jerk = span.acc, span.jerk
+        if not (acc <= 0 or jerk <= 0):   # as time() tests them (a NaN limit goes to ruckig)
+            for scale in (1.0, EDGE_SCALE):   # as time(): the limits a billionth lower on a second try
+                d = self.duration(length, _REST, _REST, vc, acc * scale, jerk * scale)
+                if d < math.inf:
+                    return d, self._kept(keep)
         raise ProfileError(f"no profile for a {length:.6g} mm span from rest to rest")
 
     def time(self, span, v0: float, v1: float, keep: bool | str) -> tuple[float, float, Profile | None]:
@@ -367,8 +358,14 @@ class Solver:
             if prof is not None:
                 return prof, span.vc, None
         top = v0 if v0 >= v1 else v1   # max(v0, v1) (the first of equal ones), without a call
-        if span.curves and (caps := span.caps(top)) and caps[0] == span.vc:
-            return self._curved(span, v0, v1, top, caps, keep)
+        if span.curves and span.vc >= top:   # its caps from the top one down to top: walked as made
+            return self._curved(span, v0, v1, top, keep)
+        return self._ladder(span, v0, v1, top, keep)
+
+    def _ladder(self, span, v0: float, v1: float, top: float,
+                keep: bool | str) -> tuple[float, float, Profile | None]:
+        """:meth:`time`'s general steps: the rungs of ``span.rungs`` at least ``top`` (and a cap just
+        above ``top``) made first, then tried from the highest down."""
         rungs = span.rungs(top)
         if span.curved:
             rungs = [r for r in rungs if r[0] >= top]
@@ -402,51 +399,58 @@ class Solver:
             self.duration(span.length, min(v0, vc), min(v1, vc), vc, acc, jerk)
         return best[0], best[1], self._kept(keep)
 
-    def _curved(self, span, v0: float, v1: float, top: float, caps: list[float],
+    def _curved(self, span, v0: float, v1: float, top: float,
                 keep: bool | str) -> tuple[float, float, Profile | None]:
-        """:meth:`time` of a group with curves over its ``caps`` at least ``top``: the same rungs
-        tried in the same order, each rung's limits made only when the rung is tried (``span.rung``:
-        the group's own list, as ``span.rungs`` makes it), so the same profile."""
-        extra = None
-        if top > 0 and top * (1 + 1e-9) < caps[-1]:
-            caps = [*caps, top * (1 + 1e-9)]
-            extra = len(caps) - 1
+        """:meth:`_ladder` of a group with curves whose cap is at least ``top``: the same caps tried in
+        the same order (the group's cap, the ladder's while at least ``top``, then a cap just above
+        ``top`` when it is lower than the last), each made as the walk reaches it and each rung's
+        limits only when the rung is tried (``span.rung``: the group's own list, as ``span.rungs``
+        makes it), so the same profile."""
+        cap = span.vc
+        last = len(LADDER)   # the index of the lowest rung; the cap above top is tried as index last + 1
         extra_limits = None
-        best = (math.inf, span.vc, 0.0, 0.0)
-        bound = math.inf   # best[0] * RUNG_MARGIN, made when best changes
+        best, best_vc, best_acc, best_jerk = math.inf, cap, 0.0, 0.0
+        bound = math.inf   # best * RUNG_MARGIN, made when best changes
         held = False
         length = span.length
         rungs = span._rungs   # the rungs the look-ahead made already (read here, made by span.rung)
         made = 0 if rungs is None else len(rungs)
         for scale in (1.0, EDGE_SCALE):
-            for i, vc in enumerate(caps):
+            i, vc = 0, cap
+            while True:
                 if bound <= length / vc:
-                    break   # as in time(): no motion below this cap is shorter than length / vc
-                if i == extra:
+                    break   # as in _ladder(): no motion below this cap is shorter than length / vc
+                if i < made:
+                    _cap, acc, jerk = rungs[i]
+                elif i <= last:
+                    _cap, acc, jerk = span.rung(i)
+                else:
                     if extra_limits is None:
                         extra_limits = span.limits_at(vc)
                     acc, jerk = extra_limits
-                elif i < made:
-                    _cap, acc, jerk = rungs[i]
+                if not (acc <= 0 or jerk <= 0):
+                    if scale != 1.0:   # x * 1.0 is x: the first pass asks with the limits as they are
+                        acc, jerk = acc * scale, jerk * scale
+                    # min(v0, vc), min(v1, vc) as comparisons (the same objects, no call per rung)
+                    d = self.duration(length, v0 if v0 <= vc else vc, v1 if v1 <= vc else vc, vc, acc, jerk)
+                    held = d < best
+                    if held:
+                        best, best_vc, best_acc, best_jerk = d, vc, acc, jerk
+                        bound = d * RUNG_MARGIN
+                # the next cap: the ladder's while at least top, then once the cap just above top
+                if i < last and (nxt := cap * LADDER[i]) >= top:
+                    i, vc = i + 1, nxt
+                elif i <= last and top > 0 and (nxt := top * (1 + 1e-9)) < vc:
+                    i, vc = last + 1, nxt
                 else:
-                    _cap, acc, jerk = span.rung(i)
-                if acc <= 0 or jerk <= 0:
-                    continue
-                if scale != 1.0:   # x * 1.0 is x: the first pass asks with the limits as they are
-                    acc, jerk = acc * scale, jerk * scale
-                # min(v0, vc), min(v1, vc) as comparisons (the same objects, no call per rung)
-                d = self.duration(length, v0 if v0 <= vc else vc, v1 if v1 <= vc else vc, vc, acc, jerk)
-                held = d < best[0]
-                if held:
-                    best = (d, vc, acc, jerk)
-                    bound = d * RUNG_MARGIN
-            if best[0] < math.inf:
+                    break
+            if best < math.inf:
                 break
-        if best[0] == math.inf:
+        if best == math.inf:
             raise ProfileError(f"no profile for a {length:.6g} mm span from {v0:.6g} to {v1:.6g} mm/s")
         if not keep:
-            return best[0], best[1], None
-        if not held:
-            _d, vc, acc, jerk = best
-            self.duration(length, min(v0, vc), min(v1, vc), vc, acc, jerk)
-        return best[0], best[1], self._kept(keep)
+            return best, best_vc, None
+        if not held:   # solve the best again so that the trajectory holds it
+            vc = best_vc
+            self.duration(length, min(v0, vc), min(v1, vc), vc, best_acc, best_jerk)
+        return best, best_vc, self._kept(keep)

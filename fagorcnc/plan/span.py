@@ -237,18 +237,6 @@ class Group:
                 rungs.append((cap, *self._tangential(cap)))
         return rungs
 
-    def caps(self, v: float) -> list[float]:
-        """The caps of :meth:`rungs` ``(v)`` that are at least ``v``, without their limits (made by
-        :meth:`rung` when asked: the solver tries the highest caps first and often stops there)."""
-        vc = self.vc
-        out = [vc] if vc >= v else []
-        if self.curves:
-            for f in LADDER:
-                if (cap := vc * f) < v:
-                    break
-                out.append(cap)
-        return out
-
     def rung(self, i: int) -> tuple[float, float, float]:
         """The ``i``-th rung of :meth:`rungs`, the ones above it made first (the same list)."""
         rungs = self._rungs
@@ -275,7 +263,8 @@ class Group:
         if self.jerk == math.inf and v < self.vc and (exact := self._reach_without_jerk(v)) is not None:
             return exact
         # down the ladder one cap at a time, each made only when reached: once a cap is reached
-        # within the length, no lower cap can do better
+        # within the length, no lower cap can do better; nor can a cap at most the best speed found
+        # (a rung gives at most its cap), so the walk stops there before making the rung
         best = 0.0
         rungs = self._rungs
         if rungs is None:   # _top() inline
@@ -285,8 +274,10 @@ class Group:
         while True:
             if i < made:
                 c, a, j = rungs[i]
+                if c <= best:
+                    break
             else:
-                if i > len(LADDER) or (c := top * LADDER[i - 1]) < v:
+                if i > len(LADDER) or (c := top * LADDER[i - 1]) < v or c <= best:
                     break
                 a, j = self._tangential(c)
                 rungs.append((c, a, j))
