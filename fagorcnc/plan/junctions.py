@@ -25,10 +25,19 @@ from .corners import (
     make_blend,
     split_blend,
 )
-from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
+from .geometry import ArcPiece, BlendPiece, LinePiece, arc_bound_rows, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
-from .shortcuts import batched_arc_corner, batched_line_corner, cut_line, fast_arc_corners, fast_corners, fast_splines
+from .shortcuts import (
+    arc_trims,
+    batched_arc_corner,
+    batched_line_corner,
+    cut_arc,
+    cut_line,
+    fast_arc_corners,
+    fast_corners,
+    fast_splines,
+)
 from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
@@ -254,7 +263,7 @@ class CornerMixin:
         for attempt in range(2):
             found = self._arc_blends.get(key)
             if found is not None:
-                fp, fn, q, end, made_with, lim_p, made, limits = found
+                fp, fn, q, end, made_with, lim_p, made, limits, _ = found
                 p = prev.piece
                 now = inputs[0] if inputs[0] <= p.length else p.length
                 if (fp is prev and fn is nxt and nxt.piece is q and made_with == inputs
@@ -317,18 +326,32 @@ class CornerMixin:
         found, bounds = blend_batch(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
                                     speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
                                     corner=not hsc)
-        # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits)
+        # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits), and
+        # in the same rows those of the arcs the batch trims at both ends (see cut_arc)
         limits: list[tuple | None] = [None] * len(found)
+        trims: list[tuple | None] = [None] * len(found)
         made = [j for j, m in enumerate(found) if m is not None]
         if made:
-            rows_of = curve_limits_rows(*bounds, lim, np.array([feeds[j] for j in made]), prev.path_acc,
-                                        prev.path_jerk)
-            for j, row in zip(made, zip(*(x.tolist() for x in rows_of), strict=True), strict=True):
+            corners, arcs, theta0, r0, length, arc_feeds = arc_trims(chain, rows, found, prev.path_acc,
+                                                                     prev.path_jerk, MIN_LENGTH)
+            rate = [feeds[j] for j in made]
+            if corners:
+                arc_bounds = arc_bound_rows(arcs, theta0, r0, length)
+                bounds = tuple(np.concatenate(x) for x in zip(bounds, arc_bounds, strict=True))
+                rate += arc_feeds
+            rows_of = zip(*(x.tolist() for x in curve_limits_rows(*bounds, lim, np.array(rate), prev.path_acc,
+                                                                  prev.path_jerk)), strict=True)
+            for j, row in zip(made, rows_of, strict=False):
                 limits[j] = row
+            if corners:   # the rows after the curves'
+                for j, arc, t, r, s, row, *lists in zip(corners, arcs, theta0, r0, length, rows_of,
+                                                        *(x.tolist() for x in arc_bounds), strict=True):
+                    span = chain[rows[j]]
+                    trims[j] = (arc._lin, t, r, s, span.feed, lim, tuple(lists), row)
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
         blends = self._arc_blends = {
             (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end, made_with[j],
-                                               lim_p[j], found[j], limits[j])
+                                               lim_p[j], found[j], limits[j], trims[j])
             for j, i in enumerate(rows)}
         # and by the first span's id: what _junction asks of a corner known to reach its curve
         least = max(dyn.hsc.corner, MIN_CORNER_ANGLE) if hsc else MIN_CORNER_ANGLE
@@ -356,10 +379,14 @@ class CornerMixin:
             self._spline_used = False
             return None
         nxt.trim(d2, nxt.piece.length, start, True)   # later: settled once its own end is decided
-        keep = prev.piece.length - d1
+        p = prev.piece
+        keep = p.length - d1
         if keep > MIN_LENGTH:
-            if cut is not None and cut[1] == keep and prev.piece.start is cut[0]:
+            if cut is not None and cut[1] == keep and p.start is cut[0]:
                 cut_line(prev, keep, cut[2])
+            elif (type(p) is ArcPiece and (known := self._arc_blends.get((id(prev), id(nxt)))) is not None
+                  and known[0] is prev and known[1] is nxt and known[8] is not None):
+                cut_arc(prev, keep, known[8])   # an arc whose stretch left the batch made the limits of
             else:
                 prev.trim(0.0, keep)
         else:

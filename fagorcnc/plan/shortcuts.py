@@ -102,6 +102,63 @@ def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     return made, feed, limits
 
 
+def arc_trims(chain: list[Span], rows: list[int], found: list, path_acc: float, path_jerk: float,
+              least: float) -> tuple[list[int], list[ArcPiece], list[float], list[float], list[float], list[float]]:
+    """The arcs of a batch of corners at arcs (:meth:`~.junctions.CornerMixin._arc_batch`; corner ``j``:
+    chain[rows[j]] -> chain[rows[j] + 1], its curve ``found[j]`` = (piece, d1, d2) or None) as they will
+    stand once the corners at both their ends are made (Span.trim's floats: the corner before trims the
+    arc's start by its d2, the corner after keeps its first ``length - d1``, longer than ``least``):
+    ``(corners, arcs, theta0, r0, length, feeds)``, the corner at the end of each such arc, the arc
+    (whose w, dr and axes the stretch keeps), the stretch's start angle, start radius and length, and
+    the feed its limits take (the span's over the stretch's speed factor).  The arcs with the batch's
+    path limits, their end made by the batch (those limits are the batch's, :func:`cut_arc`)."""
+    at_end = {i: j for j, i in enumerate(rows)}
+    corners: list[int] = []
+    arcs: list[ArcPiece] = []
+    theta0: list[float] = []
+    r0: list[float] = []
+    length: list[float] = []
+    feeds: list[float] = []
+    for j, i in enumerate(rows):
+        made, span = found[j], chain[i]
+        p = span.piece
+        if made is None or type(p) is not ArcPiece or span.path_acc != path_acc or span.path_jerk != path_jerk:
+            continue
+        t, r, s = p.theta0, p.r0, p.length
+        before = at_end.get(i - 1)
+        if before is not None and (cut := found[before]) is not None:   # ArcPiece.sub(d2, length)
+            t, r, s = t + p.w * cut[2], r + p.dr * cut[2], s - cut[2]
+        keep = s - made[1]
+        if not keep > least:
+            continue   # the corner drops the arc
+        t, r, s = t + p.w * 0.0, r + p.dr * 0.0, keep - 0.0   # ArcPiece.sub(0.0, keep)
+        end = r + p.dr * s
+        rmax = end if end > r else r   # ArcPiece.speed_factor's max(r0, end radius)
+        corners.append(j)
+        arcs.append(p)
+        theta0.append(t)
+        r0.append(r)
+        length.append(s)
+        feeds.append(span.feed / math.sqrt((p.dr ** 2 + (rmax * p.w) ** 2) + p._lin[2]))
+    return corners, arcs, theta0, r0, length, feeds
+
+
+def cut_arc(span: Span, keep: float, known: tuple) -> None:
+    """``span.trim(0.0, keep)`` of an arc whose stretch left, bounds and limits a batch made (``known``,
+    see :func:`arc_trims`: the arc's shared numbers, the stretch's start angle, start radius and
+    length, the span's feed and axis limits, the bounds and the limits): when the piece made is that
+    stretch (the corner before trimmed the arc as the batch took it) it takes them, else its own."""
+    lin, theta0, r0, length, feed, lim, bounds, limits = known
+    p = span.piece = span.piece.sub(0.0, keep)
+    if (p._lin is lin and p.theta0 == theta0 and p.r0 == r0 and p.length == length and span.feed == feed
+            and span.lim is lim):
+        p._bounded = bounds
+        span.length, span._terms, span.stale = length, None, False   # Span.refresh's
+        span.vc, span.acc, span.jerk = limits
+    else:
+        span.refresh()
+
+
 def batched_line_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     """The arguments of :meth:`~.junctions.CornerMixin._blend_span` for the corner prev -> nxt from its
     entry of a batch of G05 line corners (see :func:`fast_corners`) when the lines still stand as the
