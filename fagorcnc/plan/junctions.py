@@ -37,6 +37,7 @@ from .shortcuts import (
     fast_arc_corners,
     fast_corners,
     fast_splines,
+    sharpest_turn,
 )
 from .span import Event, Span
 
@@ -355,11 +356,12 @@ class CornerMixin:
             for j, i in enumerate(rows)}
         # and by the first span's id: what _junction asks of a corner known to reach its curve
         least = max(dyn.hsc.corner, MIN_CORNER_ANGLE) if hsc else MIN_CORNER_ANGLE
+        sharpest = sharpest_turn(least)
         for j, ok in enumerate(fast_arc_corners(chain, rows, made_with)):
             if ok:
                 i = rows[j]
                 blends[id(chain[i])] = (chain[i + 1], chain[i], qs[j], ps[j].end, splines[j], lim_p[j], found[j],
-                                        limits[j], feeds[j], least)
+                                        limits[j], feeds[j], least, sharpest)
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
                     start: np.ndarray | None = None, cut: tuple | None = None) -> Span | None:

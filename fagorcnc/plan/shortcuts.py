@@ -76,6 +76,52 @@ def fast_arc_corners(chain: list[Span], rows: list[int], made_with: list[tuple])
 
 #: The pieces a corner taken by :func:`batched_arc_corner` may join (the ones with ``tangent_list``).
 _TANGENTS = frozenset({LinePiece, ArcPiece})
+#: How far (radians) :func:`turn_estimate` must be from the turns where _junction's tests on the
+#: tangents change their answer for those tests to be known without their floats (the estimate and
+#: the angle of the tests' unit tangents differ by about 1e-15 rad; acos near the sharpest turn
+#: rounded, at most 179 degrees, adds less than 1e-13).
+TURN_MARGIN = 1e-8
+_TAU = 2.0 * math.pi
+_NAN = math.nan
+
+
+def sharpest_turn(least: float) -> float:
+    """The largest turn (radians) whose :func:`turn_estimate` below it shows that a corner passes the
+    test of its included angle against ``least`` (degrees): the turn of that angle less the margin;
+    none where that turn is under 1e-4 rad (the error of the test's acos grows as 1 / sin of the
+    angle: above 1e-4 rad it stays under 1e-11 rad, far inside the margin)."""
+    turn = math.radians(180.0 - least)
+    return turn - TURN_MARGIN if turn >= 1e-4 else 0.0
+
+
+def turn_estimate(p: LinePiece | ArcPiece, q: LinePiece | ArcPiece) -> float:
+    """The angle (radians, 0 to pi) between the tangents at the end of ``p`` and the start of ``q``
+    from their direction angles in the plane of the arc among them, when both move in that plane
+    alone (an arc: theta + atan2(rho w, dr), the angle of its q' = R(theta) (dr, rho w); a line: that of
+    its direction); NaN otherwise.  Cheaper than the unit tangents and their product, and within
+    about 1e-15 rad of the angle between them."""
+    arc = p if type(p) is ArcPiece else q
+    if type(arc) is not ArcPiece:
+        return _NAN
+    ia, io, off = arc.ia, arc.io, arc._lin[3]
+    a = _direction_angle(p, p.length, ia, io, off)
+    d = (_direction_angle(q, 0.0, ia, io, off) - a) % _TAU
+    return d if d <= math.pi else _TAU - d
+
+
+def _direction_angle(piece: LinePiece | ArcPiece, s: float, ia: int, io: int, off: tuple[int, ...]) -> float:
+    """The angle in the plane of the axes ``ia``, ``io`` of the tangent of ``piece`` at ``s`` when the
+    piece moves in that plane alone (none along the axes ``off``); NaN otherwise."""
+    if type(piece) is ArcPiece:
+        if piece.ia != ia or piece.io != io or piece._lin[2] != 0.0:
+            return _NAN
+        w = piece.w
+        return piece.theta0 + w * s + math.atan2((piece.r0 + piece.dr * s) * w, piece.dr)
+    u = piece.ul
+    for k in off:
+        if u[k] != 0.0:
+            return _NAN
+    return math.atan2(u[io], u[ia])
 
 
 def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
@@ -84,8 +130,10 @@ def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     next piece and end of prev, the curvature kept before prev: an HSC spline or not, and the same
     most prev may give up, as :meth:`~.junctions.CornerMixin._arc_blend` asks) and the corner passes
     _junction's tests of a smooth junction, a reversal and a sharp HSC edge (``least``: the least
-    included angle rounded) on the same floats; None: the corner is decided as any other."""
-    _, _, q, end, spline_before, lim_p, made, limits, feed, least = fast
+    included angle rounded) on the same floats, or known to pass them (:func:`turn_estimate` clear by
+    :data:`TURN_MARGIN` of a smooth junction and of ``sharpest``, the largest turn rounded less that
+    margin); None: the corner is decided as any other."""
+    _, _, q, end, spline_before, lim_p, made, limits, feed, least, sharpest = fast
     p = prev.piece
     if nxt.piece is not q or p.end is not end or (prev.mid_k is not None) is not spline_before:
         return None
@@ -93,6 +141,8 @@ def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     now = half_p if half_p <= p.length else p.length
     if not abs(now - lim_p) <= 1e-12 * lim_p:
         return None
+    if TURN_MARGIN < turn_estimate(p, q) < sharpest:
+        return made, feed, limits   # the tests below would pass
     pu, qu = p.tangent_list(p.length), q.tangent_list(0.0)
     if not math.dist(pu, qu) > TANGENT_EPS:
         return None   # the curvatures decide (most likely a smooth junction)
