@@ -46,7 +46,7 @@ def test_arcs_trimmed_with_a_batch_plan_as_the_general_path(monkeypatch, mode, p
     lines, a feed change, a helix, a long arc in parts and (CORNER 165) sharp edges: most arcs take
     the batch's, and an arc whose start the batch did not trim as it took it makes its own."""
     import fagorcnc
-    from fagorcnc.plan import junctions
+    from fagorcnc.plan import junctions, shortcuts
     from fagorcnc.plan.span import Span
     from fagorcnc.simulate import Run
 
@@ -74,7 +74,7 @@ def test_arcs_trimmed_with_a_batch_plan_as_the_general_path(monkeypatch, mode, p
         assert 1 <= sum(cuts) < len(cuts)
     else:
         assert sum(cuts) >= 8
-    monkeypatch.setattr(junctions, "arc_trims", lambda *args: ([], [], [], [], [], []))
+    monkeypatch.setattr(shortcuts, "arc_trims", lambda *args: ([], [], [], [], [], []))
     cuts.clear()
     general = _plan_floats(machine, records)
     assert not cuts and quick == general

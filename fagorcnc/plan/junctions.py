@@ -25,11 +25,11 @@ from .corners import (
     make_blend,
     split_blend,
 )
-from .geometry import ArcPiece, BlendPiece, LinePiece, arc_bound_rows, blend_rows, blends, corner_deviations
+from .geometry import ArcPiece, BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
 from .shortcuts import (
-    arc_trims,
+    arc_batch_limits,
     batched_arc_corner,
     batched_line_corner,
     cut_arc,
@@ -328,27 +328,8 @@ class CornerMixin:
                                     speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
                                     corner=not hsc)
         # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits), and
-        # in the same rows those of the arcs the batch trims at both ends (see cut_arc)
-        limits: list[tuple | None] = [None] * len(found)
-        trims: list[tuple | None] = [None] * len(found)
-        made = [j for j, m in enumerate(found) if m is not None]
-        if made:
-            corners, arcs, theta0, r0, length, arc_feeds = arc_trims(chain, rows, found, prev.path_acc,
-                                                                     prev.path_jerk, MIN_LENGTH)
-            rate = [feeds[j] for j in made]
-            if corners:
-                arc_bounds = arc_bound_rows(arcs, theta0, r0, length)
-                bounds = tuple(np.concatenate(x) for x in zip(bounds, arc_bounds, strict=True))
-                rate += arc_feeds
-            rows_of = zip(*(x.tolist() for x in curve_limits_rows(*bounds, lim, np.array(rate), prev.path_acc,
-                                                                  prev.path_jerk)), strict=True)
-            for j, row in zip(made, rows_of, strict=False):
-                limits[j] = row
-            if corners:   # the rows after the curves'
-                for j, arc, t, r, s, row, *lists in zip(corners, arcs, theta0, r0, length, rows_of,
-                                                        *(x.tolist() for x in arc_bounds), strict=True):
-                    span = chain[rows[j]]
-                    trims[j] = (arc._lin, t, r, s, span.feed, lim, tuple(lists), row)
+        # those of the arcs the batch trims at both ends (see cut_arc)
+        limits, trims = arc_batch_limits(chain, rows, found, bounds, feeds, MIN_LENGTH)
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
         blends = self._arc_blends = {
             (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end, made_with[j],
@@ -388,7 +369,7 @@ class CornerMixin:
                 cut_line(prev, keep, cut[2])
             elif (type(p) is ArcPiece and (known := self._arc_blends.get((id(prev), id(nxt)))) is not None
                   and known[0] is prev and known[1] is nxt and known[8] is not None):
-                cut_arc(prev, keep, known[8])   # an arc whose stretch left the batch made the limits of
+                cut_arc(prev, keep, known[8])   # an arc whose stretch's limits the batch made
             else:
                 prev.trim(0.0, keep)
         else:

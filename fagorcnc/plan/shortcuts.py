@@ -13,7 +13,8 @@ import numpy as np
 
 from ..interp.records import Arc, Line
 from .corners import TANGENT_EPS
-from .geometry import ArcPiece, BlendPiece, LinePiece
+from .geometry import ArcPiece, BlendPiece, LinePiece, arc_bound_rows
+from .limits import curve_limits_rows
 from .span import Span
 
 
@@ -152,6 +153,39 @@ def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     return made, feed, limits
 
 
+def arc_batch_limits(chain: list[Span], rows: list[int], found: list, bounds: tuple, feeds: list[float],
+                     least: float) -> tuple[list[tuple | None], list[tuple | None]]:
+    """The limits of a batch's corner curves at arcs (:meth:`~.junctions.CornerMixin._arc_batch`; curve
+    ``found[j]`` at chain[rows[j]] -> chain[rows[j] + 1], None where there is none; ``bounds``: the
+    curves' bound rows, ``feeds`` each corner's), at each corner's feed with the chain's first span's
+    axis and path limits (a curve's span takes prev's), and of the arcs it trims at both ends in the
+    same rows (:func:`arc_trims`, ``least``: the shortest arc kept): per corner, the curve's limits and
+    what :func:`cut_arc` takes for the arc before it (None: none)."""
+    limits: list[tuple | None] = [None] * len(found)
+    trims: list[tuple | None] = [None] * len(found)
+    made = [j for j, m in enumerate(found) if m is not None]
+    if not made:
+        return limits, trims
+    first = chain[0]
+    lim = first.lim
+    corners, arcs, theta0, r0, length, arc_feeds = arc_trims(chain, rows, found, first.path_acc, first.path_jerk,
+                                                             least)
+    rate = [feeds[j] for j in made]
+    if corners:
+        arc_bounds = arc_bound_rows(arcs, theta0, r0, length)
+        bounds = tuple(np.concatenate(x) for x in zip(bounds, arc_bounds, strict=True))
+        rate += arc_feeds
+    rows_of = zip(*(x.tolist() for x in curve_limits_rows(*bounds, lim, np.array(rate), first.path_acc,
+                                                          first.path_jerk)), strict=True)
+    for j, row in zip(made, rows_of, strict=False):   # the curves' rows, then the arcs'
+        limits[j] = row
+    if corners:
+        for j, arc, t, r, s, row, *lists in zip(corners, arcs, theta0, r0, length, rows_of,
+                                                *(x.tolist() for x in arc_bounds), strict=True):
+            trims[j] = (arc._lin, t, r, s, chain[rows[j]].feed, lim, tuple(lists), row)
+    return limits, trims
+
+
 def arc_trims(chain: list[Span], rows: list[int], found: list, path_acc: float, path_jerk: float,
               least: float) -> tuple[list[int], list[ArcPiece], list[float], list[float], list[float], list[float]]:
     """The arcs of a batch of corners at arcs (:meth:`~.junctions.CornerMixin._arc_batch`; corner ``j``:
@@ -160,8 +194,8 @@ def arc_trims(chain: list[Span], rows: list[int], found: list, path_acc: float, 
     arc's start by its d2, the corner after keeps its first ``length - d1``, longer than ``least``):
     ``(corners, arcs, theta0, r0, length, feeds)``, the corner at the end of each such arc, the arc
     (whose w, dr and axes the stretch keeps), the stretch's start angle, start radius and length, and
-    the feed its limits take (the span's over the stretch's speed factor).  The arcs with the batch's
-    path limits, their end made by the batch (those limits are the batch's, :func:`cut_arc`)."""
+    the feed its limits take (the span's over the stretch's speed factor).  Only arcs with a curve at
+    their end and the path limits ``path_acc``, ``path_jerk`` (those the rows' limits take)."""
     at_end = {i: j for j, i in enumerate(rows)}
     corners: list[int] = []
     arcs: list[ArcPiece] = []
