@@ -373,6 +373,38 @@ class ArcPiece(Piece):
         return out
 
 
+def arc_bound_rows(arcs: list[ArcPiece], theta0: list[float], r0: list[float],
+                   length: list[float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:meth:`ArcPiece.bound_lists` of stretches of ``arcs`` (what :meth:`ArcPiece._between` makes:
+    the start angles ``theta0``, radii ``r0`` and lengths ``length``) as rows (n, D), all at once: the
+    same operations element by element, so the same floats (the sines and cosines of the ends by
+    :mod:`math` and the cubes by Python's power, as the scalar form takes them; a batch of corners at
+    arcs knows the arcs it trims at both ends)."""
+    n = len(arcs)
+    w, dr = np.array([a.w for a in arcs]), np.array([a.dr for a in arcs])
+    theta0, r0, length = np.array(theta0), np.array(r0), np.array(length)
+    r1, theta1 = r0 + dr * length, theta0 + w * length   # _between's ends: the end radius, start + sweep
+    # _range_max of each stretch
+    first = theta0 <= theta1
+    lo, hi = np.where(first, theta0, theta1), np.where(first, theta1, theta0)
+    ends = lo.tolist(), hi.tolist()
+    sin = [np.abs([math.sin(x) for x in e]) for e in ends]
+    cos = [np.abs([math.cos(x) for x in e]) for e in ends]
+    ms = np.where(_HALF_PI + np.ceil((lo - _HALF_PI) / _PI) * _PI <= hi, 1.0, np.maximum(*sin))
+    mc = np.where(np.ceil(lo / _PI) * _PI <= hi, 1.0, np.maximum(*cos))
+    rmax, dr, w = np.where(r1 > r0, r1, r0), np.abs(dr), np.abs(w)
+    rw, dw2 = rmax * w, 2 * dr * w
+    rww, dww3, rw3 = rw * w, 3 * dr * w * w, rmax * np.array([x ** 3 for x in w.tolist()])
+    d1 = np.array([a._lin[1] for a in arcs])
+    d2, d3 = np.zeros(d1.shape), np.zeros(d1.shape)
+    at = np.arange(n)
+    ia, io = np.array([a.ia for a in arcs]), np.array([a.io for a in arcs])
+    d1[at, ia], d1[at, io] = dr * mc + rw * ms, dr * ms + rw * mc
+    d2[at, ia], d2[at, io] = dw2 * ms + rww * mc, dw2 * mc + rww * ms
+    d3[at, ia], d3[at, io] = dww3 * mc + rw3 * ms, dww3 * ms + rw3 * mc
+    return d1, d2, d3
+
+
 class BlendPiece(Piece):
     """A quintic Bézier joining two pieces with continuous tangent and curvature (G2).
 

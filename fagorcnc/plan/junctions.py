@@ -25,10 +25,20 @@ from .corners import (
     make_blend,
     split_blend,
 )
-from .geometry import BlendPiece, LinePiece, blend_rows, blends, corner_deviations
+from .geometry import ArcPiece, BlendPiece, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
-from .shortcuts import batched_arc_corner, batched_line_corner, cut_line, fast_arc_corners, fast_corners, fast_splines
+from .shortcuts import (
+    arc_batch_limits,
+    batched_arc_corner,
+    batched_line_corner,
+    cut_arc,
+    cut_line,
+    fast_arc_corners,
+    fast_corners,
+    fast_splines,
+    sharpest_turn,
+)
 from .span import Event, Span
 
 #: Auxiliary functions that do not stop the motion.
@@ -254,7 +264,7 @@ class CornerMixin:
         for attempt in range(2):
             found = self._arc_blends.get(key)
             if found is not None:
-                fp, fn, q, end, made_with, lim_p, made, limits = found
+                fp, fn, q, end, made_with, lim_p, made, limits, _ = found
                 p = prev.piece
                 now = inputs[0] if inputs[0] <= p.length else p.length
                 if (fp is prev and fn is nxt and nxt.piece is q and made_with == inputs
@@ -317,26 +327,22 @@ class CornerMixin:
         found, bounds = blend_batch(ps, qs, np.array(lim_p), np.array(lim_q), tolerance=tolerance,
                                     speed=None if speeds[0] is None else np.array(speeds), acc=acc, jerk=jerk,
                                     corner=not hsc, memo=self._corner_memo)
-        # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits)
-        limits: list[tuple | None] = [None] * len(found)
-        made = [j for j, m in enumerate(found) if m is not None]
-        if made:
-            rows_of = curve_limits_rows(*bounds, lim, np.array([feeds[j] for j in made]), prev.path_acc,
-                                        prev.path_jerk)
-            for j, row in zip(made, zip(*(x.tolist() for x in rows_of), strict=True), strict=True):
-                limits[j] = row
+        # the curves' limits at once, at each corner's feed (the curve's span takes prev's limits), and
+        # those of the arcs the batch trims at both ends (see cut_arc)
+        limits, trims = arc_batch_limits(chain, rows, found, bounds, feeds, MIN_LENGTH)
         # keyed by the spans' identity; the entries hold the spans, so no other span can take their ids
         blends = self._arc_blends = {
             (id(chain[i]), id(chain[i + 1])): (chain[i], chain[i + 1], qs[j], ps[j].end, made_with[j],
-                                               lim_p[j], found[j], limits[j])
+                                               lim_p[j], found[j], limits[j], trims[j])
             for j, i in enumerate(rows)}
         # and by the first span's id: what _junction asks of a corner known to reach its curve
         least = max(dyn.hsc.corner, MIN_CORNER_ANGLE) if hsc else MIN_CORNER_ANGLE
+        sharpest = sharpest_turn(least)
         for j, ok in enumerate(fast_arc_corners(chain, rows, made_with)):
             if ok:
                 i = rows[j]
                 blends[id(chain[i])] = (chain[i + 1], chain[i], qs[j], ps[j].end, splines[j], lim_p[j], found[j],
-                                        limits[j], feeds[j], least)
+                                        limits[j], feeds[j], least, sharpest)
 
     def _blend_span(self, prev: Span, nxt: Span, made: tuple, feed: float, limits: tuple | None = None,
                     start: np.ndarray | None = None, cut: tuple | None = None) -> Span | None:
@@ -356,10 +362,14 @@ class CornerMixin:
             self._spline_used = False
             return None
         nxt.trim(d2, nxt.piece.length, start, True)   # later: settled once its own end is decided
-        keep = prev.piece.length - d1
+        p = prev.piece
+        keep = p.length - d1
         if keep > MIN_LENGTH:
-            if cut is not None and cut[1] == keep and prev.piece.start is cut[0]:
+            if cut is not None and cut[1] == keep and p.start is cut[0]:
                 cut_line(prev, keep, cut[2])
+            elif (type(p) is ArcPiece and (known := self._arc_blends.get((id(prev), id(nxt)))) is not None
+                  and known[0] is prev and known[1] is nxt and known[8] is not None):
+                cut_arc(prev, keep, known[8])   # an arc whose stretch's limits the batch made
             else:
                 prev.trim(0.0, keep)
         else:

@@ -13,7 +13,8 @@ import numpy as np
 
 from ..interp.records import Arc, Line
 from .corners import TANGENT_EPS
-from .geometry import ArcPiece, BlendPiece, LinePiece
+from .geometry import ArcPiece, BlendPiece, LinePiece, arc_bound_rows
+from .limits import curve_limits_rows
 from .span import Span
 
 
@@ -76,6 +77,52 @@ def fast_arc_corners(chain: list[Span], rows: list[int], made_with: list[tuple])
 
 #: The pieces a corner taken by :func:`batched_arc_corner` may join (the ones with ``tangent_list``).
 _TANGENTS = frozenset({LinePiece, ArcPiece})
+#: How far (radians) :func:`turn_estimate` must be from the turns where _junction's tests on the
+#: tangents change their answer for those tests to be known without their floats (the estimate and
+#: the angle of the tests' unit tangents differ by about 1e-15 rad; acos near the sharpest turn
+#: rounded, at most 179 degrees, adds less than 1e-13).
+TURN_MARGIN = 1e-8
+_TAU = 2.0 * math.pi
+_NAN = math.nan
+
+
+def sharpest_turn(least: float) -> float:
+    """The largest turn (radians) whose :func:`turn_estimate` below it shows that a corner passes the
+    test of its included angle against ``least`` (degrees): the turn of that angle less the margin;
+    none where that turn is under 1e-4 rad (the error of the test's acos grows as 1 / sin of the
+    angle: above 1e-4 rad it stays under 1e-11 rad, far inside the margin)."""
+    turn = math.radians(180.0 - least)
+    return turn - TURN_MARGIN if turn >= 1e-4 else 0.0
+
+
+def turn_estimate(p: LinePiece | ArcPiece, q: LinePiece | ArcPiece) -> float:
+    """The angle (radians, 0 to pi) between the tangents at the end of ``p`` and the start of ``q``
+    from their direction angles in the plane of the arc among them, when both move in that plane
+    alone (an arc: theta + atan2(rho w, dr), the angle of its q' = R(theta) (dr, rho w); a line: that of
+    its direction); NaN otherwise.  Cheaper than the unit tangents and their product, and within
+    about 1e-15 rad of the angle between them."""
+    arc = p if type(p) is ArcPiece else q
+    if type(arc) is not ArcPiece:
+        return _NAN
+    ia, io, off = arc.ia, arc.io, arc._lin[3]
+    a = _direction_angle(p, p.length, ia, io, off)
+    d = (_direction_angle(q, 0.0, ia, io, off) - a) % _TAU
+    return d if d <= math.pi else _TAU - d
+
+
+def _direction_angle(piece: LinePiece | ArcPiece, s: float, ia: int, io: int, off: tuple[int, ...]) -> float:
+    """The angle in the plane of the axes ``ia``, ``io`` of the tangent of ``piece`` at ``s`` when the
+    piece moves in that plane alone (none along the axes ``off``); NaN otherwise."""
+    if type(piece) is ArcPiece:
+        if piece.ia != ia or piece.io != io or piece._lin[2] != 0.0:
+            return _NAN
+        w = piece.w
+        return piece.theta0 + w * s + math.atan2((piece.r0 + piece.dr * s) * w, piece.dr)
+    u = piece.ul
+    for k in off:
+        if u[k] != 0.0:
+            return _NAN
+    return math.atan2(u[io], u[ia])
 
 
 def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
@@ -84,8 +131,10 @@ def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     next piece and end of prev, the curvature kept before prev: an HSC spline or not, and the same
     most prev may give up, as :meth:`~.junctions.CornerMixin._arc_blend` asks) and the corner passes
     _junction's tests of a smooth junction, a reversal and a sharp HSC edge (``least``: the least
-    included angle rounded) on the same floats; None: the corner is decided as any other."""
-    _, _, q, end, spline_before, lim_p, made, limits, feed, least = fast
+    included angle rounded) on the same floats, or known to pass them (:func:`turn_estimate` clear by
+    :data:`TURN_MARGIN` of a smooth junction and of ``sharpest``, the largest turn rounded less that
+    margin); None: the corner is decided as any other."""
+    _, _, q, end, spline_before, lim_p, made, limits, feed, least, sharpest = fast
     p = prev.piece
     if nxt.piece is not q or p.end is not end or (prev.mid_k is not None) is not spline_before:
         return None
@@ -93,6 +142,8 @@ def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     now = half_p if half_p <= p.length else p.length
     if not abs(now - lim_p) <= 1e-12 * lim_p:
         return None
+    if TURN_MARGIN < turn_estimate(p, q) < sharpest:
+        return made, feed, limits   # the tests below would pass
     pu, qu = p.tangent_list(p.length), q.tangent_list(0.0)
     if not math.dist(pu, qu) > TANGENT_EPS:
         return None   # the curvatures decide (most likely a smooth junction)
@@ -100,6 +151,96 @@ def batched_arc_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     if not 180.0 - math.degrees(math.acos(-1.0 if c < -1.0 else 1.0 if c > 1.0 else c)) >= least:
         return None   # a stop
     return made, feed, limits
+
+
+def arc_batch_limits(chain: list[Span], rows: list[int], found: list, bounds: tuple, feeds: list[float],
+                     least: float) -> tuple[list[tuple | None], list[tuple | None]]:
+    """The limits of a batch's corner curves at arcs (:meth:`~.junctions.CornerMixin._arc_batch`; curve
+    ``found[j]`` at chain[rows[j]] -> chain[rows[j] + 1], None where there is none; ``bounds``: the
+    curves' bound rows, ``feeds`` each corner's), at each corner's feed with the chain's first span's
+    axis and path limits (a curve's span takes prev's), and of the arcs it trims at both ends in the
+    same rows (:func:`arc_trims`, ``least``: the shortest arc kept): per corner, the curve's limits and
+    what :func:`cut_arc` takes for the arc before it (None: none)."""
+    limits: list[tuple | None] = [None] * len(found)
+    trims: list[tuple | None] = [None] * len(found)
+    made = [j for j, m in enumerate(found) if m is not None]
+    if not made:
+        return limits, trims
+    first = chain[0]
+    lim = first.lim
+    corners, arcs, theta0, r0, length, arc_feeds = arc_trims(chain, rows, found, first.path_acc, first.path_jerk,
+                                                             least)
+    rate = [feeds[j] for j in made]
+    if corners:
+        arc_bounds = arc_bound_rows(arcs, theta0, r0, length)
+        bounds = tuple(np.concatenate(x) for x in zip(bounds, arc_bounds, strict=True))
+        rate += arc_feeds
+    rows_of = zip(*(x.tolist() for x in curve_limits_rows(*bounds, lim, np.array(rate), first.path_acc,
+                                                          first.path_jerk)), strict=True)
+    for j, row in zip(made, rows_of, strict=False):   # the curves' rows, then the arcs'
+        limits[j] = row
+    if corners:
+        for j, arc, t, r, s, row, *lists in zip(corners, arcs, theta0, r0, length, rows_of,
+                                                *(x.tolist() for x in arc_bounds), strict=True):
+            trims[j] = (arc._lin, t, r, s, chain[rows[j]].feed, lim, tuple(lists), row)
+    return limits, trims
+
+
+def arc_trims(chain: list[Span], rows: list[int], found: list, path_acc: float, path_jerk: float,
+              least: float) -> tuple[list[int], list[ArcPiece], list[float], list[float], list[float], list[float]]:
+    """The arcs of a batch of corners at arcs (:meth:`~.junctions.CornerMixin._arc_batch`; corner ``j``:
+    chain[rows[j]] -> chain[rows[j] + 1], its curve ``found[j]`` = (piece, d1, d2) or None) as they will
+    stand once the corners at both their ends are made (Span.trim's floats: the corner before trims the
+    arc's start by its d2, the corner after keeps its first ``length - d1``, longer than ``least``):
+    ``(corners, arcs, theta0, r0, length, feeds)``, the corner at the end of each such arc, the arc
+    (whose w, dr and axes the stretch keeps), the stretch's start angle, start radius and length, and
+    the feed its limits take (the span's over the stretch's speed factor).  Only arcs with a curve at
+    their end and the path limits ``path_acc``, ``path_jerk`` (those the rows' limits take)."""
+    at_end = {i: j for j, i in enumerate(rows)}
+    corners: list[int] = []
+    arcs: list[ArcPiece] = []
+    theta0: list[float] = []
+    r0: list[float] = []
+    length: list[float] = []
+    feeds: list[float] = []
+    for j, i in enumerate(rows):
+        made, span = found[j], chain[i]
+        p = span.piece
+        if made is None or type(p) is not ArcPiece or span.path_acc != path_acc or span.path_jerk != path_jerk:
+            continue
+        t, r, s = p.theta0, p.r0, p.length
+        before = at_end.get(i - 1)
+        if before is not None and (cut := found[before]) is not None:   # ArcPiece.sub(d2, length)
+            t, r, s = t + p.w * cut[2], r + p.dr * cut[2], s - cut[2]
+        keep = s - made[1]
+        if not keep > least:
+            continue   # the corner drops the arc
+        t, r, s = t + p.w * 0.0, r + p.dr * 0.0, keep - 0.0   # ArcPiece.sub(0.0, keep)
+        end = r + p.dr * s
+        rmax = end if end > r else r   # ArcPiece.speed_factor's max(r0, end radius)
+        corners.append(j)
+        arcs.append(p)
+        theta0.append(t)
+        r0.append(r)
+        length.append(s)
+        feeds.append(span.feed / math.sqrt((p.dr ** 2 + (rmax * p.w) ** 2) + p._lin[2]))
+    return corners, arcs, theta0, r0, length, feeds
+
+
+def cut_arc(span: Span, keep: float, known: tuple) -> None:
+    """``span.trim(0.0, keep)`` of an arc whose stretch left, bounds and limits a batch made (``known``,
+    see :func:`arc_trims`: the arc's shared numbers, the stretch's start angle, start radius and
+    length, the span's feed and axis limits, the bounds and the limits): when the piece made is that
+    stretch (the corner before trimmed the arc as the batch took it) it takes them, else its own."""
+    lin, theta0, r0, length, feed, lim, bounds, limits = known
+    p = span.piece = span.piece.sub(0.0, keep)
+    if (p._lin is lin and p.theta0 == theta0 and p.r0 == r0 and p.length == length and span.feed == feed
+            and span.lim is lim):
+        p._bounded = bounds
+        span.length, span._terms, span.stale = length, None, False   # Span.refresh's
+        span.vc, span.acc, span.jerk = limits
+    else:
+        span.refresh()
 
 
 def batched_line_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
