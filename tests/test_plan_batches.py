@@ -11,6 +11,7 @@ from fagorcnc.plan.corners import SHAPE, deviation, line_corners
 from fagorcnc.plan.geometry import (
     ArcPiece,
     BlendPiece,
+    BlendRow,
     LinePiece,
     arc_tables,
     blend_rows,
@@ -120,6 +121,32 @@ def test_blend_rows_give_each_curves_own_validity_and_bounds():
     for i, c in enumerate(curves):
         assert np.array_equal(d1[i], c.d1) and np.array_equal(d2[i], c.d2) and np.array_equal(d3[i], c.d3)
         assert np.array_equal(c.controls, plain[i].controls) and c.length == plain[i].length
+
+
+
+def test_a_batch_curve_is_the_blend_piece_made_of_its_rows():
+    # a BlendRow (its end, control points and table made when first asked) is BlendPiece.made of the
+    # batch's rows: the same arrays, the same length, points and derivatives along it
+    rng = np.random.default_rng(11)
+    u, p0, p5, k0, k5, a, b = _random_corners(rng, 6)
+    curves, _, _, (d1, d2, d3) = blend_rows(p0, u[:-1], k0, a, p5, u[1:], k5, b)
+    s = np.array([0.0, 0.1, 0.3])
+    for i, got in enumerate(curves):
+        assert type(got) is BlendRow and isinstance(got, BlendPiece)
+        controls = got._batch[0][i]
+        made = BlendPiece.made(controls, controls[0], controls[-1], d1[i], d2[i], d3[i], got._batch[1][i],
+                               float(got._batch[1][i][-1]))
+        end = got.end
+        assert got.end is end and got.controls is got.controls and got.table_s is got.table_s   # made once
+        for name in ("start", "end", "controls", "d1", "d2", "d3", "table_s", "table_u"):
+            assert np.array_equal(getattr(got, name), getattr(made, name)), name
+        assert got.length == made.length and got.valid == made.valid
+        ss = s * got.length
+        assert all(np.array_equal(x, y) for x, y in zip(got.derivatives(ss), made.derivatives(ss), strict=True))
+    got = curves[0]
+    got.end = np.zeros(3)   # set as any piece's
+    assert np.array_equal(got.end, np.zeros(3))
+    assert not hasattr(got, "no_such_array") and getattr(got, "no_such_array", None) is None
 
 
 def test_curve_bounds_without_the_points_are_the_same_floats():

@@ -495,6 +495,44 @@ class BlendPiece(Piece):
         return np.vander(np.linspace(0.0, 1.0, n), 6, increasing=True) @ self.coef[0]
 
 
+
+
+class BlendRow(BlendPiece):
+    """A :class:`BlendPiece` of a batch of curves made at once: row ``_row`` of the batch's arrays
+    ``_batch`` = (control points (n, 6, D), arc-length tables (n, 33)), with its start point and
+    bounds (views of rows too).  Its control points, end point and arc-length table are made on
+    first use (properties over slots of their own: a ``__getattr__`` would slow every attribute
+    of the class): planning a corner asks for none of them (the limits come with the batch, the
+    length from the table's last).  The same values as :meth:`BlendPiece.made` of the rows."""
+
+    __slots__ = ("_batch", "_controls", "_end", "_row", "_table")
+
+    @classmethod
+    def of(cls, batch: tuple, row: int, start: np.ndarray, d1: np.ndarray, d2: np.ndarray, d3: np.ndarray,
+           length: float) -> BlendRow:
+        """Row ``row`` of ``batch`` (see the class), with its start point, bounds and arc length."""
+        out = cls.__new__(cls)
+        out._batch, out._row, out.start, out.d1, out.d2, out.d3, out._length = batch, row, start, d1, d2, d3, length
+        out._controls = out._end = out._table = out._coef = out.samples = None
+        out.table_u = _TABLE_NODES
+        return out
+
+
+def _row_view(slot, make) -> property:
+    """A property of :class:`BlendRow` kept in its slot ``slot``: ``make(batch, row)`` on first use."""
+    def get(self: BlendRow) -> np.ndarray:
+        value = slot.__get__(self)
+        if value is None:
+            value = make(self._batch, self._row)
+            slot.__set__(self, value)
+        return value
+    return property(get, slot.__set__)
+
+
+BlendRow.controls = _row_view(BlendRow._controls, lambda b, i: b[0][i])
+BlendRow.end = _row_view(BlendRow._end, lambda b, i: b[0][i, -1])
+BlendRow.table_s = _row_view(BlendRow._table, lambda b, i: b[1][i])
+
 _BOUND_U = np.linspace(0.0, 1.0, 97)
 _TABLE_NODES = np.linspace(0.0, 1.0, 33)
 _PERM = {r: np.array([math.perm(k, r) for k in range(r, 6)], dtype=float) for r in (1, 2, 3)}
@@ -686,8 +724,9 @@ def blend_rows(p0: np.ndarray, t0: np.ndarray, k0: np.ndarray, a: np.ndarray, p5
     controls = _controls(p0, t0, k0, a[:, None], p5, t5, k5, b[:, None])
     samples, d1, d2, d3, _ = _curve_bounds(controls)
     tables = arc_tables(controls)
-    curves = [BlendPiece.made(*row) for row in zip(controls, controls[:, 0], controls[:, -1], d1, d2, d3, tables,
-                                                   tables[:, -1].tolist(), strict=True)]
+    batch = (controls, tables)
+    curves = [BlendRow.of(batch, *row) for row in zip(range(len(controls)), controls[:, 0], d1, d2, d3,
+                                                     tables[:, -1].tolist(), strict=True)]
     return curves, samples, np.isfinite(d3).all(axis=1), (d1, d2, d3)
 
 
