@@ -149,6 +149,50 @@ def test_a_batch_curve_is_the_blend_piece_made_of_its_rows():
     assert not hasattr(got, "no_such_array") and getattr(got, "no_such_array", None) is None
 
 
+
+@pytest.mark.parametrize("dim", [1, 2, 3, 5, 8])
+def test_dot_products_over_rows_of_curves_are_einsums_floats(dim):
+    # geometry._dot and corner_deviations sum the axes' products over whole rows of curves: to the bit
+    # (signed zeros, infinities and cancellations included) einsum's sums, which they replace
+    from fagorcnc.plan.geometry import _axis_sums, _dot
+
+    def bits(a):
+        return np.ascontiguousarray(a).view(np.int64)
+
+    rng = np.random.default_rng(dim)
+    for n in (2, 3, 8, 63):
+        x = rng.standard_normal((97, dim, n)) * 10.0 ** rng.uniform(-8, 8, (97, dim, n))
+        y = rng.standard_normal((97, dim, n)) * 10.0 ** rng.uniform(-8, 8, (97, dim, n))
+        x[rng.random(x.shape) < 0.3], y[rng.random(y.shape) < 0.3] = 0.0, -0.0
+        x[rng.random(x.shape) < 0.02] = np.inf
+        y[:, :, 0] = -x[:, ::-1, 0]   # sums that cancel
+        w = y[5]
+        with np.errstate(all="ignore"):
+            assert np.array_equal(bits(_dot(x, y)), bits(np.einsum("id...,id...->i...", x, y)[:, None]))
+            assert np.array_equal(bits(_axis_sums(x * w)), bits(np.einsum("idn,dn->in", x, w)))
+    # one curve: einsum's own
+    x = rng.standard_normal((97, dim, 1))
+    assert np.array_equal(bits(_dot(x, x)), bits(np.einsum("id...,id...->i...", x, x)[:, None]))
+
+
+def test_corner_deviations_are_the_einsum_deviations():
+    rng = np.random.default_rng(8)
+    for n in (1, 2, 40):
+        u, p0, p5, k0, k5, a, b = _random_corners(rng, n)
+        _, samples = blends(p0, u[:-1], k0, a, p5, u[1:], k5, b)
+        vertex = (p0 + p5) / 2.0
+        rel = samples - vertex.T
+        rr = np.einsum("idn,idn->in", rel, rel)
+
+        def to_segment(w, rel=rel, rr=rr):
+            ww, rw = np.einsum("dn,dn->n", w, w), np.einsum("idn,dn->in", rel, w)
+            share = np.minimum(np.maximum(rw / np.maximum(ww, 1e-300), 0.0), 1.0)
+            return rr - share * (2.0 * rw - share * ww)
+
+        gap = np.minimum(to_segment((p0 - vertex).T), to_segment((p5 - vertex).T))
+        assert np.array_equal(corner_deviations(samples, p0, vertex, p5), np.sqrt(np.maximum(gap, 0.0).max(axis=0)))
+
+
 def test_curve_bounds_without_the_points_are_the_same_floats():
     # the corner batches' bounds from the derivative rows alone are the full product's, to the bit,
     # for one curve, a few, and more than one matrix product holds (chunks), a degenerate one included
