@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pickle
 from itertools import pairwise
 
 import numpy as np
@@ -143,6 +144,10 @@ def test_a_batch_curve_is_the_blend_piece_made_of_its_rows():
         assert got.length == made.length and got.valid == made.valid
         ss = s * got.length
         assert all(np.array_equal(x, y) for x, y in zip(got.derivatives(ss), made.derivatives(ss), strict=True))
+    back = pickle.loads(pickle.dumps(curves[1]))   # its own rows alone, as a BlendPiece
+    assert type(back) is BlendPiece and back.length == curves[1].length
+    assert all(np.array_equal(getattr(back, name), getattr(curves[1], name))
+               for name in ("start", "end", "controls", "d1", "d2", "d3", "table_s", "table_u"))
     got = curves[0]
     got.end = np.zeros(3)   # set as any piece's
     assert np.array_equal(got.end, np.zeros(3))

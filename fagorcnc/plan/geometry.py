@@ -517,6 +517,12 @@ class BlendRow(BlendPiece):
         out.table_u = _TABLE_NODES
         return out
 
+    def __reduce__(self) -> tuple:
+        """Pickled (a plan's segments, a process pool) as the :class:`BlendPiece` of its own rows alone,
+        not its batch's arrays."""
+        return BlendPiece.made, (self.controls, self.start, self.end, self.d1, self.d2, self.d3, self.table_s,
+                                 self._length)
+
 
 def _row_view(slot, make) -> property:
     """A property of :class:`BlendRow` kept in its slot ``slot``: ``make(batch, row)`` on first use."""
