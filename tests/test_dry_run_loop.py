@@ -58,7 +58,7 @@ def _inside_reference(envelope: Envelope, piece) -> bool:
     from fagorcnc.plan.geometry import ArcPiece, BlendPiece
 
     limits, tol = envelope._limits, ENVELOPE_TOLERANCE
-    if type(piece) is BlendPiece:
+    if isinstance(piece, BlendPiece):   # a batch's curve (geometry.BlendRow) too
         reach = piece.length * (1.0 + 1e-6) + tol
         return all(lo <= v - reach and v + reach <= hi for v, (lo, hi) in zip(piece.start.tolist(), limits,
                                                                                strict=True))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pickle
 from itertools import pairwise
 
 import numpy as np
@@ -11,6 +12,7 @@ from fagorcnc.plan.corners import SHAPE, deviation, line_corners
 from fagorcnc.plan.geometry import (
     ArcPiece,
     BlendPiece,
+    BlendRow,
     LinePiece,
     arc_tables,
     blend_rows,
@@ -120,6 +122,83 @@ def test_blend_rows_give_each_curves_own_validity_and_bounds():
     for i, c in enumerate(curves):
         assert np.array_equal(d1[i], c.d1) and np.array_equal(d2[i], c.d2) and np.array_equal(d3[i], c.d3)
         assert np.array_equal(c.controls, plain[i].controls) and c.length == plain[i].length
+
+
+
+def test_a_batch_curve_is_the_blend_piece_made_of_its_rows():
+    # a BlendRow (its end, control points and table made when first asked) is BlendPiece.made of the
+    # batch's rows: the same arrays, the same length, points and derivatives along it
+    rng = np.random.default_rng(11)
+    u, p0, p5, k0, k5, a, b = _random_corners(rng, 6)
+    curves, _, _, (d1, d2, d3) = blend_rows(p0, u[:-1], k0, a, p5, u[1:], k5, b)
+    s = np.array([0.0, 0.1, 0.3])
+    for i, got in enumerate(curves):
+        assert type(got) is BlendRow and isinstance(got, BlendPiece)
+        controls = got._batch[0][i]
+        made = BlendPiece.made(controls, controls[0], controls[-1], d1[i], d2[i], d3[i], got._batch[1][i],
+                               float(got._batch[1][i][-1]))
+        end = got.end
+        assert got.end is end and got.controls is got.controls and got.table_s is got.table_s   # made once
+        for name in ("start", "end", "controls", "d1", "d2", "d3", "table_s", "table_u"):
+            assert np.array_equal(getattr(got, name), getattr(made, name)), name
+        assert got.length == made.length and got.valid == made.valid
+        ss = s * got.length
+        assert all(np.array_equal(x, y) for x, y in zip(got.derivatives(ss), made.derivatives(ss), strict=True))
+    back = pickle.loads(pickle.dumps(curves[1]))   # its own rows alone, as a BlendPiece
+    assert type(back) is BlendPiece and back.length == curves[1].length
+    assert all(np.array_equal(getattr(back, name), getattr(curves[1], name))
+               for name in ("start", "end", "controls", "d1", "d2", "d3", "table_s", "table_u"))
+    got = curves[0]
+    got.end = np.zeros(3)   # set as any piece's
+    assert np.array_equal(got.end, np.zeros(3))
+    assert not hasattr(got, "no_such_array") and getattr(got, "no_such_array", None) is None
+
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3, 5, 8])
+def test_dot_products_over_rows_of_curves_are_einsums_floats(dim):
+    # geometry._dot and corner_deviations sum the axes' products over whole rows of curves: to the bit
+    # (signed zeros, infinities and cancellations included) einsum's sums, which they replace
+    from fagorcnc.plan.geometry import _axis_sums, _dot
+
+    def bits(a):
+        return np.ascontiguousarray(a).view(np.int64)
+
+    rng = np.random.default_rng(dim)
+    for n in (2, 3, 8, 63):
+        x = rng.standard_normal((97, dim, n)) * 10.0 ** rng.uniform(-8, 8, (97, dim, n))
+        y = rng.standard_normal((97, dim, n)) * 10.0 ** rng.uniform(-8, 8, (97, dim, n))
+        x[rng.random(x.shape) < 0.3], y[rng.random(y.shape) < 0.3] = 0.0, -0.0
+        x[rng.random(x.shape) < 0.02] = np.inf
+        y[:, :, 0] = -x[:, ::-1, 0]   # sums that cancel
+        w = y[5]
+        with np.errstate(all="ignore"):
+            assert np.array_equal(bits(_dot(x, y)), bits(np.einsum("id...,id...->i...", x, y)[:, None]))
+            assert np.array_equal(bits(_axis_sums(x * w)), bits(np.einsum("idn,dn->in", x, w)))
+    # one curve: einsum's own on two axes or fewer; on more, the floats it has in a batch (einsum adds a
+    # single curve's axes in another order; the corner memo needs a curve's floats whatever its batch)
+    x = rng.standard_normal((97, dim, 1))
+    alone = bits(_dot(x, x))
+    assert np.array_equal(alone, bits(np.einsum("id...,id...->i...", x, x)[:, None]) if dim <= 2 else
+                          bits(np.einsum("id...,id...->i...", np.repeat(x, 2, axis=2), np.repeat(x, 2, axis=2))[:, :1][:, None]))
+
+
+def test_corner_deviations_are_the_einsum_deviations():
+    rng = np.random.default_rng(8)
+    for n in (1, 2, 40):
+        u, p0, p5, k0, k5, a, b = _random_corners(rng, n)
+        _, samples = blends(p0, u[:-1], k0, a, p5, u[1:], k5, b)
+        vertex = (p0 + p5) / 2.0
+        rel = samples - vertex.T
+        rr = np.einsum("idn,idn->in", rel, rel)
+
+        def to_segment(w, rel=rel, rr=rr):
+            ww, rw = np.einsum("dn,dn->n", w, w), np.einsum("idn,dn->in", rel, w)
+            share = np.minimum(np.maximum(rw / np.maximum(ww, 1e-300), 0.0), 1.0)
+            return rr - share * (2.0 * rw - share * ww)
+
+        gap = np.minimum(to_segment((p0 - vertex).T), to_segment((p5 - vertex).T))
+        assert np.array_equal(corner_deviations(samples, p0, vertex, p5), np.sqrt(np.maximum(gap, 0.0).max(axis=0)))
 
 
 def test_curve_bounds_without_the_points_are_the_same_floats():

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
-from .geometry import ArcPiece, BlendPiece
+from .geometry import ArcPiece, BlendPiece, BlendRow
 
 #: Tolerance of the envelope check (mm, degrees).
 ENVELOPE_TOLERANCE = 1e-6
@@ -72,7 +72,7 @@ class Envelope:
         """
         tol, limits = ENVELOPE_TOLERANCE, self._limits
         kind = type(piece)
-        if kind is BlendPiece:
+        if kind is BlendPiece or kind is BlendRow:   # a curve of a batch (geometry.BlendRow) too
             reach = piece.length * (1.0 + 1e-6) + tol
             for v, (lo, hi) in zip(piece.start.tolist(), limits, strict=True):   # a loop: no generator per piece
                 if not (lo <= v - reach and v + reach <= hi):

@@ -527,6 +527,50 @@ class BlendPiece(Piece):
         return np.vander(np.linspace(0.0, 1.0, n), 6, increasing=True) @ self.coef[0]
 
 
+
+
+class BlendRow(BlendPiece):
+    """A :class:`BlendPiece` of a batch of curves made at once: row ``_row`` of the batch's arrays
+    ``_batch`` = (control points (n, 6, D), arc-length tables (n, 33)), with its start point and
+    bounds (views of rows too).  Its control points, end point and arc-length table are made on
+    first use (properties over slots of their own: a ``__getattr__`` would slow every attribute
+    of the class): planning a corner asks for none of them (the limits come with the batch, the
+    length from the table's last).  The same values as :meth:`BlendPiece.made` of the rows."""
+
+    __slots__ = ("_batch", "_controls", "_end", "_row", "_table")
+
+    @classmethod
+    def of(cls, batch: tuple, row: int, start: np.ndarray, d1: np.ndarray, d2: np.ndarray, d3: np.ndarray,
+           length: float) -> BlendRow:
+        """Row ``row`` of ``batch`` (see the class), with its start point, bounds and arc length."""
+        out = cls.__new__(cls)
+        out._batch, out._row, out.start, out.d1, out.d2, out.d3, out._length = batch, row, start, d1, d2, d3, length
+        out._controls = out._end = out._table = out._coef = out.samples = None
+        out.table_u = _TABLE_NODES
+        return out
+
+    def __reduce__(self) -> tuple:
+        """Pickled (a plan's segments, a process pool) as the :class:`BlendPiece` of its own rows alone,
+        not its batch's arrays."""
+        return BlendPiece.made, (self.controls, self.start, self.end, self.d1, self.d2, self.d3, self.table_s,
+                                 self._length)
+
+
+def _row_view(slot, make) -> property:
+    """A property of :class:`BlendRow` kept in its slot ``slot``: ``make(batch, row)`` on first use."""
+    def get(self: BlendRow) -> np.ndarray:
+        value = slot.__get__(self)
+        if value is None:
+            value = make(self._batch, self._row)
+            slot.__set__(self, value)
+        return value
+    return property(get, slot.__set__)
+
+
+BlendRow.controls = _row_view(BlendRow._controls, lambda b, i: b[0][i])
+BlendRow.end = _row_view(BlendRow._end, lambda b, i: b[0][i, -1])
+BlendRow.table_s = _row_view(BlendRow._table, lambda b, i: b[1][i])
+
 _BOUND_U = np.linspace(0.0, 1.0, 97)
 _TABLE_NODES = np.linspace(0.0, 1.0, 33)
 _PERM = {r: np.array([math.perm(k, r) for k in range(r, 6)], dtype=float) for r in (1, 2, 3)}
@@ -577,18 +621,26 @@ def _apply(basis: np.ndarray, controls: np.ndarray) -> np.ndarray:
 
 
 def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Dot products of the vectors along axis 1 of ``x`` and ``y``, that axis kept (length 1).  The
-    products are added axis after axis, so that a curve's numbers are the same floats however many
-    curves are worked with it (see :mod:`~fagorcnc.plan.corner_memo`): einsum adds them in that
-    order over a batch of curves (n >= 2, laid along axis 2), but a single curve's three axes or
-    more in another, so those are added here."""
-    if x.ndim == 3 and x.shape[2] == 1 and x.shape[1] > 2:
-        products = x * y
-        out = products[:, 0] + products[:, 1]
-        for d in range(2, x.shape[1]):
-            out += products[:, d]
-        return out[:, None]
+    """Dot products of the vectors along axis 1 of ``x`` and ``y``, that axis kept (length 1).  Over
+    more than one curve (laid along axis 2), and over one curve of three axes or more, the products
+    are added axis after axis to a sum from 0 (:func:`_axis_sums`): einsum's floats over a batch,
+    and a single curve's the same as in a batch (einsum adds its axes in another order), which
+    :mod:`~fagorcnc.plan.corner_memo` needs."""
+    if x.ndim == 3 and (x.shape[2] > 1 or x.shape[1] > 2):
+        return _axis_sums(x * y)[:, None]
     return np.einsum("id...,id...->i...", x, y)[:, None]
+
+
+def _axis_sums(p: np.ndarray) -> np.ndarray:
+    """The sums over the axes (axis -2) of products ``p`` of rows of more than one curve (the curves
+    on the last axis): einsum's floats at a fraction of its cost (its set-up alone costs as much as a
+    product over 100 curves).  Over more than one curve einsum's innermost loop runs over the curves
+    and adds the axes' products in order to a sum from 0, as these sums over whole rows do; over one
+    curve its loop runs over the axes, in another order (the callers then keep einsum)."""
+    out = p[..., 0, :] + 0.0   # from 0, as einsum's: a sum of -0.0 terms is +0.0
+    for i in range(1, p.shape[-2]):
+        out += p[..., i, :]
+    return out
 
 
 def _frames(b1: np.ndarray, b2: np.ndarray, b3: np.ndarray, square: np.ndarray | None = None):
@@ -735,8 +787,9 @@ def blend_rows(p0: np.ndarray, t0: np.ndarray, k0: np.ndarray, a: np.ndarray, p5
     controls = _controls(p0, t0, k0, a[:, None], p5, t5, k5, b[:, None])
     samples, d1, d2, d3, _ = _curve_bounds(controls)
     tables = arc_tables(controls)
-    curves = [BlendPiece.made(*row) for row in zip(controls, controls[:, 0], controls[:, -1], d1, d2, d3, tables,
-                                                   tables[:, -1].tolist(), strict=True)]
+    batch = (controls, tables)
+    curves = [BlendRow.of(batch, *row) for row in zip(range(len(controls)), controls[:, 0], d1, d2, d3,
+                                                     tables[:, -1].tolist(), strict=True)]
     return curves, samples, np.isfinite(d3).all(axis=1), (d1, d2, d3)
 
 
@@ -744,12 +797,13 @@ def corner_deviations(samples: np.ndarray, start: np.ndarray, vertex: np.ndarray
     """Largest distance from the points ``samples`` (m, D, n) of each of n curves to the two segments
     ``start``-``vertex`` and ``vertex``-``end`` (rows of (n, D)) it replaces."""
     rel = samples - vertex.T
-    rr = np.einsum("idn,idn->in", rel, rel)
+    many = rel.shape[2] > 1   # einsum's sums, made as rows (see _axis_sums)
+    rr = _axis_sums(rel * rel) if many else np.einsum("idn,idn->in", rel, rel)
 
     def to_segment(w):   # squared distances (m, n) to the segments from the vertex to the vertex + w (D, n)
         # |rel - s w|² = |rel|² - 2 s rel.w + s² |w|², s the clipped share: passes over (m, n) only
-        ww = np.einsum("dn,dn->n", w, w)
-        rw = np.einsum("idn,dn->in", rel, w)
+        ww = np.einsum("dn,dn->n", w, w)   # w is a transpose: einsum's loop runs over the axes
+        rw = _axis_sums(rel * w) if many else np.einsum("idn,dn->in", rel, w)
         share = np.minimum(np.maximum(rw / np.maximum(ww, 1e-300), 0.0), 1.0)
         return rr - share * (2.0 * rw - share * ww)
 

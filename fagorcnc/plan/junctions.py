@@ -9,7 +9,7 @@ import math
 import operator
 from collections import deque
 from collections.abc import Iterable, Iterator
-from itertools import islice, pairwise
+from itertools import islice, pairwise, repeat
 
 import numpy as np
 
@@ -25,7 +25,7 @@ from .corners import (
     make_blend,
     split_blend,
 )
-from .geometry import ArcPiece, BlendPiece, LinePiece, blend_rows, blends, corner_deviations
+from .geometry import ArcPiece, BlendPiece, BlendRow, LinePiece, blend_rows, blends, corner_deviations
 from .limits import curve_limits_rows
 from .lookahead import distance
 from .shortcuts import (
@@ -184,7 +184,7 @@ class CornerMixin:
                 _, _, _, _, size, curve, limits, start = found
                 if size == 0.0:
                     return None
-                return (BlendPiece.made(*curve), size, size), limits, start
+                return (BlendRow.of(*curve), size, size), limits, start
             if attempt == 0:
                 self._line_blend_batch(prev, nxt)
         return None
@@ -228,9 +228,10 @@ class CornerMixin:
         limits = zip(*(x.tolist() for x in curve_limits_rows(unit.d1, d2, d3, lim, f, prev.path_acc, prev.path_jerk)),
                      strict=True)
         path = (lim, prev.path_acc, prev.path_jerk)
-        # each curve as BlendPiece.made takes it: controls, end points (views), bounds, table, length
-        curves = zip(list(controls), list(controls[:, 0]), list(controls[:, -1]), list(unit.d1), list(d2), list(d3),
-                     list(tables), tables[:, -1].tolist(), strict=True)
+        # each curve as BlendRow.of takes it: the batch's arrays, its row, start point, bounds and length
+        batch = (controls, tables)
+        curves = zip(repeat(batch), range(len(controls)), list(controls[:, 0]), list(unit.d1), list(d2),
+                     list(d3), tables[:, -1].tolist(), strict=False)
         # keyed by the identity of the two directions (a trimmed line keeps its direction array);
         # the entries hold the arrays, so no other array can take their ids
         blends = self._line_blends = {}

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..interp.records import Arc, Line
 from .corners import TANGENT_EPS
-from .geometry import ArcPiece, BlendPiece, LinePiece, arc_bound_rows
+from .geometry import ArcPiece, BlendRow, LinePiece, arc_bound_rows
 from .limits import curve_limits_rows
 from .span import Span
 
@@ -256,7 +256,7 @@ def batched_line_corner(prev: Span, nxt: Span, fast: tuple) -> tuple | None:
     half_q = nxt.orig_length / 2.0
     if (half_p if half_p <= p.length else p.length) != lim_p or (half_q if half_q <= q.length else q.length) != lim_q:
         return None
-    return (BlendPiece.made(*curve), size, size), feed, limits, start, cut
+    return (BlendRow.of(*curve), size, size), feed, limits, start, cut
 
 
 def cut_line(span: Span, keep: float, end: np.ndarray) -> None:
