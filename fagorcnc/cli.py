@@ -27,7 +27,7 @@ from .commands import init as init_command
 from .commands import view as view_command
 from .commands._shared import configure_logging, duration
 from .program_files import PROGRAM_EXTENSIONS
-from .runtime import keep_freed_memory
+from .runtime import keep_freed_memory, spare_collector
 from .version import __version__
 
 
@@ -161,5 +161,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
 
 
+def command() -> int:
+    """The ``fagorcnc`` process (the console script, ``python -m fagorcnc``): :func:`main`, the collector spared
+    the imports' modules, classes and functions, which live until the process exits
+    (:func:`~fagorcnc.runtime.spare_collector`).  What the command makes is left to the collection at exit: a
+    compiled extension's objects kept past it (ruckig's, nanobind) would be reported as leaked."""
+    spare_collector()
+    return main()
+
+
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    sys.exit(command())

@@ -396,13 +396,18 @@ class _Watched:
         return self._stream
 
     def _each(self, records: Iterator) -> Iterator:
+        """The records, counted in a local (set in :attr:`moves` when the stream ends, or is closed)."""
         interp, watch = self._interp, self._watch
-        for rec in records:
-            if rec.kind not in NOT_MOVES:   # is_move(rec)
-                self.moves += 1
-            if watch is not None:
-                watch(rec, interp)
-            yield rec
+        moves = 0
+        try:
+            for rec in records:
+                if rec.kind not in NOT_MOVES:   # is_move(rec)
+                    moves += 1
+                if watch is not None:
+                    watch(rec, interp)
+                yield rec
+        finally:
+            self.moves = moves
 
 
 def _lines_of(source: Source, encoding: str):

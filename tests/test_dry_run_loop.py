@@ -129,3 +129,24 @@ def test_the_envelope_cheap_test_is_the_reference_one_at_its_edges():
                     checked += 1
             flips += len(verdicts) == 2
     assert checked > 300 and flips > 10   # the limits do sit on the edges: both verdicts there
+
+
+def test_moves_counted_past_a_planning_error(monkeypatch):
+    """After a planning error the rest of the program is still interpreted (for its diagnostics): its moves
+    count too, as the records say (_Watched counts in a local, set when the stream ends)."""
+    from fagorcnc.plan import Planner, PlanningError
+
+    planned = Planner.segments
+
+    def failing(self, records):
+        for seg in planned(self, records):   # the first segment, then the error
+            yield seg
+            raise PlanningError("stopped here", 1)
+
+    text = PROGRAMS["bulge"]
+    seen = []
+    monkeypatch.setattr(Planner, "segments", failing)
+    run = dry_run(text=text, machine=fagorcnc.load_machine(MACHINE), on_record=lambda rec, interp: seen.append(rec))
+    assert [d.code for d in run.diagnostics if d.is_error] == ["PLN001"]
+    everything = fagorcnc.simulate(text=text, machine=fagorcnc.load_machine(MACHINE)).moves   # (unplanned: patched)
+    assert run.moves == sum(map(is_move, seen)) == sum(map(is_move, everything)) == 7   # the rest's moves too

@@ -95,3 +95,44 @@ def test_freed_memory_is_kept_for_reuse():
     # every round faults in again without it: at least once each (one fault per huge page where
     # the system maps them), 1.2k times each here
     assert plain >= 20 and plain > 10 * max(kept, 1)
+
+
+_COMMAND = """
+import gc, sys
+from fagorcnc.cli import command
+frozen = []
+gc.callbacks.append(lambda phase, info: frozen.append(gc.get_freeze_count()) if phase == "start" else None)
+sys.argv = ["fagorcnc", "check", sys.argv[1]]
+status = command()
+print(status, min(frozen, default=-1))
+"""
+
+
+def test_the_command_spares_the_collector_its_imports(tmp_path):
+    """command() (the fagorcnc process): the check's status and output as main() gives them, every collection
+    during the command with the imports' objects out of its reach, and nothing said at exit (a compiled
+    extension's objects frozen past it would be reported as leaked)."""
+    import subprocess
+    import sys
+
+    program = tmp_path / "p.nc"
+    program.write_text("G1 X10 F1000\nG2 X20 Y0 I5 J0\nM30\n")
+    out = subprocess.run([sys.executable, "-c", _COMMAND, str(program)], capture_output=True, text=True, check=True)
+    status, frozen_during = (int(v) for v in out.stdout.splitlines()[-1].split())
+    assert status == 0 and out.stderr == ""
+    assert frozen_during > 10_000   # the imports' objects (some sixty thousand), frozen before the command ran
+    plain = subprocess.run([sys.executable, "-c", "import sys; from fagorcnc.cli import main; sys.exit(main())",
+                            "check", str(program)], capture_output=True, text=True, check=True)
+    assert out.stdout.splitlines()[:-1] == plain.stdout.splitlines()
+
+
+def test_spare_collector_freezes_what_is_alive():
+    from fagorcnc.runtime import spare_collector
+
+    kept = [[]]   # a tracked object
+    try:
+        spare_collector()
+        assert gc.get_freeze_count() > 0 and not any(o is kept[0] for o in gc.get_objects())
+    finally:
+        gc.unfreeze()
+    assert any(o is kept[0] for o in gc.get_objects())
