@@ -178,9 +178,9 @@ def test_dot_products_over_rows_of_curves_are_einsums_floats(dim):
     # one curve: einsum's own on two axes or fewer; on more, the floats it has in a batch (einsum adds a
     # single curve's axes in another order; the corner memo needs a curve's floats whatever its batch)
     x = rng.standard_normal((97, dim, 1))
-    alone = bits(_dot(x, x))
-    assert np.array_equal(alone, bits(np.einsum("id...,id...->i...", x, x)[:, None]) if dim <= 2 else
-                          bits(np.einsum("id...,id...->i...", np.repeat(x, 2, axis=2), np.repeat(x, 2, axis=2))[:, :1][:, None]))
+    two = np.repeat(x, 2, axis=2)
+    want = np.einsum("id...,id...->i...", x, x) if dim <= 2 else np.einsum("id...,id...->i...", two, two)[:, :1]
+    assert np.array_equal(bits(_dot(x, x)), bits(want[:, None]))
 
 
 def test_corner_deviations_are_the_einsum_deviations():
