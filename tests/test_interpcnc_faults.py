@@ -45,6 +45,10 @@ def check_exactly_once(emu, segments, backend) -> None:
 
 
 def open_backend(emu, machine, **options) -> InterpCncBackend:
+    # a reply timeout with room for a machine loaded by other work (1 s was seen to expire on an
+    # ordinary reply with the test suite, four builds and a profiler sharing 2 cores); the tests of
+    # timeouts give their own
+    options.setdefault("timeout", 5.0)
     backend = InterpCncBackend(machine, port=emu.port, outputs=OUTPUTS, resolution=1000, **options)
     backend.open()
     return backend
