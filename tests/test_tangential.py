@@ -79,32 +79,3 @@ def test_tangential_errors(text, code):
 def test_needs_a_modulo_axis():
     m = {"axes": {"X": {}, "Y": {}, "Z": {}, "C": {"type": "rotary"}}}   # linearlike
     assert codes(fagorcnc.simulate("G45 C0\nM30\n", m)) == ["KIN050"]
-
-
-_TWO_STAGES = [
-    ("G0 X0 Y0\nG45 C0\nG1 X10 F100\nY10\nX0 Y20\nG3 X-10 Y10 I0 J-10\nG45\nM30\n", MACHINE),
-    ("G0 X10 Y0\n#TANGCTRL ON [C90, F300]\nG1 X0 F100\nP1=V.A.TANGAN.C\nM30\n", MACHINE),
-    ("G45 C0\nG1 X10 F100\nG145 K0\nY10\nG145 K1\nY0\nM30\n", MACHINE),
-    ("G45 C0\nG41 G1 X10 F100\nM30\n", MACHINE),   # KIN052: refused by the tangential stage
-    ("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nG0 X10 Y20 Z30\nG1 G91 X5 F100\nG90\nM4 S100\nG4 K1\n#CS OFF\nG1 X0\nM30\n",
-     None),
-    ("#MCS X30 Y30\nN20 #MCS ON\nG0 X1\nN40 #MCS OFF\nG1 X2 F100\nM30\n", None),
-    ("#CS ON [1] [MODE 1, 0,0,0, 30,0,0]\nG1 X5 F100\n#MCS X30 Y30\nG1 X6\n#CS OFF\nG1 X0\nM30\n", None),   # in a frame
-]
-
-
-@pytest.mark.parametrize(("text", "machine"), _TWO_STAGES)
-def test_follow_with_frames_is_follow_then_with_frames(text, machine, monkeypatch):
-    """The interpreter's one generator for the tangential stage and the frames (kinematics/stage.py) makes the
-    records and diagnostics the two stages one after the other make: tangential control, a coordinate system
-    (moves, a dwell, an auxiliary function under it), #MCS, and an error of the tangential stage."""
-    from fagorcnc.interp import interpreter
-    from fagorcnc.kinematics.stage import with_frames
-    from fagorcnc.kinematics.tangential import follow
-
-    merged = fagorcnc.simulate(text, machine)
-    monkeypatch.setattr(interpreter, "follow_with_frames",
-                        lambda records, interp: with_frames(follow(records, interp), interp.state))
-    chained = fagorcnc.simulate(text, machine)
-    assert repr(list(merged.moves)) == repr(list(chained.moves)) and (merged.moves or not merged.ok)   # frames by value
-    assert merged.diagnostics == chained.diagnostics and merged.cycle_time == chained.cycle_time

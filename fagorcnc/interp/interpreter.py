@@ -18,7 +18,8 @@ from time import process_time as cpu_time
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
-from ..kinematics.stage import StageError, follow_with_frames, joint_space
+from ..kinematics.stage import StageError, joint_space, with_frames
+from ..kinematics.tangential import follow
 from ..path.aids import apply_aids
 from ..path.compensation import CompensationError, compensate
 from ..syntax import hints
@@ -131,9 +132,8 @@ class Interpreter(FlowMixin):
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
             # (#SPLINE: the spline's chords first, interp/curves.py)
-            # (tangential axes, then each move's frame: kinematics/stage.py follow_with_frames)
-            moves = follow_with_frames(splines(self._loop(0), self), self)
-            records = compensate(apply_aids(moves, self._aid_error), self._path_warning)
+            moves = follow(splines(self._loop(0), self), self)
+            records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
             # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
             timed = self._timed
             # without a time limit, or when the consumer stops the clock itself (handed_in_runs), no clock

@@ -226,23 +226,6 @@ def with_frames(records: Iterable, state) -> Iterator:
         yield rec
 
 
-def follow_with_frames(records: Iterable, interp) -> Iterator:
-    """:func:`~fagorcnc.kinematics.tangential.follow` then :func:`with_frames` in one generator (one step less a
-    record): a record that neither changes (no tangential axis on, no frame, no #MCS move to come) is handed on
-    at once; any other goes through both, one record at a time, as lazily as the two stages take it (neither
-    keeps anything from one record to the next)."""
-    from .tangential import follow
-
-    st = interp.state
-    kin = st.kin
-    for rec in records:
-        if not kin.tangential and kin.frame is None and not kin.raw:
-            yield rec
-            continue
-        for out in follow((rec,), interp):
-            yield from with_frames((out,), st)
-
-
 def joint_space(records: Iterable, interp) -> Iterator:
     """:class:`JointStage` over a run's records, soft limits of the channel, one note per run."""
     st = interp.state
