@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .corner_memo import MISSING, CornerMemo
+from .corner_memo import MISSING, CornerMemo, distinct_pieces
 from .corners import SHAPE
 from .geometry import BlendPiece, Piece, _controls, arc_tables, curve_bounds, curve_samples
 from .limits import CENTRIPETAL, CURVE_JERK
@@ -98,18 +98,9 @@ def _made(ps: list[Piece], qs: list[Piece], lim_p: np.ndarray, lim_q: np.ndarray
     those some piece moves along; a memo gives its whole batch's, so that a corner is worked on
     the axes it would be without the memo)."""
     n = len(ps)
-    # each piece once (a chain's outgoing piece is the next corner's incoming one): the rows of
-    # each corner's incoming piece and of its outgoing one
-    pieces: list[Piece] = []
-    at: dict[int, int] = {}
-    for p in (*ps, *qs):
-        if id(p) not in at:
-            at[id(p)] = len(pieces)
-            pieces.append(p)
+    pieces, incoming, outgoing = distinct_pieces(ps, qs)
     # on the axes some piece moves along (the others' numbers are each corner's vertex's)
     sides = PieceRows(pieces, still=layout)
-    incoming = np.array([at[id(p)] for p in ps], dtype=np.intp)
-    outgoing = np.array([at[id(q)] for q in qs], dtype=np.intp)
     p_len = np.array([p.length for p in ps])
     whole = np.array([p.end for p in ps])
     vertex = whole if sides.keep is None else whole[:, sides.keep]

@@ -40,6 +40,19 @@ def _axes(code: int) -> tuple[int, ...]:
     return axes
 
 
+def distinct_pieces(ps: list[Piece], qs: list[Piece]) -> tuple[list[Piece], np.ndarray, np.ndarray]:
+    """Each piece of the corners ``ps[i] -> qs[i]`` once (a chain's outgoing piece is the next
+    corner's incoming one), and the rows of each corner's incoming piece and of its outgoing one."""
+    pieces: list[Piece] = []
+    at: dict[int, int] = {}
+    for p in (*ps, *qs):
+        if id(p) not in at:
+            at[id(p)] = len(pieces)
+            pieces.append(p)
+    return (pieces, np.array([at[id(p)] for p in ps], dtype=np.intp),
+            np.array([at[id(q)] for q in qs], dtype=np.intp))
+
+
 def piece_rows(pieces: list[Piece]) -> tuple[np.ndarray, np.ndarray] | None:
     """For lines and arcs (None if any is neither): which axes each moves along (k, D) and a row of
     every number a corner's construction reads of it, those on the axes it does not move along
@@ -95,19 +108,12 @@ class CornerMemo:
         holds the axes its batch works on (sums of three numbers or more may round by their order).
         And those axes (what PieceRows(still=True) keeps of the whole batch; True: not known), on
         which the corners not held are then made."""
-        pieces: list[Piece] = []
-        at: dict[int, int] = {}
-        for p in (*ps, *qs):
-            if id(p) not in at:
-                at[id(p)] = len(pieces)
-                pieces.append(p)
+        pieces, ip, iq = distinct_pieces(ps, qs)
         made = piece_rows(pieces)
         if made is None:
             return [None] * len(ps), True
         moving, rows = made
         n, dim = len(ps), moving.shape[1]
-        ip = np.array([at[id(p)] for p in ps], dtype=np.intp)
-        iq = np.array([at[id(q)] for q in qs], dtype=np.intp)
         axes = moving[ip] | moving[iq]
         codes = (axes @ (1 << np.arange(dim))).tolist()
         every = moving.any(axis=0)   # the batch's axes (PieceRows(still=True)'s)
