@@ -215,8 +215,8 @@ def test_dry_run_of_program_text_agrees_with_simulate(text):
 def test_the_envelope_box_holds_every_curve(programs):
     """The PLN100 check skips the exact extent of a curve whose cheap box (a Bézier curve's control
     points, an arc's circle) lies within the soft limits: that box must hold the whole curve."""
+    from fagorcnc.plan.blend import BlendPiece
     from fagorcnc.plan.envelope import hull, piece_extent
-    from fagorcnc.plan.geometry import BlendPiece
 
     result = fagorcnc.simulate(programs[1500])
     curved = [s.piece for s in result.segments(keep_profiles=False) if s.piece is not None and s.piece.curved]

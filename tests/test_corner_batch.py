@@ -214,7 +214,7 @@ def test_deviations_with_the_ends_known_are_the_same_floats():
     ends from the frames, the pieces' end and start once per batch): the same deviations, to the
     bit, as from the ends it evaluates itself, over lines, arcs, spirals and helices, every corner
     or a few; and the lines' rows of a mixed batch take the segments' formula as they do alone."""
-    from fagorcnc.plan.geometry import _controls, curve_samples
+    from fagorcnc.plan.blend import _controls, curve_samples
     from fagorcnc.plan.stretch import _gaps, stretch_deviations
 
     ps, qs = _corners(5, 60)

@@ -54,11 +54,12 @@ def test_dry_run_counts_clocks_and_checks_as_every_record_and_segment_says(name)
 
 def _inside_reference(envelope: Envelope, piece) -> bool:
     """Envelope._inside as first written (max, min and all() of a generator)."""
+    from fagorcnc.plan.blend import BlendPiece
     from fagorcnc.plan.envelope import ENVELOPE_TOLERANCE
-    from fagorcnc.plan.geometry import ArcPiece, BlendPiece
+    from fagorcnc.plan.geometry import ArcPiece
 
     limits, tol = envelope._limits, ENVELOPE_TOLERANCE
-    if isinstance(piece, BlendPiece):   # a batch's curve (geometry.BlendRow) too
+    if isinstance(piece, BlendPiece):   # a batch's curve (blend.BlendRow) too
         reach = piece.length * (1.0 + 1e-6) + tol
         return all(lo <= v - reach and v + reach <= hi for v, (lo, hi) in zip(piece.start.tolist(), limits,
                                                                                strict=True))

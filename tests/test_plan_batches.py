@@ -8,18 +8,9 @@ from itertools import pairwise
 import numpy as np
 import pytest
 
+from fagorcnc.plan.blend import BlendPiece, BlendRow, arc_tables, blend_rows, blends, corner_deviations, curve_bounds
 from fagorcnc.plan.corners import SHAPE, deviation, line_corners
-from fagorcnc.plan.geometry import (
-    ArcPiece,
-    BlendPiece,
-    BlendRow,
-    LinePiece,
-    arc_tables,
-    blend_rows,
-    blends,
-    corner_deviations,
-    curve_bounds,
-)
+from fagorcnc.plan.geometry import ArcPiece, LinePiece
 from fagorcnc.plan.limits import (
     AxisLimits,
     Terms,
@@ -157,9 +148,9 @@ def test_a_batch_curve_is_the_blend_piece_made_of_its_rows():
 
 @pytest.mark.parametrize("dim", [1, 2, 3, 5, 8])
 def test_dot_products_over_rows_of_curves_are_einsums_floats(dim):
-    # geometry._dot and corner_deviations sum the axes' products over whole rows of curves: to the bit
+    # blend._dot and corner_deviations sum the axes' products over whole rows of curves: to the bit
     # (signed zeros, infinities and cancellations included) einsum's sums, which they replace
-    from fagorcnc.plan.geometry import _axis_sums, _dot
+    from fagorcnc.plan.blend import _axis_sums, _dot
 
     def bits(a):
         return np.ascontiguousarray(a).view(np.int64)
@@ -204,7 +195,7 @@ def test_corner_deviations_are_the_einsum_deviations():
 def test_curve_bounds_without_the_points_are_the_same_floats():
     # the corner batches' bounds from the derivative rows alone are the full product's, to the bit,
     # for one curve, a few, and more than one matrix product holds (chunks), a degenerate one included
-    from fagorcnc.plan.geometry import _curve_bounds
+    from fagorcnc.plan.blend import _curve_bounds
 
     rng = np.random.default_rng(9)
     for n in (1, 5, 64, 130):

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import fagorcnc
+from fagorcnc.plan.blend import BlendPiece
 from fagorcnc.plan.corners import part_bounds, split_blend
-from fagorcnc.plan.geometry import BlendPiece
 from fagorcnc.plan.limits import (
     AxisLimits,
     axis_terms,

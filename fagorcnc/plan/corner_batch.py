@@ -13,9 +13,10 @@ import math
 
 import numpy as np
 
+from .blend import BlendPiece, _controls, arc_tables, curve_bounds, curve_samples
 from .corner_memo import MISSING, CornerMemo, distinct_pieces
 from .corners import SHAPE
-from .geometry import BlendPiece, Piece, _controls, arc_tables, curve_bounds, curve_samples
+from .geometry import Piece
 from .limits import CENTRIPETAL, CURVE_JERK
 from .stretch import PieceRows, stretch_deviations
 

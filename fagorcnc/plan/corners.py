@@ -25,7 +25,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .geometry import _BOUND_U, TABLE_GAUSS, BlendPiece, LinePiece, Piece, speed_tables
+from .blend import _BOUND_U, TABLE_GAUSS, BlendPiece, speed_tables
+from .geometry import LinePiece, Piece
 from .limits import CENTRIPETAL, CURVE_JERK
 from .stretch import PieceRows, stretch_deviations
 

@@ -14,7 +14,8 @@ import numpy as np
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
-from .geometry import ArcPiece, BlendPiece, BlendRow
+from .blend import BlendPiece, BlendRow
+from .geometry import ArcPiece
 
 #: Tolerance of the envelope check (mm, degrees).
 ENVELOPE_TOLERANCE = 1e-6
@@ -72,7 +73,7 @@ class Envelope:
         """
         tol, limits = ENVELOPE_TOLERANCE, self._limits
         kind = type(piece)
-        if kind is BlendPiece or kind is BlendRow:   # a curve of a batch (geometry.BlendRow) too
+        if kind is BlendPiece or kind is BlendRow:   # a curve of a batch (blend.BlendRow) too
             reach = piece.length * (1.0 + 1e-6) + tol
             for v, (lo, hi) in zip(piece.start.tolist(), limits, strict=True):   # a loop: no generator per piece
                 if not (lo <= v - reach and v + reach <= hi):

@@ -14,6 +14,7 @@ from itertools import islice, pairwise, repeat
 import numpy as np
 
 from . import links
+from .blend import BlendPiece, BlendRow, blend_rows, blends, corner_deviations
 from .corner_batch import blend_batch
 from .corners import (
     BLEND_PARTS,
@@ -25,7 +26,7 @@ from .corners import (
     make_blend,
     split_blend,
 )
-from .geometry import ArcPiece, BlendPiece, BlendRow, LinePiece, blend_rows, blends, corner_deviations
+from .geometry import ArcPiece, LinePiece
 from .limits import curve_limits_rows
 from .lookahead import distance
 from .shortcuts import (
@@ -452,7 +453,7 @@ class CornerMixin:
     def _batch(self, prev: Span, nxt: Span) -> None:
         """Spline candidates for the run of HSC lines starting at ``prev``, ``nxt`` and going on
         through the look-ahead up to its first sharp corner, all computed at once
-        (:func:`~fagorcnc.plan.geometry.blends`); each assumes the previous one is taken (its end
+        (:func:`~fagorcnc.plan.blend.blends`); each assumes the previous one is taken (its end
         curvature is the next one's start), which a stop at a sharp corner undoes."""
         chain = [prev, nxt]
         # the chain goes on only through HSC lines: nxt may be the end of the HSC run (a G60 block, a

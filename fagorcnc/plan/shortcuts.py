@@ -12,8 +12,9 @@ import operator
 import numpy as np
 
 from ..interp.records import Arc, Line
+from .blend import BlendRow
 from .corners import TANGENT_EPS
-from .geometry import ArcPiece, BlendRow, LinePiece, arc_bound_rows
+from .geometry import ArcPiece, LinePiece, arc_bound_rows
 from .limits import curve_limits_rows
 from .span import Span
 
