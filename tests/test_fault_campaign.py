@@ -219,6 +219,11 @@ def test_an_output_action_run_before_a_link_fault_runs_once():
 
 
 # ---------------------------------------------------------------- a fault at every write of a gated segment
+#: The reply timeout of the single-fault tests below, and the delay of a reply injected past it.  A second
+#: fault nobody injected (an ordinary reply slower than the timeout) fails them, so the timeout is long enough
+#: for a reply on a 2-core machine shared with other work (0.3 s was not: [write1-delay] failed so).
+REPLY_TIMEOUT = 1.0
+REPLY_DELAY = 1.5
 GATED = "G90 G1 X1 F3000\nG1 X2\nM5\nG4 K0.05\nG1 X3\nM30\n"     # M5: two actions; G4: one dwell
 WRITES = {"M5": ["gate wait", "output action", "analog action", "marker", "gate opening"],
           "G4": ["gate wait", "dwell index", "marker", "dwell", "dwell end", "gate opening"]}
@@ -231,7 +236,7 @@ def inject(emu: Emulator, kind: str, k: int) -> None:
     if kind == "exception":
         emu.fail_next(1, after=k)
     elif kind == "delay":
-        emu.delay_next(1, seconds=0.5, after=k)
+        emu.delay_next(1, seconds=REPLY_DELAY, after=k)
     else:
         emu.drop_connection(after_commands=k)
 
@@ -246,7 +251,7 @@ def test_a_fault_at_any_write_of_a_dwell_or_an_output_runs_it_exactly_once(segme
     assert segments[first].kind == ("aux" if segment == "M5" else "dwell")
     with Emulator(port=0, speed=10.0, resolution=1000) as emu:
         backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, outputs=rb.OUTPUTS,
-                                   timeout=0.3)
+                                   timeout=REPLY_TIMEOUT)
         backend.open()
         for seg in segments[:first]:
             backend.send(seg)
@@ -264,7 +269,7 @@ def test_an_exception_on_an_output_while_the_card_is_busy_runs_it_exactly_once()
     machine, segments = plan("G90 G1 X20 F600\nM5\nG1 X21\nM30\n")     # 2 s of motion ahead of M5
     with Emulator(port=0, speed=1.0, resolution=1000) as emu:
         backend = InterpCncBackend(machine, start_lead=0, port=emu.port, resolution=1000, outputs=rb.OUTPUTS,
-                                   timeout=0.3)
+                                   timeout=REPLY_TIMEOUT)
         backend.open()
         backend.send(segments[0])
         emu.fail_next(1, after=2)                              # M5's second action refused
@@ -332,7 +337,7 @@ def test_a_fault_at_any_write_of_the_start_lead_runs_every_move_exactly_once(k, 
     opens the wait when it must wait for the card (finish)."""
     machine, segments = plan("G90 G1 X1 F600\nG1 X2\nG1 X3\nG1 X4\nM30\n")
     with Emulator(port=0, speed=10.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=0.3)
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, timeout=REPLY_TIMEOUT)
         assert backend.options.start_lead == 2.0
         backend.open()
         inject(emu, kind, k)

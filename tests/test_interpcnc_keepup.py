@@ -219,15 +219,22 @@ def test_axes_moving_bit_stuck_on_stops_finish_with_bck002():
         backend.close()
 
 
+#: The stall timeout of the tests where the operator holds the motion, and how long they hold it (longer).
+#: A card that is moving but whose emulator thread got no CPU for the whole timeout looks stalled: 0.2 s was
+#: too short on a 2-core machine shared with other work (a false BCK001 failed these tests so).
+HOLD_STALL_TIMEOUT = 1.0
+HOLD = 1.6
+
+
 def test_a_feed_hold_is_not_a_stall():
     machine, segments = plan(spiral_program(50))
     with Emulator(port=0, speed=5.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, stall_timeout=0.2)
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, stall_timeout=HOLD_STALL_TIMEOUT)
         backend.open()
         for seg in segments:
             backend.send(seg)
         emu.inspect(lambda c: setattr(c, "paused", True))
-        timer = threading.Timer(0.6, lambda: emu.inspect(lambda c: setattr(c, "paused", False)))
+        timer = threading.Timer(HOLD, lambda: emu.inspect(lambda c: setattr(c, "paused", False)))
         timer.start()
         (status,) = _in_thread(backend.finish)
         timer.join(5)
@@ -347,12 +354,12 @@ def test_start_lead_holds_the_card_until_that_much_motion_is_queued():
 def test_a_feed_override_at_zero_is_not_a_stall():
     machine, segments = plan(spiral_program(50))
     with Emulator(port=0, speed=5.0, resolution=1000) as emu:
-        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, stall_timeout=0.2)
+        backend = InterpCncBackend(machine, port=emu.port, resolution=1000, stall_timeout=HOLD_STALL_TIMEOUT)
         backend.open()
         backend.set_override(0)                      # the operator holds the motion with the override
         for seg in segments:
             backend.send(seg)
-        timer = threading.Timer(0.8, backend.set_override, args=(100,))
+        timer = threading.Timer(HOLD, backend.set_override, args=(100,))
         timer.start()
         (status,) = _in_thread(backend.finish)
         timer.join(5)
