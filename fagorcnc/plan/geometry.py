@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 import operator
 from abc import ABC, abstractmethod
-from itertools import pairwise
+from itertools import pairwise, starmap
 
 import numpy as np
 
@@ -128,6 +128,32 @@ class LinePiece(Piece):
         out.length = s1 - s0
         out.u, out.ul, out.d2, out.d3 = self.u, self.ul, self.d2, self.d3   # d1: |u| when asked
         return out
+
+
+def line_pieces(starts: list[np.ndarray], ends: list[np.ndarray], start_rows: np.ndarray, end_rows: np.ndarray,
+                shortest: float) -> list[LinePiece | None]:
+    """``LinePiece(starts[i], ends[i])`` for each line of a run (``start_rows``, ``end_rows``: the same points as
+    rows (n, D)), or None where it is not longer than ``shortest`` (dropped: nothing moves).  Made at once: the
+    differences and the divisions by the lengths as arrays (the same operations element by element, so the
+    same floats), each line's direction a row of those (a view), and its floats all in one call."""
+    deltas = end_rows - start_rows
+    lengths = list(starmap(math.hypot, deltas.tolist()))   # math.hypot(*delta) of each line, as __init__
+    # a line dropped is divided by 1 (no warning; its direction is never asked)
+    divisors = np.array(lengths)
+    divisors[~(divisors > shortest)] = 1.0
+    units = deltas / divisors[:, None]
+    zeros = _zeros(deltas.shape[1])
+    out: list[LinePiece | None] = []
+    new = LinePiece.__new__
+    for start, end, length, u, ul in zip(starts, ends, lengths, list(units), units.tolist()):  # noqa: B905 (a row a line)
+        if not length > shortest:
+            out.append(None)
+            continue
+        piece = new(LinePiece)
+        piece.start, piece.end, piece.length, piece.u, piece.ul = start, end, length, u, ul
+        piece.d2 = piece.d3 = zeros
+        out.append(piece)
+    return out
 
 
 _ZEROS: dict[int, np.ndarray] = {}

@@ -13,15 +13,15 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Iterable, Iterator
-from itertools import accumulate, islice
-from operator import attrgetter
+from itertools import accumulate, chain, islice
+from operator import attrgetter, itemgetter
 
 import numpy as np
 
 from ..config.machine import Machine, load_machine
 from ..interp.records import css_feed
 from .corner_memo import CornerMemo
-from .geometry import ArcPiece, LinePiece, Piece
+from .geometry import ArcPiece, Piece, line_pieces
 from .independent import IndependentAxes
 from .junctions import MIN_LENGTH, CornerMixin
 from .limits import AxisLimits
@@ -55,6 +55,10 @@ READ_AHEAD = 1024
 SHRINKS = (0.0, 1e-9, 1e-6, 1e-4, 1e-2)
 #: A span's length (a group's members' lengths without a generator).
 _LENGTH = attrgetter("length")
+#: A record's end point (a run's end points without a generator).
+_END = attrgetter("end")
+#: The kinds of records that move along a path.
+_MOTION = ("linear", "rapid", "arc")
 
 
 class Planner(CornerMixin):
@@ -89,6 +93,7 @@ class Planner(CornerMixin):
         self._known: list[float] = []           # the last backward pass's limits of the queue's groups
         self._last_end: tuple = (None, None)    # the last record's end and its vector
         self._origin = (0.0,) * len(self.axes)
+        self._end_values = itemgetter(*self.axes)   # an end point's values in machine axis order (2 axes or more)
         self.independent = None                 # the independent axes of the last segments() (plan/independent.py)
 
     # ------------------------------------------------------------ records -> spans
@@ -122,20 +127,59 @@ class Planner(CornerMixin):
         """A position in machine axis order (axes it does not name at 0)."""
         return np.fromiter(map(pos.get, self.axes, self._origin), float, len(self.axes))
 
-    def _span(self, rec) -> Span | None:
-        # a block starts where the one before ended: its end vector is reused
-        last, last_end = self._last_end
-        start = last_end if rec.start is last or rec.start == last else self._vector(rec.start)
-        axes = self.axes   # _vector(rec.end) inline (every block)
-        end = np.fromiter(map(rec.end.get, axes, self._origin), float, len(axes))
-        self._last_end = rec.end, end
-        if rec.kind == "arc":
-            a, o = rec.plane[0], rec.plane[1]
-            piece: Piece = ArcPiece(start, end, self.index[a], self.index[o], (rec.center[a], rec.center[o]),
-                                    math.radians(rec.sweep))
-        else:
-            piece = LinePiece(start, end)
-        if not piece.length > MIN_LENGTH:
+    def _pieces(self, motion: list) -> list[Piece | None]:
+        """The pieces of a run of motion records (None: not longer than :data:`MIN_LENGTH`, nothing moves).
+        Their end points in machine axis order are read as one array, and a block that starts where the one
+        before ended starts at that one's end (the same vector); the lines are made together
+        (:func:`~.geometry.line_pieces`)."""
+        n, dim = len(motion), len(self.axes)
+        if not n:
+            return []
+        ends = None
+        if dim > 1:
+            try:   # every end names every axis (the interpreter's records): one getter, no default per axis
+                ends = np.fromiter(chain.from_iterable(map(self._end_values, map(_END, motion))), float, n * dim)
+            except KeyError:
+                ends = None
+        if ends is None:
+            ends = np.array([list(map(rec.end.get, self.axes, self._origin)) for rec in motion], float)
+        ends = ends.reshape(n, dim)
+        end_points = list(ends)   # a view a row: each piece's end, and the start of the one after it
+        rows = np.empty_like(ends)   # the start points as rows
+        rows[1:] = ends[:-1]
+        last, point = self._last_end
+        if point is not None:
+            rows[0] = point
+        starts = []
+        for i, rec in enumerate(motion):
+            start = rec.start
+            if not (start is last or start == last):
+                point = rows[i] = self._vector(start)
+            starts.append(point)
+            last, point = rec.end, end_points[i]
+        self._last_end = last, point
+        lines = [i for i, rec in enumerate(motion) if rec.kind != "arc"]
+        if len(lines) == n:
+            return line_pieces(starts, end_points, rows, ends, MIN_LENGTH)
+        pieces: list[Piece | None] = [None] * n
+        if lines:
+            made = line_pieces([starts[i] for i in lines], [end_points[i] for i in lines], rows[lines], ends[lines],
+                               MIN_LENGTH)
+            for i, piece in zip(lines, made):  # noqa: B905 (a piece a line)
+                pieces[i] = piece
+        index = self.index
+        for i, rec in enumerate(motion):
+            if rec.kind == "arc":
+                a, o = rec.plane[0], rec.plane[1]
+                piece = ArcPiece(starts[i], end_points[i], index[a], index[o], (rec.center[a], rec.center[o]),
+                                 math.radians(rec.sweep))
+                if piece.length > MIN_LENGTH:
+                    pieces[i] = piece
+        return pieces
+
+    def _span(self, rec, piece: Piece | None) -> Span | None:
+        """The span of a motion record whose piece :meth:`_pieces` made (None: nothing moves)."""
+        if piece is None:
             return None
         cfg = self.config
         dyn = rec.dyn
@@ -177,25 +221,27 @@ class Planner(CornerMixin):
                    default=math.inf)
 
     def _spans(self, records: Iterable) -> Iterator[Span | Event]:
-        for rec in _read_ahead(records):
-            kind = rec.kind
-            if kind in ("linear", "rapid", "arc"):
-                span = self._span(rec)
-                if span is None:
-                    continue
-                if getattr(rec, "css", None) is not None and not span.rapid:   # G95 under G96 (feed follows r)
-                    yield from self._css_parts(span, rec)
-                    continue
-                parts = math.ceil(abs(span.piece.w) * span.length / self._arc_part) if kind == "arc" else 1
-                if parts <= 1:
-                    yield span
-                    continue
-                # long arcs in parts: each part picks its own cap (more tangential budget where slow)
-                yield from span.parts([span.length * i / parts for i in range(parts + 1)])
-            elif kind == "dwell":
-                yield Event(rec, rec.seconds)
-            elif kind == "aux":
-                yield Event(rec, 0.0)
+        for run in _read_ahead(records):
+            pieces = iter(self._pieces([rec for rec in run if rec.kind in _MOTION]))
+            for rec in run:
+                kind = rec.kind
+                if kind in _MOTION:
+                    span = self._span(rec, next(pieces))
+                    if span is None:
+                        continue
+                    if getattr(rec, "css", None) is not None and not span.rapid:   # G95 under G96 (feed follows r)
+                        yield from self._css_parts(span, rec)
+                        continue
+                    parts = math.ceil(abs(span.piece.w) * span.length / self._arc_part) if kind == "arc" else 1
+                    if parts <= 1:
+                        yield span
+                        continue
+                    # long arcs in parts: each part picks its own cap (more tangential budget where slow)
+                    yield from span.parts([span.length * i / parts for i in range(parts + 1)])
+                elif kind == "dwell":
+                    yield Event(rec, rec.seconds)
+                elif kind == "aux":
+                    yield Event(rec, 0.0)
 
     def _css_parts(self, span: Span, rec) -> Iterator[Span]:
         """A G95 move under G96 in parts, each capped at the lowest feed the spindle gives over it (seed 002
@@ -385,16 +431,16 @@ class Planner(CornerMixin):
                             f"{v1:.6g} mm/s", span.line, span.record)
 
 
-def _read_ahead(records: Iterable) -> Iterable:
-    """``records``, taken from a streamed source :data:`READ_AHEAD` at a time."""
+def _read_ahead(records: Iterable) -> Iterable[list]:
+    """``records`` in runs of :data:`READ_AHEAD`, taken from a streamed source a run at a time."""
     if isinstance(records, (list, tuple)):
-        return records
+        return (records[i:i + READ_AHEAD] for i in range(0, len(records), READ_AHEAD))
     return _chunks(iter(records))
 
 
-def _chunks(source: Iterator) -> Iterator:
+def _chunks(source: Iterator) -> Iterator[list]:
     while chunk := list(islice(source, READ_AHEAD)):
-        yield from chunk
+        yield chunk
 
 
 def _joins(group: Group, span: Span) -> bool:
