@@ -18,16 +18,14 @@ from time import process_time as cpu_time
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
-from ..kinematics.stage import StageError, joint_space, with_frames
-from ..kinematics.tangential import follow
-from ..path.aids import apply_aids
-from ..path.compensation import CompensationError, compensate
+from ..kinematics.stage import StageError
+from ..path.compensation import CompensationError
 from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
 from . import axes, compat
 from .channelvars import interpreter_variables
-from .curves import CurveSettings, splines
+from .curves import CurveSettings
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
 from .files import SubroutineFiles
@@ -37,6 +35,7 @@ from .laser import Laser
 from .macros import expanded_blocks
 from .manual import ManualIntervention
 from .parameters import Parameters
+from .pipeline import chained, stages
 from .plain import NOT_PLAIN, PlainBlocks
 from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
@@ -131,15 +130,14 @@ class Interpreter(FlowMixin):
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
-            # (#SPLINE: the spline's chords first, interp/curves.py)
-            moves = follow(splines(self._loop(0), self), self)
-            records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
-            # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
+            # (#SPLINE: the spline's chords first, interp/curves.py); coupled slaves (#LINK) follow their
+            # masters' machine positions (interp/axes.py): interp/pipeline.py
+            records = (stages if self.idle_stages else chained)(self._loop(0), self, _stage_error)
             timed = self._timed
             # without a time limit, or when the consumer stops the clock itself (handed_in_runs), no clock
             # to read twice per record
             limited = clock.seconds > 0 and not self.consumer_excluded
-            for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
+            for record in records:
                 # the time _loop worked out for the same record: the entry holds its record, so no other object
                 # alive has its id (the record itself, not one made later at the address of one freed)
                 known = timed.pop(id(record), None)
@@ -170,6 +168,9 @@ class Interpreter(FlowMixin):
     #: Plain blocks (literal G00-G03 moves) take the fast path of :mod:`fagorcnc.interp.plain`; False runs
     #: every block through the general executor (the tests compare both).
     plain_blocks = True
+    #: The path stages run as one loop while none of them has anything to do (:func:`~fagorcnc.interp.pipeline.stages`);
+    #: False chains them from the start (the tests compare both).
+    idle_stages = True
     cycle_time = 0.0   # seconds of the records handed on (after the corner aids)
 
     def _aid_error(self, aid, message: str) -> None:
