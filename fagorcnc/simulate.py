@@ -25,7 +25,7 @@ from .plan import Planner, PlanningError, Segment, planning_code
 from .plan.envelope import Envelope
 from .program_files import Source, no_block, resolve, source_name
 from .runtime import fewer_collections
-from .summary import NOT_MOVES, Ending, RunSummary, is_move, not_started, program_ending, stopping_error
+from .summary import Ending, RunSummary, is_move, not_started, program_ending, stopping_error
 from .syntax import parse_file, parse_text, source_encoding
 from .syntax.ast import Block, Program
 from .syntax.reader import ProgramFile
@@ -382,32 +382,21 @@ RecordWatcher = Callable[[object, Interpreter], None]
 
 
 class _Watched:
-    """The interpreter's records, each shown to a watcher and counted on its way to the planner.
-    Every iteration takes the same stream on: after a planning error the rest is still interpreted.
-    (A generator's step costs less than an iterator object's ``__next__``.)"""
+    """The interpreter's records, each shown to a watcher and counted on its way to the planner
+    (:meth:`Interpreter.run`'s ``watch``: no generator step of its own a record).  Every iteration takes
+    the same stream on: after a planning error the rest is still interpreted."""
 
     def __init__(self, interp: Interpreter, watch: RecordWatcher | None) -> None:
         self._interp = interp
-        self._watch = watch
-        self.moves = 0
-        self._stream = self._each(interp.run())
+        self._stream = interp.run(watch)
 
     def __iter__(self) -> Iterator:
         return self._stream
 
-    def _each(self, records: Iterator) -> Iterator:
-        """The records, counted in a local (set in :attr:`moves` when the stream ends, or is closed)."""
-        interp, watch = self._interp, self._watch
-        moves = 0
-        try:
-            for rec in records:
-                if rec.kind not in NOT_MOVES:   # is_move(rec)
-                    moves += 1
-                if watch is not None:
-                    watch(rec, interp)
-                yield rec
-        finally:
-            self.moves = moves
+    @property
+    def moves(self) -> int:
+        """The moves handed on (all of them once the stream has ended, or was closed)."""
+        return self._interp.moves_handed
 
 
 def _lines_of(source: Source, encoding: str):

@@ -117,3 +117,19 @@ def test_the_lane_hands_over_where_a_stage_acts(monkeypatch):
     handed.clear()
     fagorcnc.simulate(text=PROGRAMS["plain"] + "M30\n", machine=MACHINE)
     assert handed == []   # nothing for the stages to do: the lane to the end
+
+
+def test_run_shows_each_record_to_its_watcher():
+    """``Interpreter.run(watch)``: the watcher sees each record handed on, in order, as it is handed on (the
+    interpreter's state is the one then), and ``moves_handed`` counts the moves among them."""
+    from fagorcnc.machine import load_machine
+    from fagorcnc.syntax import parse_text
+
+    interp = Interpreter(parse_text(PROGRAMS["compensation"] + "M30\n"), load_machine(MACHINE))
+    seen, lines = [], []
+    handed = []
+    for rec in interp.run(lambda r, i: (seen.append(r), lines.append(i.state.line))):
+        assert seen[-1] is rec   # shown before it is handed on
+        handed.append(rec)
+    assert seen == handed and interp.moves_handed == sum(r.kind not in ("aux", "dwell") for r in handed) == 10
+    assert lines == sorted(lines)   # each seen after the blocks it comes after were run

@@ -20,6 +20,7 @@ from ..config.machine import Machine
 from ..diagnostics import Diagnostic
 from ..kinematics.stage import StageError
 from ..path.compensation import CompensationError
+from ..summary import NOT_MOVES
 from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
@@ -118,8 +119,10 @@ class Interpreter(FlowMixin):
         self._timed: dict[int, tuple] = {}
 
     # ------------------------------------------------------------------ run
-    def run(self) -> Iterator:
-        """Yield the motion records of the program, in execution order."""
+    def run(self, watch: Callable | None = None) -> Iterator:
+        """Yield the motion records of the program, in execution order; ``watch(record, interpreter)`` sees each
+        as it is handed on (``fagorcnc.simulate.RecordWatcher``), and :attr:`moves_handed` counts the moves (set
+        when the run ends, or is closed)."""
         if not self.program.ok and not self.recover:
             return  # a program with syntax errors is not executed
         main = self.stream if self.stream is not None else RoutineSource(self.program.main)
@@ -127,6 +130,7 @@ class Interpreter(FlowMixin):
         machine = self.machine
         clock = self.clock
         clock.start()
+        moves = 0
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
@@ -142,11 +146,17 @@ class Interpreter(FlowMixin):
                 # alive has its id (the record itself, not one made later at the address of one freed)
                 known = timed.pop(id(record), None)
                 self.cycle_time += record_time(machine, record) if known is None else known[1]
+                if record.kind not in NOT_MOVES:   # is_move(record)
+                    moves += 1
                 if limited:
                     handed = cpu_time()
+                    if watch is not None:
+                        watch(record, self)
                     yield record
                     clock.exclude(handed)   # the consumer's time is not interpretation time
                 else:
+                    if watch is not None:
+                        watch(record, self)
                     yield record
         except CompensationError as exc:
             src = exc.record.src
@@ -159,6 +169,7 @@ class Interpreter(FlowMixin):
         except _Stop:
             pass
         finally:
+            self.moves_handed = moves
             self.files.close()
 
     failed = False
@@ -172,6 +183,7 @@ class Interpreter(FlowMixin):
     #: False chains them from the start (the tests compare both).
     idle_stages = True
     cycle_time = 0.0   # seconds of the records handed on (after the corner aids)
+    moves_handed = 0   # moves among them (:meth:`run`)
 
     def _aid_error(self, aid, message: str) -> None:
         if not self.failed:
