@@ -25,10 +25,10 @@ from .plan import Planner, PlanningError, Segment, planning_code
 from .plan.envelope import Envelope
 from .program_files import Source, no_block, resolve, source_name
 from .runtime import fewer_collections
-from .summary import NOT_MOVES, Ending, RunSummary, is_move, not_started, program_ending, stopping_error
+from .summary import Ending, RunSummary, is_move, not_started, program_ending, stopping_error
 from .syntax import parse_file, parse_text, source_encoding
 from .syntax.ast import Block, Program
-from .syntax.reader import ProgramFile
+from .syntax.reader import PlainChunks, ProgramFile
 
 if TYPE_CHECKING:   # imported where used: dry_run (fagorcnc check) needs neither
     from .interp.movestore import Moves
@@ -192,9 +192,9 @@ def _empty(program: Program) -> bool:
 
 def _simulate(source: Source, mach: Machine, block_skip: bool) -> Result:
     file = source_name(source)
-    syntax, encoding = _syntax(source, file, mach.compat)
+    syntax, encoding, chunks = _syntax(source, file, mach.compat)
     if not any(d.is_error for d in syntax):
-        return _simulate_streamed(source, file, encoding, mach, block_skip, syntax)
+        return _simulate_streamed(source, file, encoding, mach, block_skip, syntax, chunks)
     return _simulate_whole(source, mach, block_skip)
 
 
@@ -203,15 +203,16 @@ def _parse(source: Source, mach: Machine) -> Program:
 
 
 def _simulate_streamed(source: Source, file: str, encoding: str, mach: Machine, block_skip: bool,
-                       syntax: list[Diagnostic]) -> Result:
+                       syntax: list[Diagnostic], chunks: PlainChunks | None = None) -> Result:
     """A program without syntax errors, streamed through the interpreter as :func:`dry_run` runs it: only
-    its records are kept (the program's tree is parsed again if :attr:`Result.program` is asked for)."""
+    its records are kept (the program's tree is parsed again if :attr:`Result.program` is asked for);
+    ``chunks``: what the syntax check found of its lines (:func:`_syntax`)."""
     from .interp.movestore import Moves
     from .interp.source import stream_program
 
     lines = _lines_of(source, encoding)
     try:
-        head, body = stream_program(lines, file, mach.compat)
+        head, body = stream_program(lines, file, mach.compat, chunks)
         interp = Interpreter(head, mach, block_skip=block_skip, stream=body)
         attach_parameter_file(interp)   # restore saved global/common parameters; a dry run never saves them
         moves, notes = Moves(), []
@@ -382,32 +383,21 @@ RecordWatcher = Callable[[object, Interpreter], None]
 
 
 class _Watched:
-    """The interpreter's records, each shown to a watcher and counted on its way to the planner.
-    Every iteration takes the same stream on: after a planning error the rest is still interpreted.
-    (A generator's step costs less than an iterator object's ``__next__``.)"""
+    """The interpreter's records, each shown to a watcher and counted on its way to the planner
+    (:meth:`Interpreter.run`'s ``watch``: no generator step of its own a record).  Every iteration takes
+    the same stream on: after a planning error the rest is still interpreted."""
 
     def __init__(self, interp: Interpreter, watch: RecordWatcher | None) -> None:
         self._interp = interp
-        self._watch = watch
-        self.moves = 0
-        self._stream = self._each(interp.run())
+        self._stream = interp.run(watch)
 
     def __iter__(self) -> Iterator:
         return self._stream
 
-    def _each(self, records: Iterator) -> Iterator:
-        """The records, counted in a local (set in :attr:`moves` when the stream ends, or is closed)."""
-        interp, watch = self._interp, self._watch
-        moves = 0
-        try:
-            for rec in records:
-                if rec.kind not in NOT_MOVES:   # is_move(rec)
-                    moves += 1
-                if watch is not None:
-                    watch(rec, interp)
-                yield rec
-        finally:
-            self.moves = moves
+    @property
+    def moves(self) -> int:
+        """The moves handed on (all of them once the stream has ended, or was closed)."""
+        return self._interp.moves_handed
 
 
 def _lines_of(source: Source, encoding: str):
@@ -417,15 +407,17 @@ def _lines_of(source: Source, encoding: str):
     return str(source)
 
 
-def _syntax(source: Source, file: str, compat=None) -> tuple[list[Diagnostic], str]:
+def _syntax(source: Source, file: str, compat=None) -> tuple[list[Diagnostic], str, PlainChunks]:
     """The syntax and structure diagnostics of the whole program, read once in constant memory,
-    and the file's encoding: UTF-8, or Latin-1 for files written by older editors (as
-    :func:`~fagorcnc.syntax.read_source` decides)."""
+    the file's encoding: UTF-8, or Latin-1 for files written by older editors (as
+    :func:`~fagorcnc.syntax.read_source` decides), and the chunks of its lines that are runs of plain
+    lines (for the run's own reading: :class:`~fagorcnc.syntax.reader.PlainChunks`)."""
     from .syntax import iter_lines
     from .syntax.structure import assemble
 
     encoding = source_encoding(source) if _is_file(source) else "utf-8"
     lines = _lines_of(source, encoding)
+    chunks = PlainChunks()
     blocks = [False]
 
     def noting_blocks(pairs):
@@ -435,13 +427,13 @@ def _syntax(source: Source, file: str, compat=None) -> tuple[list[Diagnostic], s
             yield pair
 
     try:
-        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file, compat, structure_only=True)), file,
-                                    keep_body=False).diagnostics)
+        diagnostics = list(assemble(noting_blocks(iter_lines(lines, file, compat, structure_only=True,
+                                                             chunks=chunks)), file, keep_body=False).diagnostics)
     finally:
         getattr(lines, "close", lambda: None)()
     if not blocks[0] and not any(d.is_error for d in diagnostics):
         diagnostics.append(no_block(file))
-    return diagnostics, encoding
+    return diagnostics, encoding, chunks
 
 
 def syntax_errors(source: str | os.PathLike | None = None, *, text: str | None = None,
@@ -452,7 +444,7 @@ def syntax_errors(source: str | os.PathLike | None = None, *, text: str | None =
     source = resolve(source, text)
     file = source_name(source)
     with fewer_collections():
-        diagnostics, _ = _syntax(source, file, compat)
+        diagnostics, _, _ = _syntax(source, file, compat)
     return sorted((d for d in diagnostics if d.is_error), key=_place)
 
 
@@ -477,10 +469,10 @@ def dry_run(source: str | os.PathLike | None = None, machine: Machine | dict | s
         return DryRun(False, [Diagnostic(str(machine), 1, 1, "CFG001", "error", str(exc))])
     file = source_name(source)
     with fewer_collections():
-        diagnostics, encoding = _syntax(source, file, mach.compat)
+        diagnostics, encoding, chunks = _syntax(source, file, mach.compat)
         if any(d.is_error for d in diagnostics):
             return DryRun(False, sorted(diagnostics, key=_place), ending=not_started(diagnostics, file))
-        return _dry_run(source, file, encoding, mach, block_skip, diagnostics, on_record, on_segment)
+        return _dry_run(source, file, encoding, mach, block_skip, diagnostics, on_record, on_segment, chunks)
 
 
 def _place(d: Diagnostic) -> tuple:
@@ -488,12 +480,13 @@ def _place(d: Diagnostic) -> tuple:
 
 
 def _dry_run(source, file: str, encoding: str, mach: Machine, block_skip: bool, diagnostics: list,
-             on_record: RecordWatcher | None, on_segment: Callable[[Segment], None] | None) -> DryRun:
+             on_record: RecordWatcher | None, on_segment: Callable[[Segment], None] | None,
+             chunks: PlainChunks | None = None) -> DryRun:
     from .interp.source import stream_program
 
     lines = _lines_of(source, encoding)
     try:
-        program, body = stream_program(lines, file, mach.compat)
+        program, body = stream_program(lines, file, mach.compat, chunks)   # the lines _syntax() read
         interp = Interpreter(program, mach, block_skip=block_skip, stream=body)
         attach_parameter_file(interp)   # the saved global/common parameters; a dry run never saves them
         records = _Watched(interp, on_record)

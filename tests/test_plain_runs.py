@@ -101,6 +101,39 @@ def test_runs_equal_the_lines_read_one_by_one(lines: list, chunk: int) -> None:
                 == assemble(iter(fast), "f", keep_body=False).diagnostics)
 
 
+@given(programs, st.lists(st.one_of(plain_lines, other_lines), max_size=3), st.sampled_from([1, 2, 3, 128]))
+@example(["G1 X1"] * 300, [], 128)
+@example(["G1 X1"] * 300, ["M3"], 128)
+@example(["X1", "X2", "X3", "X4"], ["X5 Y6"], 2)
+@example(["X1", "X2", "G1 X1\x00", "X3"], [], 2)
+def test_chunks_a_first_reading_found_plain(lines: list, changed: list, chunk: int) -> None:
+    """A reading with the PlainChunks of a reading before (the syntax check, structure only) gives what a
+    reading without them gives, also when the lines changed in between (chunks of other text are read the
+    usual way); the first reading fills them only when it comes to the end of its lines."""
+    with mock.patch.object(reader, "CHUNK_LINES", chunk):
+        chunks = reader.PlainChunks()
+        assert chunks.complete is False
+        list(reader.iter_lines(lines, "f", structure_only=True, chunks=chunks))
+        assert chunks.complete is not any("\x00" in line for line in lines)   # a NUL ends the reading there
+        taken = []
+        run = reader._Reader.run
+
+        def counting(self, *args):
+            taken.append(args)
+            return run(self, *args)
+
+        with mock.patch.object(reader._Reader, "run", counting):
+            assert list(reader.iter_lines(lines, "f", chunks=chunks)) == list(reader.iter_lines(lines, "f"))
+            if len(lines) >= chunk and all(PLAIN_LINE(line) for line in lines[:chunk]):
+                assert taken[0][1:3] == (0, chunk)   # the first chunk as one run
+            middle = len(lines) // 2
+            other = lines[:middle] + changed + lines[middle + 1:]
+            assert list(reader.iter_lines(other, "f", chunks=chunks)) == list(reader.iter_lines(other, "f"))
+        partial = reader.PlainChunks()
+        next(iter(reader.iter_lines(["X1"] * 3 * chunk, "f", chunks=partial)))
+        assert not partial.complete and not partial.whole(0, "X1\n" * chunk)
+
+
 def test_runs_are_lists_and_other_lines_pairs() -> None:
     lines = ["%PRG", "G1 X1 Y2", "X2 Y3 ", "M3 S100", "X4", "", "X5"]
     items = list(reader.iter_runs(lines, "f"))

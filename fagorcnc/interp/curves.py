@@ -365,13 +365,15 @@ def _check_limits(rec, end: dict, limits: dict) -> None:
 MOTION = ("linear", "rapid", "arc")
 
 
-def splines(records, interp):
+def splines(records, interp, last=None):
     """The stage: the moves between #SPLINE ON and OFF become the chords of their spline (see the
-    module's text); every other record passes unchanged, in order."""
+    module's text); every other record passes unchanged, in order.  ``last``: the last move handed on
+    before ``records`` (a stage taking over a stream from :func:`~fagorcnc.interp.pipeline.stages`' idle
+    lane)."""
     st = interp.state
     spline: _Spline | None = None
     held: tuple | None = None     # (spline, end mark, events after it): waiting for the next move's tangent
-    last = None                   # the last move handed on (tangent type 2 at the start)
+    # last: the last move handed on (tangent type 2 at the start)
     for rec in records:
         kind = rec.kind
         if kind == "spline":

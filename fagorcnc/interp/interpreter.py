@@ -18,16 +18,15 @@ from time import process_time as cpu_time
 
 from ..config.machine import Machine
 from ..diagnostics import Diagnostic
-from ..kinematics.stage import StageError, joint_space, with_frames
-from ..kinematics.tangential import follow
-from ..path.aids import apply_aids
-from ..path.compensation import CompensationError, compensate
+from ..kinematics.stage import StageError
+from ..path.compensation import CompensationError
+from ..summary import NOT_MOVES
 from ..syntax import hints
 from ..syntax.ast import Assignment, Block, Flow, Param, Program, Repeat, Sentence, SubroutineCall, Word
 from ..syntax.macros import MacroUse
 from . import axes, compat
 from .channelvars import interpreter_variables
-from .curves import CurveSettings, splines
+from .curves import CurveSettings
 from .exblk import exblk_block
 from .expressions import Evaluator, InterpError
 from .files import SubroutineFiles
@@ -37,6 +36,7 @@ from .laser import Laser
 from .macros import expanded_blocks
 from .manual import ManualIntervention
 from .parameters import Parameters
+from .pipeline import chained, stages
 from .plain import NOT_PLAIN, PlainBlocks
 from .records import Dwell, Source, record_time
 from .source import RoutineSource, StreamSource
@@ -119,8 +119,10 @@ class Interpreter(FlowMixin):
         self._timed: dict[int, tuple] = {}
 
     # ------------------------------------------------------------------ run
-    def run(self) -> Iterator:
-        """Yield the motion records of the program, in execution order."""
+    def run(self, watch: Callable | None = None) -> Iterator:
+        """Yield the motion records of the program, in execution order; ``watch(record, interpreter)`` sees each
+        as it is handed on (``fagorcnc.simulate.RecordWatcher``), and :attr:`moves_handed` counts the moves (set
+        when the run ends, or is closed)."""
         if not self.program.ok and not self.recover:
             return  # a program with syntax errors is not executed
         main = self.stream if self.stream is not None else RoutineSource(self.program.main)
@@ -128,27 +130,33 @@ class Interpreter(FlowMixin):
         machine = self.machine
         clock = self.clock
         clock.start()
+        moves = 0
         try:
             # path stages with look-ahead: corner aids G36-G39 on the programmed contour, then
             # tool radius compensation G41/G42; then transformed moves in machine joints (#CS, #RTCP...)
-            # (#SPLINE: the spline's chords first, interp/curves.py)
-            moves = follow(splines(self._loop(0), self), self)
-            records = compensate(apply_aids(with_frames(moves, self.state), self._aid_error), self._path_warning)
-            # coupled slaves (#LINK) follow their masters' machine positions (interp/axes.py)
+            # (#SPLINE: the spline's chords first, interp/curves.py); coupled slaves (#LINK) follow their
+            # masters' machine positions (interp/axes.py): interp/pipeline.py
+            records = (stages if self.idle_stages else chained)(self._loop(0), self, _stage_error)
             timed = self._timed
             # without a time limit, or when the consumer stops the clock itself (handed_in_runs), no clock
             # to read twice per record
             limited = clock.seconds > 0 and not self.consumer_excluded
-            for record in axes.follow_links(joint_space(records, self), self.state, _stage_error):
+            for record in records:
                 # the time _loop worked out for the same record: the entry holds its record, so no other object
                 # alive has its id (the record itself, not one made later at the address of one freed)
                 known = timed.pop(id(record), None)
                 self.cycle_time += record_time(machine, record) if known is None else known[1]
+                if record.kind not in NOT_MOVES:   # is_move(record)
+                    moves += 1
                 if limited:
                     handed = cpu_time()
+                    if watch is not None:
+                        watch(record, self)
                     yield record
                     clock.exclude(handed)   # the consumer's time is not interpretation time
                 else:
+                    if watch is not None:
+                        watch(record, self)
                     yield record
         except CompensationError as exc:
             src = exc.record.src
@@ -161,6 +169,7 @@ class Interpreter(FlowMixin):
         except _Stop:
             pass
         finally:
+            self.moves_handed = moves
             self.files.close()
 
     failed = False
@@ -170,7 +179,11 @@ class Interpreter(FlowMixin):
     #: Plain blocks (literal G00-G03 moves) take the fast path of :mod:`fagorcnc.interp.plain`; False runs
     #: every block through the general executor (the tests compare both).
     plain_blocks = True
+    #: The path stages run as one loop while none of them has anything to do (:func:`~fagorcnc.interp.pipeline.stages`);
+    #: False chains them from the start (the tests compare both).
+    idle_stages = True
     cycle_time = 0.0   # seconds of the records handed on (after the corner aids)
+    moves_handed = 0   # moves among them (:meth:`run`)
 
     def _aid_error(self, aid, message: str) -> None:
         if not self.failed:

@@ -201,13 +201,14 @@ def _late_header(node, file: str) -> list:
     return []
 
 
-def stream_program(lines: Iterable[str], file: str, compat=None) -> tuple[Program, StreamSource]:
+def stream_program(lines: Iterable[str], file: str, compat=None, chunks=None) -> tuple[Program, StreamSource]:
     """Read the local subroutines and header of a file; stream its body.
 
     Returns a :class:`Program` whose ``main`` routine is empty and the
-    :class:`StreamSource` that yields the body.
+    :class:`StreamSource` that yields the body.  ``chunks``: the
+    :class:`~fagorcnc.syntax.reader.PlainChunks` of a reading of the same lines before (the syntax check).
     """
-    it = iter_runs(lines, file, compat)   # compat: the machine's [compat] policy
+    it = iter_runs(lines, file, compat, chunks=chunks)   # compat: the machine's [compat] policy
     head: list = []
     body: list = []   # the first block of the body, and the rest of its run of plain blocks
     header = False

@@ -187,8 +187,34 @@ def _lines(source: Union[str, Iterable[str]]) -> Iterator[str]:
 CHUNK_LINES = 128
 
 
+class PlainChunks:
+    """Which chunks of a source's lines (:data:`CHUNK_LINES` at a time, in order) :func:`iter_runs` found to be
+    one run of plain lines each, on a first reading, so that a second reading of the same lines (a dry run
+    after its syntax check) takes them so without :data:`~fagorcnc.syntax.parser.PLAIN_RUN`: the hash of each
+    such chunk's text, None for the others.  A chunk of the second reading is taken so when the first met
+    a chunk of the same text (hash) at the same place, else it is read as without.  Some 36 bytes a chunk.
+    The first reading to come to the end of its lines fills it; any reading after that only reads it."""
+
+    __slots__ = ("_hashes", "complete")
+
+    def __init__(self) -> None:
+        self._hashes: list = []
+        self.complete = False
+
+    def note(self, index: int, text: str, whole: bool) -> None:
+        """Chunk ``index`` of text ``text`` (each line ended by "\\n"), one plain run (``whole``) or not, while
+        the first reading goes on."""
+        if not self.complete and index == len(self._hashes):
+            self._hashes.append(hash(text) if whole else None)
+
+    def whole(self, index: int, text: str) -> bool:
+        """Whether chunk ``index`` of text ``text`` is one run of plain lines, as the first reading found it."""
+        hashes = self._hashes
+        return self.complete and index < len(hashes) and hashes[index] is not None and hashes[index] == hash(text)
+
+
 def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None,
-               *, structure_only: bool = False) -> Iterator[tuple]:
+               *, structure_only: bool = False, chunks: PlainChunks | None = None) -> Iterator[tuple]:
     """Parse a program line by line.
 
     ``source`` is the program text or any iterable of lines (an open file
@@ -200,9 +226,9 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
     keywords not in capitals.  ``structure_only=True`` (the syntax check of a whole file before
     it runs): the same diagnostics, but plain blocks of literal words (which cannot end a subroutine)
     carry no items (:meth:`~fagorcnc.syntax.parser.LineParser.parse`), and of a run of such blocks one
-    after the other only the last is yielded (:func:`iter_runs`).
+    after the other only the last is yielded (:func:`iter_runs`); ``chunks`` as for :func:`iter_runs`.
     """
-    for item in iter_runs(source, file, compat, structure_only=structure_only):
+    for item in iter_runs(source, file, compat, structure_only=structure_only, chunks=chunks):
         if type(item) is list:
             yield from zip(item, repeat(()))
         else:
@@ -210,7 +236,7 @@ def iter_lines(source: Union[str, Iterable[str]], file: str = "<string>", compat
 
 
 def iter_runs(source: Union[str, Iterable[str]], file: str = "<string>", compat: Compat | None = None,
-              *, structure_only: bool = False) -> Iterator:
+              *, structure_only: bool = False, chunks: PlainChunks | None = None) -> Iterator:
     """:func:`iter_lines`' pairs, except that the blocks of a run of plain lines (:data:`PLAIN_LINE`'s, one
     after the other, outside a ``#COMMENT`` range) come as one list of :class:`Block`, without diagnostics
     (``structure_only``: a list of the run's last block only).
@@ -218,17 +244,29 @@ def iter_runs(source: Union[str, Iterable[str]], file: str = "<string>", compat:
     Speed: the source's lines are taken :data:`CHUNK_LINES` at a time (memory stays bounded) and, when a
     chunk holds no NUL, no ``#COMMENT``, no overlong line and no open comment range, its runs of plain
     lines are found by one :data:`~fagorcnc.syntax.parser.PLAIN_RUN` call each; every other line is read
-    as before, one by one (:meth:`_Reader.line`).  ``tests/test_plain_runs.py`` checks both ways.
+    as before, one by one (:meth:`_Reader.line`).  ``tests/test_plain_runs.py`` checks both ways.  ``chunks``
+    (:class:`PlainChunks`): filled with the chunks that are one run of plain lines by the first reading of the
+    source that comes to its end; a later one takes them so without the pattern.
     """
     reader = _Reader(file, compat, structure_only)
     lines = _lines(source)
     lineno = 1
+    index = 0   # of the chunk
     while chunk := list(islice(lines, CHUNK_LINES)):
         text = "\n".join(chunk) + "\n"
         if (reader.comment_start is None and "\x00" not in text and "#COMMENT" not in text
                 and text.count("\n") == len(chunk) and _Overlong not in set(map(type, chunk))):
-            yield from reader.runs(chunk, text, lineno)
+            if chunks is not None and chunks.whole(index, text):
+                yield reader.run(chunk, 0, len(chunk), lineno)   # what runs() makes of it, without the pattern
+                reader.first = False
+            else:
+                reader.whole = False
+                yield from reader.runs(chunk, text, lineno)
+                if chunks is not None:
+                    chunks.note(index, text, reader.whole)
         else:
+            if chunks is not None:
+                chunks.note(index, text, False)
             for n, line in enumerate(chunk, lineno):
                 pair = reader.line(line, n)
                 if pair is not None:
@@ -236,6 +274,9 @@ def iter_runs(source: Union[str, Iterable[str]], file: str = "<string>", compat:
                 if reader.stopped:
                     return
         lineno += len(chunk)
+        index += 1
+    if chunks is not None:
+        chunks.complete = True
     if reader.comment_start is not None:
         line, text = reader.comment_start
         yield None, (error(file, line, text.index("#") + 1, "SYN017",
@@ -252,11 +293,12 @@ class _Reader:
         self.comment_start: tuple | None = None   # (line, text) of an open #COMMENT BEGIN
         self.first = True
         self.stopped = False
+        self.whole = False   # the chunk runs() read last was one run of plain lines
 
     def runs(self, chunk: list, text: str, lineno: int) -> Iterator:
         """The items of a chunk of lines (``text``: the lines each ended by "\\n", starting at line
         ``lineno``) that holds no NUL, ``#COMMENT`` or overlong line: its runs of plain lines as lists, each
-        other line as :meth:`parsed` reads it."""
+        other line as :meth:`parsed` reads it (:attr:`whole` when it is one run)."""
         pos = i = 0
         n = len(chunk)
         while i < n:
@@ -268,6 +310,7 @@ class _Reader:
                 i += k
                 pos = end
                 if i == n:
+                    self.whole = k == n
                     return
             line = chunk[i]
             yield self.parsed(line, lineno + i)
