@@ -238,7 +238,9 @@ def _to_arcs(sides: PieceRows, rows: np.ndarray, pts: np.ndarray, square: np.nda
     tested with cross products of radius vectors, not angles."""
     va, vo = _in_plane(sides, rows, vertex)
     ca, co = (sides.cx[rows] - va)[:, None], (sides.cy[rows] - vo)[:, None]   # the centre, from the vertex
-    xa, xo = _in_plane(sides, rows, pts)
+    # the points' plane coordinates as arrays of their own: each is read twice below, and a strided
+    # view against a column costs a few times the copy
+    xa, xo = (np.ascontiguousarray(x) for x in _in_plane(sides, rows, pts))
     ea, eo = _in_plane(sides, rows, ends)                               # the ends in the plane (m, 2)
     # off the plane, every point of the arc is where a is: |x - a|² less its part in the plane
     da, do = xa - ea[:, :1], xo - eo[:, :1]
