@@ -127,10 +127,14 @@ class PieceRows:
         q = base + s * lin
         q += (cx + rho * c) * ea
         q += (cy + rho * sn) * eo
-        d1 = lin + (dr * c - rho * w * sn) * ea
-        d1 += (dr * sn + rho * w * c) * eo
-        d2 = (-2 * dr * w * sn - rho * w * w * c) * ea
-        d2 += (2 * dr * w * c - rho * w * w * sn) * eo
+        # the products the formulas share, made once (the same floats: rho * w * c is (rho * w) * c,
+        # and -2 dr w = -(2 dr w) to the bit, its sign included)
+        rw, turn = rho * w, 2 * dr * w
+        rww = rw * w
+        d1 = lin + (dr * c - rw * sn) * ea
+        d1 += (dr * sn + rw * c) * eo
+        d2 = (-(turn * sn) - rww * c) * ea
+        d2 += (turn * c - rww * sn) * eo
         square = _axis_sum(d1 * d1)
         t = d1 / np.sqrt(square)
         k = (d2 - _axis_sum(d2 * t) * t) / square
@@ -234,7 +238,9 @@ def _to_arcs(sides: PieceRows, rows: np.ndarray, pts: np.ndarray, square: np.nda
     tested with cross products of radius vectors, not angles."""
     va, vo = _in_plane(sides, rows, vertex)
     ca, co = (sides.cx[rows] - va)[:, None], (sides.cy[rows] - vo)[:, None]   # the centre, from the vertex
-    xa, xo = _in_plane(sides, rows, pts)
+    # the points' plane coordinates as arrays of their own: each is read twice below, and a strided
+    # view against a column costs a few times the copy
+    xa, xo = (np.ascontiguousarray(x) for x in _in_plane(sides, rows, pts))
     ea, eo = _in_plane(sides, rows, ends)                               # the ends in the plane (m, 2)
     # off the plane, every point of the arc is where a is: |x - a|² less its part in the plane
     da, do = xa - ea[:, :1], xo - eo[:, :1]
@@ -246,9 +252,12 @@ def _to_arcs(sides: PieceRows, rows: np.ndarray, pts: np.ndarray, square: np.nda
     rho -= np.sqrt(ea[:, :1] * ea[:, :1] + eo[:, :1] * eo[:, :1])
     radial += rho * rho
     # within the sector from A to B, turning the arc's way (more than half a turn: outside neither half-plane)
+    # (the turn's sign on A and B, not on the (m, k) cross products: a product by -1 is exact, so the
+    # signs compared are the same; a line's rows, whose sign is 0, take the segments' formula after)
     sign = np.sign(sides.w[rows])[:, None]
-    after_a = sign * (ea[:, :1] * ro - eo[:, :1] * ra) >= 0.0
-    before_b = sign * (ra * eo[:, 1:] - ro * ea[:, 1:]) >= 0.0
+    sa, so = sign * ea, sign * eo
+    after_a = sa[:, :1] * ro - so[:, :1] * ra >= 0.0
+    before_b = ra * so[:, 1:] - ro * sa[:, 1:] >= 0.0
     wide = sign * (ea[:, :1] * eo[:, 1:] - eo[:, :1] * ea[:, 1:]) < 0.0
     inside = np.where(wide, after_a | before_b, after_a & before_b)
     to_b = square - 2.0 * dots[:, :, 1] + lengths[:, 1:]
