@@ -398,6 +398,21 @@ def test_blend_groups_are_each_group_made_alone(dim):
             assert c.length == o.length
 
 
+def test_blend_rows_made_in_one_loop_are_the_rows_of():
+    """BlendRow.rows makes a batch's curves in one loop: each the curve BlendRow.of makes of its row."""
+    rng = np.random.default_rng(3)
+    n = 5
+    p0, t0 = rng.normal(size=(n, 3)), unit_rows(rng, n - 1, 0.2)
+    curves, _, _, (d1, d2, d3) = blend_rows(p0, t0, np.zeros((n, 3)), np.full(n, 0.3), p0 + 1.0, t0[::-1],
+                                            np.zeros((n, 3)), np.full(n, 0.4))
+    batch = curves[0]._batch
+    for i, c in enumerate(curves):
+        o = BlendRow.of(batch, i, batch[0][i, 0], d1[i], d2[i], d3[i], float(batch[1][i, -1]))
+        for name in ("controls", "start", "end", "d1", "d2", "d3", "table_s", "table_u"):
+            assert np.array_equal(getattr(c, name), getattr(o, name)), name
+        assert c.length == o.length and c._row == o._row and c._coef is None and c.samples is None
+
+
 def test_control_points_are_the_stacked_rows():
     """_controls writes the six control points into one array: the floats np.stack gave of the same rows,
     for one curve (spacings as floats) and for rows of curves (spacings as a column)."""
