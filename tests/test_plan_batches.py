@@ -299,18 +299,32 @@ def test_an_hsc_transition_curve_is_measured_against_the_line_it_replaces():
     the tolerance of that stretch of line, and the longest step that does is taken (it used to be measured against
     the stretch from the step's end to the line's end, which is never closer than the step: only steps below the
     tolerance passed)."""
-    from fagorcnc.plan.junctions import _transition_curve
+    from fagorcnc.plan.corners import transition_curve
 
     p = LinePiece(np.array([0.0, 0.0, 0.0]), np.array([8.0, 0.0, 0.0]))
     k = np.array([0.0, 0.02, 0.0])                 # curvature 0.02 /mm towards +Y at the start
     steps = [1.0, 0.5, 0.25, 0.125]
-    curve, step = _transition_curve(p, k, steps, 0.01)
+    (curve, step), made = transition_curve(p, k, steps, 0.01)
+    assert made is None
     assert step == 1.0                             # far longer than the 0.01 mm tolerance
     pts = curve.points(400)
     assert np.abs(pts[:, 1]).max() <= 0.95 * 0.01 and pts[:, 0].min() >= -1e-12 and pts[:, 0].max() <= 1.0 + 1e-12
     assert np.allclose(curve.start, p.start) and np.allclose(curve.end, [1.0, 0.0, 0.0])
-    tight = _transition_curve(p, k, steps, 1e-5)   # no step keeps 10 nm: the caller goes on with shorter ones
+    tight, _ = transition_curve(p, k, steps, 1e-5)   # no step keeps 10 nm: the caller goes on with shorter ones
     assert tight is None or np.abs(tight[0].points(400)[:, 1]).max() <= 0.95e-5
+
+
+def _raster_records(passes: int) -> list:
+    """The records of a 3D finishing raster (0.5 mm steps) under HSC: its inflections stop some splines."""
+    import fagorcnc
+    from fagorcnc.simulate import Run
+
+    rows = []
+    for r in range(passes):
+        xs = [i * 0.5 for i in range(101)]
+        rows += [f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}" for x in (xs[::-1] if r % 2 else xs)]
+    program = ["G90 G1 X0 Y0 Z0 F3000", "#HSC ON [CONTERROR 0.01]", *rows, "M30"]
+    return list(Run(iter(program), "<raster>", fagorcnc.load_machine(None)))
 
 
 def test_a_rejected_hsc_spline_redoes_only_the_next_corner(monkeypatch):
@@ -318,15 +332,9 @@ def test_a_rejected_hsc_spline_redoes_only_the_next_corner(monkeypatch):
     assumption that it did) is made again alone; the plan is the one a whole new batch gives."""
     import fagorcnc
     from fagorcnc.plan import Planner
-    from fagorcnc.simulate import Run
 
     machine = fagorcnc.load_machine(None)
-    rows = []
-    for r in range(4):   # a 3D finishing raster (0.5 mm steps): its inflections stop some splines
-        xs = [i * 0.5 for i in range(101)]
-        rows += [f"X{x:.4f} Y{r:.4f} Z{2 * np.sin(x / 7) * np.cos(r / 9):.4f}" for x in (xs[::-1] if r % 2 else xs)]
-    program = ["G90 G1 X0 Y0 Z0 F3000", "#HSC ON [CONTERROR 0.01]", *rows, "M30"]
-    records = list(Run(iter(program), "<raster>", machine))
+    records = _raster_records(4)
 
     calls = _record_calls(monkeypatch, Planner, "_single")
     alone = [(s.t0, s.duration, s.v0, s.v1, s.line) for s in Planner(machine).segments(iter(records))]
@@ -342,6 +350,80 @@ def test_a_rejected_hsc_spline_redoes_only_the_next_corner(monkeypatch):
     assert len(alone) == len(batched)
     for a, b in zip(alone, batched, strict=True):
         assert a[4] == b[4] and close(a[:4], b[:4])
+
+
+def test_a_spline_candidate_made_with_the_transition_is_the_one_made_alone(monkeypatch):
+    """Where an HSC spline does not fit, the transition curve after it and the next corner's candidate
+    made again (:meth:`_single`) share one set of array operations: the very plan of each made alone."""
+    import fagorcnc
+    from fagorcnc.plan import Planner
+
+    machine = fagorcnc.load_machine(None)
+    records = _raster_records(6)
+    taken = []
+    single = Planner._single
+
+    def counted(self, prev, nxt, d1, cached):
+        taken.append(self._single_ahead is not None)
+        return single(self, prev, nxt, d1, cached)
+
+    monkeypatch.setattr(Planner, "_single", counted)
+    shared = [(s.kind, s.line, s.t0, s.duration, s.v0, s.v1) for s in Planner(machine).segments(iter(records))]
+    assert taken and all(taken)   # every corner made again was made with its transition
+    monkeypatch.setattr(Planner, "_single_ahead_rows", lambda self, prev, dim: None)
+    alone = [(s.kind, s.line, s.t0, s.duration, s.v0, s.v1) for s in Planner(machine).segments(iter(records))]
+    assert shared == alone
+
+
+@pytest.mark.parametrize("dim", [3, 4])
+def test_blend_groups_are_each_group_made_alone(dim):
+    """blend_groups makes several groups' curves with one set of bounds: each group's curves, bounds,
+    tables and points are the very floats blends gives the group alone."""
+    from fagorcnc.plan.blend import blend_groups
+
+    rng = np.random.default_rng(dim)
+    groups = []
+    for n in (4, 1, 3):
+        t0, t5 = (u / np.linalg.norm(u, axis=1)[:, None] for u in rng.normal(size=(2, n, dim)))
+        k0, k5 = rng.normal(size=(n, dim)) * 0.1, rng.normal(size=(n, dim)) * 0.1
+        p0 = rng.normal(size=(n, dim)) * 100.0
+        a, b = rng.uniform(0.01, 2.0, n), rng.uniform(0.01, 2.0, n)
+        groups.append((p0, t0, k0, a, p0 + rng.normal(size=(n, dim)), t5, k5, b))
+    for (curves, samples), group in zip(blend_groups(groups), groups, strict=True):
+        own, own_samples = blends(*group)
+        assert np.array_equal(samples, own_samples, equal_nan=True)
+        for c, o in zip(curves, own, strict=True):
+            for name in ("controls", "start", "end", "d1", "d2", "d3", "table_s"):
+                assert np.array_equal(getattr(c, name), getattr(o, name), equal_nan=True), name
+            assert c.length == o.length
+
+
+def test_blend_rows_made_in_one_loop_are_the_rows_of():
+    """BlendRow.rows makes a batch's curves in one loop: each the curve BlendRow.of makes of its row."""
+    rng = np.random.default_rng(3)
+    n = 5
+    p0, t0 = rng.normal(size=(n, 3)), unit_rows(rng, n - 1, 0.2)
+    curves, _, _, (d1, d2, d3) = blend_rows(p0, t0, np.zeros((n, 3)), np.full(n, 0.3), p0 + 1.0, t0[::-1],
+                                            np.zeros((n, 3)), np.full(n, 0.4))
+    batch = curves[0]._batch
+    for i, c in enumerate(curves):
+        o = BlendRow.of(batch, i, batch[0][i, 0], d1[i], d2[i], d3[i], float(batch[1][i, -1]))
+        for name in ("controls", "start", "end", "d1", "d2", "d3", "table_s", "table_u"):
+            assert np.array_equal(getattr(c, name), getattr(o, name)), name
+        assert c.length == o.length and c._row == o._row and c._coef is None and c.samples is None
+
+
+def test_control_points_are_the_stacked_rows():
+    """_controls writes the six control points into one array: the floats np.stack gave of the same rows,
+    for one curve (spacings as floats) and for rows of curves (spacings as a column)."""
+    from fagorcnc.plan.blend import _controls
+
+    rng = np.random.default_rng(5)
+    for shape, a, b in (((3,), 0.37, 1.9), ((7, 4), rng.uniform(0.1, 1.0, (7, 1)), rng.uniform(0.1, 1.0, (7, 1)))):
+        p0, t0, k0, p5, t5, k5 = (rng.normal(size=shape) * 10.0 for _ in range(6))
+        stacked = np.stack([p0, p0 + a * t0, p0 + 2 * a * t0 + 1.25 * a * a * k0,
+                            p5 - 2 * b * t5 + 1.25 * b * b * k5, p5 - b * t5, p5], axis=-2)
+        assert np.array_equal(_controls(p0, t0, k0, a, p5, t5, k5, b), stacked)
 
 
 @pytest.mark.parametrize("spread", [0.002, 0.05, 0.6])
@@ -727,7 +809,7 @@ def test_a_span_made_later_settles_to_the_limits_made_at_once():
 def test_roundpar_of_a_line_batch_is_roundpar_of_each_corner(params):
     """The G05 line batch takes #ROUNDPAR's feed, speed and tolerance for all its corners at once:
     the very numbers _roundpar gives each corner (its entries are matched against them)."""
-    from fagorcnc.plan.junctions import _roundpar, _roundpar_rows
+    from fagorcnc.plan.corners import _roundpar, _roundpar_rows
 
     feeds = np.array([50.0, 100.0 / 3.0, 17.1, 0.123456789])
     f, speeds, tolerance = _roundpar_rows(params, feeds)

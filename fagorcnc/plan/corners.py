@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .blend import _BOUND_U, TABLE_GAUSS, BlendPiece, speed_tables
+from .blend import _BOUND_U, TABLE_GAUSS, BlendPiece, blend_groups, blends, corner_deviations, speed_tables
 from .geometry import LinePiece, Piece
 from .limits import CENTRIPETAL, CURVE_JERK
 from .stretch import PieceRows, stretch_deviations
@@ -97,6 +97,30 @@ def _subdivide(controls: np.ndarray, u: float) -> tuple[np.ndarray, np.ndarray]:
     left = np.array([r[0] for r in rows])
     right = np.array([r[-1] for r in rows[::-1]])
     return left, right
+
+
+def transition_curve(p: LinePiece, k: np.ndarray, steps: list[float], tol: float,
+                     other: tuple | None = None) -> tuple[tuple | None, tuple | None]:
+    """The first of the transition curves over ``steps`` from the start of ``p`` back to its line from
+    the curvature ``k`` that keeps the tolerance, and its step (None: none does), all computed at
+    once; with ``other`` (the eight rows of :func:`~fagorcnc.plan.blend.blends` of one more curve, of
+    three axes or more) that curve made with them (:func:`~fagorcnc.plan.blend.blend_groups`): its
+    curves and points, as blends gives them (else None)."""
+    size = np.array(steps)
+    n = len(steps)
+    # the rows repeated (copies: np.broadcast_to costs as much as a few array operations)
+    start, u = p.start[None].repeat(n, 0), p.u[None].repeat(n, 0)
+    ends = p.start + size[:, None] * p.u
+    rows = (start, u, k[None].repeat(n, 0), SHAPE * size, ends, u, np.zeros((n, len(k))), SHAPE * size)
+    if other is None:
+        (curves, samples), made = blends(*rows), None
+    else:
+        (curves, samples), made = blend_groups([rows, other])
+    # the deviation from the stretch of line the curve replaces: from its start to the curve's end
+    for curve, step, dev in zip(curves, steps, corner_deviations(samples, start, start, ends).tolist(), strict=True):
+        if curve.valid and dev <= 0.95 * tol:
+            return (curve, step), made
+    return None, made
 
 
 def _blend(p: Piece, q: Piece, d1: float, d2: float) -> BlendPiece:
@@ -380,3 +404,31 @@ def make_blend(p: Piece, q: Piece, half_p: float, half_q: float, *, tolerance: f
             return blend, d1, d2
         size *= max(0.1, 0.9 * tolerance / dev)
     return None
+
+
+def _roundpar(params: tuple, feed: float) -> tuple[float, float | None, float | None, tuple | None]:
+    """``(feed, speed, tolerance, distances)`` of a G05 corner under #ROUNDPAR ``params`` (seed 002
+    L8096-L8133): type 1 keeps F within the deviation e, type 2 runs at f % of F, type 3 takes
+    the distances a, b, type 4 keeps the deviation e and lowers F as needed."""
+    kind = params[0]
+    if kind == 1:
+        return feed, feed, params[1], None
+    if kind == 2:
+        feed *= params[1] / 100.0
+        return feed, feed, None, None
+    if kind == 3:
+        return feed, None, None, (params[1], params[2])
+    if kind == 4:
+        return feed, None, params[1], None
+    return feed, feed, None, None
+
+
+def _roundpar_rows(params: tuple, feed: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, float | None]:
+    """:func:`_roundpar` of many G05 corners between lines at once (``feed``: each corner's lower
+    feed): (feeds, speeds or None, tolerance).  The types batched (1, 2 and 4; 3 and 5 are made
+    alone) scale the feed, so _roundpar of a unit feed gives the factor, and ``feed * factor``
+    is the very product it makes for each corner."""
+    factor, speed, tolerance, _ = _roundpar(params, 1.0)
+    if factor != 1.0:
+        feed = feed * factor
+    return feed, (None if speed is None else feed), tolerance

@@ -19,12 +19,14 @@ from .corner_batch import blend_batch
 from .corners import (
     BLEND_PARTS,
     CURVATURE_EPS,
-    SHAPE,
     TANGENT_EPS,
+    _roundpar,
+    _roundpar_rows,
     line_corner_arrays,
     line_corner_sizes,
     make_blend,
     split_blend,
+    transition_curve,
 )
 from .geometry import ArcPiece, LinePiece
 from .limits import curve_limits_rows
@@ -66,6 +68,9 @@ _MISSING = object()
 
 class CornerMixin:
     """The corners between spans: junction speeds, G05 and HSC blends (one at a time or in batches), HSC"""
+
+    #: The key and curve of the next :meth:`_single`, made with a transition (see :meth:`_transition`).
+    _single_ahead: tuple | None = None
 
     # ------------------------------------------------------------ corners
     def _junction(self, prev: Span, nxt: Span) -> Span | None:
@@ -438,17 +443,33 @@ class CornerMixin:
 
     def _single(self, prev: Span, nxt: Span, d1: float, cached: tuple) -> tuple:
         """The spline candidate of the corner prev -> nxt made again from prev's curvature as it
-        now stands, with the end (d2, curvature) of the batched one."""
+        now stands, with the end (d2, curvature) of the batched one (its curve made already with
+        the transition before it when made as it now stands, see :meth:`_transition`)."""
         _, _, _, _, d2, k5, _, _ = cached
-        u0, u1 = prev.piece.u, nxt.piece.u
-        vertex = nxt.piece.start
-        zero = np.zeros_like(u0)
-        k0 = zero if prev.mid_k is None else prev.mid_k
-        p0, p5 = vertex - d1 * u0, vertex + d2 * u1
-        curves, samples = blends(p0[None], u0[None], k0[None], np.array([SPLINE_SHAPE * d1]), p5[None], u1[None],
-                                 (zero if k5 is None else k5)[None], np.array([SPLINE_SHAPE * d2]))
+        ahead, self._single_ahead = self._single_ahead, None
+        if ahead is not None and ahead[1] == d1 and all(map(operator.is_, ahead[0], _single_key(prev, nxt, cached))):
+            p0, vertex, p5, (curves, samples) = ahead[2]
+        else:
+            p0, vertex, p5, rows = _single_rows(prev, nxt, d1, cached)
+            curves, samples = blends(*rows)
         dev = float(corner_deviations(samples, p0[None], vertex[None], p5[None])[0]) if curves[0].valid else math.inf
         return prev, prev.mid_k, d1, curves[0], d2, k5, dev, None
+
+    def _single_ahead_rows(self, prev: Span, dim: int) -> tuple | None:
+        """The key of :meth:`_single` of the corner from ``prev`` to the span after it and the rows it
+        makes its curve from, when that corner's batched candidate was made with another curvature of
+        prev than it now has (None otherwise, and for fewer than three axes: see
+        :func:`~fagorcnc.plan.blend.blend_groups`)."""
+        nxt = self._ahead[0] if self._ahead and dim > 2 else None
+        if not (isinstance(nxt, Span) and isinstance(prev.piece, LinePiece) and isinstance(nxt.piece, LinePiece)):
+            return None
+        cached = self._candidates.get(id(nxt))
+        if cached is None or cached[0] is not prev or cached[1] is prev.mid_k:
+            return None
+        d1 = min(prev.orig_length / 2.0, prev.piece.length)
+        if not _same_length(cached[2], d1):
+            return None
+        return _single_key(prev, nxt, cached), d1, _single_rows(prev, nxt, d1, cached)
 
     def _batch(self, prev: Span, nxt: Span) -> None:
         """Spline candidates for the run of HSC lines starting at ``prev``, ``nxt`` and going on
@@ -550,11 +571,13 @@ class CornerMixin:
         self._spline_limits = {id(c): (c, f, *path, row) for c, f, row in
                                zip(picked, feeds, zip(*(x.tolist() for x in limits), strict=True), strict=True)}
 
-    def _transition(self, span: Span) -> Span | None:
+    def _transition(self, span: Span, after: Span | None = None) -> Span | None:
         """A span that starts on an HSC spline with curvature but does not end on one: a short
         curve back to its straight line (curvature stays continuous), cut from its start: the
         longest of 1/8 of the block, half that, ... (down to 1e-6 mm) that keeps the tolerance,
-        tried a few at a time."""
+        tried a few at a time.  ``after``: the span after it, whose spline candidate (made as if
+        this corner had been a spline) is most often made again next (:meth:`_single`): made with
+        the first tries (one set of array operations for both)."""
         k, p = span.mid_k, span.piece
         span.mid_k = None
         if k is None or p is None or not isinstance(p, LinePiece):
@@ -565,7 +588,10 @@ class CornerMixin:
             steps.append(step)
             step /= 2.0
         for i in range(0, len(steps), TRANSITION_TRIES):
-            found = _transition_curve(p, k, steps[i:i + TRANSITION_TRIES], tol)
+            single = self._single_ahead_rows(after, len(k)) if i == 0 and after is not None else None
+            found, made = transition_curve(p, k, steps[i:i + TRANSITION_TRIES], tol, single and single[2][3])
+            if made is not None:
+                self._single_ahead = (single[0], single[1], (*single[2][:3], made))
             if found is not None:
                 curve, step = found
                 span.trim(step, p.length)
@@ -636,7 +662,7 @@ class CornerMixin:
                 if prev.stale:   # its end is decided: limits left for now can be made (see Span.trim)
                     prev.settle()
                 if not self._spline_used and prev.mid_k is not None:
-                    yield from self._lead(prev)
+                    yield from self._lead(prev, item)
                 if prev.stop_after:   # _emit inline (a stop at most blocks under G50)
                     if prev.piece is not None:
                         yield prev
@@ -686,9 +712,9 @@ class CornerMixin:
             yield Span(piece, blend.record, blend.feed, blend.lim, False, blend.dyn, blend.path_acc, blend.path_jerk,
                        blend=True)
 
-    def _lead(self, span: Span) -> Iterator[Span]:
+    def _lead(self, span: Span, after: Span | None = None) -> Iterator[Span]:
         """The transition curve a span needs at its start, if any (see :meth:`_transition`)."""
-        curve = self._transition(span) if span.mid_k is not None else None
+        curve = self._transition(span, after) if span.mid_k is not None else None
         if curve is not None:
             yield curve
 
@@ -712,36 +738,23 @@ def _thread_runs_on(prev: Span, nxt: Span) -> bool:
     return not p.curved and not q.curved and math.dist(p.ul, q.ul) <= TANGENT_EPS
 
 
-def _roundpar(params: tuple, feed: float) -> tuple[float, float | None, float | None, tuple | None]:
-    """``(feed, speed, tolerance, distances)`` of a G05 corner under #ROUNDPAR ``params`` (seed 002
-    L8096-L8133): type 1 keeps F within the deviation e, type 2 runs at f % of F, type 3 takes
-    the distances a, b, type 4 keeps the deviation e and lowers F as needed."""
-    kind = params[0]
-    if kind == 1:
-        return feed, feed, params[1], None
-    if kind == 2:
-        feed *= params[1] / 100.0
-        return feed, feed, None, None
-    if kind == 3:
-        return feed, None, None, (params[1], params[2])
-    if kind == 4:
-        return feed, None, params[1], None
-    return feed, feed, None, None
+def _single_key(prev: Span, nxt: Span, cached: tuple) -> tuple:
+    """What :func:`_single_rows` makes its rows from besides d1 (matched by identity)."""
+    return prev, nxt, cached, prev.mid_k, prev.piece.u, nxt.piece.u, nxt.piece.start
 
 
-def _roundpar_rows(params: tuple, feed: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, float | None]:
-    """:func:`_roundpar` of many G05 corners between lines at once (``feed``: each corner's lower
-    feed): (feeds, speeds or None, tolerance).  The types batched (1, 2 and 4; 3 and 5 are made
-    alone) scale the feed, so _roundpar of a unit feed gives the factor, and ``feed * factor``
-    is the very product it makes for each corner."""
-    factor, speed, tolerance, _ = _roundpar(params, 1.0)
-    if factor != 1.0:
-        feed = feed * factor
-    return feed, (None if speed is None else feed), tolerance
-
-
-
-
+def _single_rows(prev: Span, nxt: Span, d1: float, cached: tuple) -> tuple:
+    """``p0, vertex, p5`` and the rows of :func:`~fagorcnc.plan.blend.blends` of the spline candidate of
+    :meth:`CornerMixin._single`: from the middle of prev (``d1`` before its end, its curvature as it
+    now stands) to the batched candidate's end on nxt (its d2 and curvature)."""
+    _, _, _, _, d2, k5, _, _ = cached
+    u0, u1 = prev.piece.u, nxt.piece.u
+    vertex = nxt.piece.start
+    zero = np.zeros_like(u0)
+    k0 = zero if prev.mid_k is None else prev.mid_k
+    p0, p5 = vertex - d1 * u0, vertex + d2 * u1
+    return p0, vertex, p5, (p0[None], u0[None], k0[None], np.array([SPLINE_SHAPE * d1]), p5[None], u1[None],
+                            (zero if k5 is None else k5)[None], np.array([SPLINE_SHAPE * d2]))
 
 
 def _fits(cached: tuple | None, prev: Span, d1: float) -> bool:
@@ -766,21 +779,6 @@ def _spline_line(span: Span) -> bool:
 
 def _adapts(span: Span) -> bool:
     return span.dyn is not None and span.dyn.adaptation is not None
-
-
-def _transition_curve(p: LinePiece, k: np.ndarray, steps: list[float], tol: float) -> tuple | None:
-    """The first of the transition curves over ``steps`` from the start of ``p`` that keeps the
-    tolerance, and its step; all computed at once."""
-    size = np.array(steps)
-    rows = (len(steps), len(k))
-    start, u = np.broadcast_to(p.start, rows), np.broadcast_to(p.u, rows)
-    ends = p.start + size[:, None] * p.u
-    curves, samples = blends(start, u, np.broadcast_to(k, rows), SHAPE * size, ends, u, np.zeros(rows), SHAPE * size)
-    # the deviation from the stretch of line the curve replaces: from its start to the curve's end
-    for curve, step, dev in zip(curves, steps, corner_deviations(samples, start, start, ends).tolist(), strict=True):
-        if curve.valid and dev <= 0.95 * tol:
-            return curve, step
-    return None
 
 
 def _crawls(span: Span) -> bool:
